@@ -1,0 +1,423 @@
+//! Reading and writing layout text. No file system here: callers pass strings.
+//!
+//! A layout file is untrusted input. [`parse`] reports every problem it can find in one go,
+//! each with a line and column and, where it concerns a field, its JSON path.
+
+use super::types::{FORMAT, Layout, VERSION};
+use super::validate::validate;
+use jsonc_parser::ast;
+use jsonc_parser::common::Ranged;
+use serde_json::Value;
+use std::fmt;
+
+/// One problem in a layout text.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Diagnostic {
+    /// 1-based line and column of the offending text.
+    pub line: usize,
+    pub column: usize,
+    /// JSON path of the field, e.g. `trees[0].root.radius`; `None` for syntax errors.
+    pub path: Option<String>,
+    pub message: String,
+}
+
+impl fmt::Display for Diagnostic {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}:{}: ", self.line, self.column)?;
+        if let Some(p) = &self.path {
+            write!(f, "{p}: ")?;
+        }
+        f.write_str(&self.message)
+    }
+}
+
+/// Every problem found in one file.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{}", .0.iter().map(|d| d.to_string()).collect::<Vec<_>>().join("\n"))]
+pub struct Diagnostics(pub Vec<Diagnostic>);
+
+/// The layout's JSON Schema, generated from the types.
+pub fn schema() -> Value {
+    serde_json::to_value(schemars::schema_for!(Layout)).expect("a schema is always JSON")
+}
+
+/// Serialises a layout: pretty-printed, stable (same document → same bytes), newline-ended.
+pub fn to_json(layout: &Layout) -> String {
+    let mut s = serde_json::to_string_pretty(layout).expect("a layout always serialises");
+    s.push('\n');
+    s
+}
+
+/// Parses, migrates and validates a layout text.
+pub fn parse(text: &str) -> Result<Layout, Diagnostics> {
+    let mut value: Value = serde_json::from_str(text).map_err(|e| {
+        Diagnostics(vec![Diagnostic {
+            line: e.line().max(1),
+            column: e.column().max(1),
+            path: None,
+            message: strip_position(&e.to_string()),
+        }])
+    })?;
+    let locator = Locator::new(text);
+    let diag = |path: &str, message: String| locator.diagnostic(path, message);
+
+    // Header: format and version decide whether we can read the rest at all.
+    let Some(root) = value.as_object() else {
+        return Err(Diagnostics(vec![diag(
+            "",
+            "a layout must be a JSON object".into(),
+        )]));
+    };
+    match root.get("format") {
+        Some(Value::String(s)) if s == FORMAT => {}
+        Some(other) => {
+            return Err(Diagnostics(vec![diag(
+                "format",
+                format!("must be \"{FORMAT}\", got {other}: this is not a windloom layout"),
+            )]));
+        }
+        None => {
+            return Err(Diagnostics(vec![diag(
+                "",
+                format!("missing field `format` (\"{FORMAT}\"): this is not a windloom layout"),
+            )]));
+        }
+    }
+    let version = match root.get("version") {
+        Some(v) => match v.as_u64() {
+            Some(n) => n,
+            None => {
+                return Err(Diagnostics(vec![diag(
+                    "version",
+                    format!("must be a whole number, got {v}"),
+                )]));
+            }
+        },
+        None => {
+            return Err(Diagnostics(vec![diag(
+                "",
+                "missing field `version`".into(),
+            )]));
+        }
+    };
+    if version > u64::from(VERSION) {
+        return Err(Diagnostics(vec![diag(
+            "version",
+            format!(
+                "version {version} was made by a newer windloom; this build reads versions up to {VERSION}"
+            ),
+        )]));
+    }
+    if version < 1 {
+        return Err(Diagnostics(vec![diag(
+            "version",
+            format!("version {version} does not exist: layout versions start at 1"),
+        )]));
+    }
+    migrate(&mut value, version as u32).map_err(|m| Diagnostics(vec![diag("version", m)]))?;
+
+    // Structure: every unknown field, found by walking the value beside the schema.
+    let schema = schema();
+    let mut diags = Vec::new();
+    let mut unknown = Vec::new();
+    find_unknown_fields(&schema, &schema, &value, "", &mut unknown);
+    for u in &unknown {
+        diags.push(locator.key_diagnostic(&u.path, &u.key, u.message()));
+    }
+    // Keep going without them so type and value errors are reported in the same run: a
+    // likely misspelling stands in for the field it resembles (if that one is absent), so the
+    // misspelling does not also show up as a missing field.
+    for u in &unknown {
+        move_key(&mut value, &u.path, &u.key, u.suggestion());
+    }
+
+    let layout: Layout = match serde_path_to_error::deserialize(&value) {
+        Ok(l) => l,
+        Err(e) => {
+            let path = e.path().to_string();
+            let path = if path == "." { String::new() } else { path };
+            diags.push(diag(&path, e.inner().to_string()));
+            return Err(sorted(diags));
+        }
+    };
+    for issue in validate(&layout) {
+        diags.push(diag(&issue.path, issue.message));
+    }
+    if diags.is_empty() {
+        Ok(layout)
+    } else {
+        Err(sorted(diags))
+    }
+}
+
+fn sorted(mut d: Vec<Diagnostic>) -> Diagnostics {
+    d.sort_by_key(|d| (d.line, d.column));
+    Diagnostics(d)
+}
+
+/// One step per format change: `MIGRATIONS[n - 1]` turns a version-`n` document into
+/// version `n + 1`. Version 1 is the first format, so the table is empty for now.
+type Migration = fn(&mut Value) -> Result<(), String>;
+const MIGRATIONS: &[Migration] = &[];
+const _: () = assert!(MIGRATIONS.len() as u32 == VERSION - 1);
+
+/// Brings an older document (version `from`, 1 ≤ from ≤ VERSION) up to [`VERSION`].
+fn migrate(value: &mut Value, from: u32) -> Result<(), String> {
+    for step in &MIGRATIONS[(from - 1) as usize..] {
+        step(value)?;
+    }
+    Ok(())
+}
+
+/// serde_json appends " at line L column C"; we print the position ourselves.
+fn strip_position(msg: &str) -> String {
+    match msg.rfind(" at line ") {
+        Some(i) => msg[..i].to_string(),
+        None => msg.to_string(),
+    }
+}
+
+struct Unknown {
+    path: String,
+    key: String,
+    valid: Vec<String>,
+}
+
+impl Unknown {
+    /// The valid name closest to the unknown one, if it is close enough to be a misspelling.
+    fn suggestion(&self) -> Option<&str> {
+        self.valid
+            .iter()
+            .map(|v| (strsim::damerau_levenshtein(&self.key, v), v))
+            .min()
+            .filter(|(d, _)| *d <= 2.max(self.key.len() / 3))
+            .map(|(_, v)| v.as_str())
+    }
+
+    fn message(&self) -> String {
+        match self.suggestion() {
+            Some(v) => format!("unknown field `{}`, did you mean `{v}`?", self.key),
+            None if self.valid.is_empty() => format!("unknown field `{}`", self.key),
+            _ => format!(
+                "unknown field `{}`, expected one of: {}",
+                self.key,
+                self.valid.join(", ")
+            ),
+        }
+    }
+}
+
+fn resolve<'a>(root: &'a Value, mut s: &'a Value) -> &'a Value {
+    while let Some(r) = s.get("$ref").and_then(Value::as_str) {
+        let name = r.rsplit('/').next().unwrap_or_default();
+        match root.get("$defs").and_then(|d| d.get(name)) {
+            Some(t) => s = t,
+            None => break,
+        }
+    }
+    s
+}
+
+/// Picks the branch of a `oneOf`/`anyOf` that describes `value`: the object branch whose
+/// constant tag matches, or the first object branch without a tag.
+fn pick_branch<'a>(root: &'a Value, s: &'a Value, value: &Value) -> Option<&'a Value> {
+    let branches = s
+        .get("oneOf")
+        .or_else(|| s.get("anyOf"))
+        .and_then(Value::as_array)?;
+    let obj = value.as_object()?;
+    let mut untagged = None;
+    for b in branches {
+        let b = resolve(root, b);
+        let Some(props) = b.get("properties").and_then(Value::as_object) else {
+            continue;
+        };
+        let tag = props
+            .iter()
+            .find_map(|(k, p)| p.get("const").map(|c| (k, c)));
+        match tag {
+            Some((k, c)) if obj.get(k) == Some(c) => return Some(b),
+            Some(_) => {}
+            None => untagged = untagged.or(Some(b)),
+        }
+    }
+    untagged
+}
+
+fn find_unknown_fields(root: &Value, s: &Value, value: &Value, path: &str, out: &mut Vec<Unknown>) {
+    let s = resolve(root, s);
+    if let Some(b) = pick_branch(root, s, value) {
+        return find_unknown_fields(root, b, value, path, out);
+    }
+    match value {
+        Value::Object(obj) => {
+            let Some(props) = s.get("properties").and_then(Value::as_object) else {
+                return;
+            };
+            let closed = s.get("additionalProperties") == Some(&Value::Bool(false));
+            for (k, v) in obj {
+                let child = if path.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{path}.{k}")
+                };
+                match props.get(k) {
+                    Some(ps) => find_unknown_fields(root, ps, v, &child, out),
+                    None if closed => out.push(Unknown {
+                        path: path.to_string(),
+                        key: k.clone(),
+                        valid: props.keys().cloned().collect(),
+                    }),
+                    None => {}
+                }
+            }
+        }
+        Value::Array(items) => {
+            if let Some(is) = s.get("items") {
+                for (i, v) in items.iter().enumerate() {
+                    find_unknown_fields(root, is, v, &format!("{path}[{i}]"), out);
+                }
+            }
+        }
+        _ => {}
+    }
+}
+
+/// Splits `a.b[2].c` into segments.
+fn segments(path: &str) -> Vec<Seg> {
+    let mut out = Vec::new();
+    for part in path.split('.').filter(|p| !p.is_empty()) {
+        let mut rest = part;
+        if let Some(i) = rest.find('[') {
+            if i > 0 {
+                out.push(Seg::Key(rest[..i].to_string()));
+            }
+            rest = &rest[i..];
+            while let Some(stripped) = rest.strip_prefix('[') {
+                let end = stripped.find(']').unwrap_or(stripped.len());
+                if let Ok(n) = stripped[..end].parse() {
+                    out.push(Seg::Index(n));
+                }
+                rest = stripped.get(end + 1..).unwrap_or("");
+            }
+        } else {
+            out.push(Seg::Key(rest.to_string()));
+        }
+    }
+    out
+}
+
+enum Seg {
+    Key(String),
+    Index(usize),
+}
+
+/// Removes `key` from the object at `path`, putting its value under `rename` if given and free.
+fn move_key(value: &mut Value, path: &str, key: &str, rename: Option<&str>) {
+    let mut v = value;
+    for seg in segments(path) {
+        let next = match seg {
+            Seg::Key(k) => v.get_mut(&k),
+            Seg::Index(i) => v.get_mut(i),
+        };
+        match next {
+            Some(n) => v = n,
+            None => return,
+        }
+    }
+    if let Some(o) = v.as_object_mut() {
+        let taken = o.remove(key);
+        if let (Some(new), Some(val)) = (rename, taken) {
+            if !o.contains_key(new) {
+                o.insert(new.to_string(), val);
+            }
+        }
+    }
+}
+
+/// Maps JSON paths to line/column positions in the source text.
+struct Locator<'a> {
+    text: &'a str,
+    ast: Option<ast::Value<'a>>,
+}
+
+impl<'a> Locator<'a> {
+    fn new(text: &'a str) -> Self {
+        let options = jsonc_parser::ParseOptions {
+            allow_comments: false,
+            allow_loose_object_property_names: false,
+            allow_trailing_commas: false,
+            ..Default::default()
+        };
+        let ast = jsonc_parser::parse_to_ast(text, &Default::default(), &options)
+            .ok()
+            .and_then(|r| r.value);
+        Self { text, ast }
+    }
+
+    /// The deepest AST value along `path`, and the object property named `key` under it.
+    fn find(&self, path: &str, key: Option<&str>) -> usize {
+        let Some(mut v) = self.ast.as_ref() else {
+            return 0;
+        };
+        let mut pos = v.start();
+        for seg in segments(path) {
+            let next = match (&seg, v) {
+                (Seg::Key(k), ast::Value::Object(o)) => o
+                    .properties
+                    .iter()
+                    .find(|p| p.name.as_str() == k)
+                    .map(|p| &p.value),
+                (Seg::Index(i), ast::Value::Array(a)) => a.elements.get(*i),
+                _ => None,
+            };
+            match next {
+                Some(n) => {
+                    v = n;
+                    pos = n.start();
+                }
+                None => return pos,
+            }
+        }
+        if let (Some(k), ast::Value::Object(o)) = (key, v) {
+            if let Some(p) = o.properties.iter().find(|p| p.name.as_str() == k) {
+                return p.start();
+            }
+        }
+        pos
+    }
+
+    fn line_col(&self, offset: usize) -> (usize, usize) {
+        let before = &self.text[..offset.min(self.text.len())];
+        let line = before.matches('\n').count() + 1;
+        let col = before
+            .rfind('\n')
+            .map_or(before.len(), |i| before.len() - i - 1);
+        (line, before[before.len() - col..].chars().count() + 1)
+    }
+
+    fn diagnostic(&self, path: &str, message: String) -> Diagnostic {
+        let (line, column) = self.line_col(self.find(path, None));
+        Diagnostic {
+            line,
+            column,
+            path: (!path.is_empty()).then(|| path.to_string()),
+            message,
+        }
+    }
+
+    fn key_diagnostic(&self, path: &str, key: &str, message: String) -> Diagnostic {
+        let (line, column) = self.line_col(self.find(path, Some(key)));
+        let full = if path.is_empty() {
+            key.to_string()
+        } else {
+            format!("{path}.{key}")
+        };
+        Diagnostic {
+            line,
+            column,
+            path: Some(full),
+            message,
+        }
+    }
+}

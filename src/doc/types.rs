@@ -1,0 +1,537 @@
+//! The layout document: what a designer saves. Plain data (serde + schemars), no I/O.
+//!
+//! Coordinates (see `docs/ARCHITECTURE.md` and `../shared/reference/wind-model.md` §1): the
+//! world is a `width × depth` rectangle on the ground plane, world `x` east and `z` south,
+//! `y` up. A 2D position or vector `[a, b]` in this document is always world `(x, z)` in metres
+//! (or m/s). Angles (`direction_deg`) are measured from `+x` toward `+z`, so on a top-down map
+//! drawn with `+z` pointing down the screen they turn clockwise.
+
+use schemars::JsonSchema;
+use serde::{Deserialize, Serialize};
+
+/// The `format` tag every layout file carries.
+pub const FORMAT: &str = "windloom-layout";
+/// The layout format version this build writes.
+pub const VERSION: u32 = 1;
+
+/// A 2D point or vector in world metres: `[x, z]`.
+pub type Vec2 = [f32; 2];
+
+/// A complete wind layout.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Layout {
+    /// Always `"windloom-layout"`.
+    pub format: String,
+    /// Format version; this build reads 1 and writes 1.
+    pub version: u32,
+    /// Human-readable name of the layout.
+    pub name: String,
+    pub world: World,
+    /// AGC arrow trees (paper §3.5).
+    #[serde(default)]
+    pub trees: Vec<Tree>,
+    /// Solid obstacles the wind flows around.
+    #[serde(default)]
+    pub obstacles: Vec<Obstacle>,
+    /// Ambient wind layers added everywhere.
+    #[serde(default)]
+    pub ambient: Vec<AmbientLayer>,
+    #[serde(default)]
+    pub sim: SimParams,
+    #[serde(default)]
+    pub grass: GrassParams,
+}
+
+/// The world rectangle, the wind grid laid over it, and the map backdrop.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct World {
+    /// World size in metres: `[width (x), depth (z)]`.
+    pub size: Vec2,
+    /// World position of the rectangle's minimum corner `[x0, z0]` in metres.
+    #[serde(default)]
+    pub origin: Vec2,
+    /// Wind grid resolution `[nx, ny]`: columns along `+x`, rows along `+z`.
+    pub grid: [u32; 2],
+    /// Optional top-down picture of the level drawn under the wind.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub map: Option<MapBackdrop>,
+}
+
+/// A backdrop image stretched over the world rectangle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct MapBackdrop {
+    /// Image path, relative to the layout file.
+    pub image: String,
+    /// 0 (invisible) to 1 (opaque).
+    #[serde(default = "one")]
+    pub opacity: f32,
+}
+
+fn one() -> f32 {
+    1.0
+}
+
+fn yes() -> bool {
+    true
+}
+
+/// An AGC arrow tree: a root point whose children are arrow end points, recursively.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Tree {
+    /// Stable id, unique among the layout's trees.
+    pub id: u32,
+    pub name: String,
+    #[serde(default = "yes")]
+    pub enabled: bool,
+    /// When the tree blows.
+    #[serde(default)]
+    pub window: TimeWindow,
+    /// Continuous or pulsed.
+    #[serde(default)]
+    pub emission: Emission,
+    /// How fast (m/s, along the arrows) a pulse travels from the root to the leaves.
+    #[serde(default = "default_propagation_speed")]
+    pub propagation_speed: f32,
+    /// The root point. Each child is the end point of an arrow from its parent.
+    pub root: Node,
+}
+
+fn default_propagation_speed() -> f32 {
+    20.0
+}
+
+/// A point of an arrow tree. For every node but the root, the arrow parent → node applies a
+/// force in its direction with this node's strength and radius. Nesting makes cycles
+/// impossible to express.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Node {
+    /// Stable id, unique among all nodes of the layout.
+    pub id: u32,
+    /// World position `[x, z]` in metres.
+    pub pos: Vec2,
+    /// Wind speed (m/s) the arrow ending here drives toward along its centre line.
+    pub strength: f32,
+    /// Gaussian radius (metres) of the arrow ending here.
+    pub radius: f32,
+    /// End points of arrows starting here: several branch, a child's children chain.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub children: Vec<Node>,
+}
+
+/// The time a tree is active.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum TimeWindow {
+    #[default]
+    Always,
+    /// Active from `start` to `end` seconds of simulation time.
+    Between { start: f32, end: f32 },
+}
+
+/// How a tree emits force.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Emission {
+    #[default]
+    Continuous,
+    /// On for `duty × period` seconds out of every `period`.
+    Pulsed { period: f32, duty: f32 },
+}
+
+/// A named solid obstacle.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Obstacle {
+    /// Stable id, unique among the layout's obstacles.
+    pub id: u32,
+    pub name: String,
+    pub shape: Shape,
+}
+
+/// An obstacle's outline in world metres.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
+pub enum Shape {
+    Circle {
+        center: Vec2,
+        radius: f32,
+    },
+    /// A simple polygon, at least three points, implicitly closed.
+    Polygon {
+        points: Vec<Vec2>,
+    },
+}
+
+/// A named ambient layer.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct AmbientLayer {
+    /// Stable id, unique among the layout's ambient layers.
+    pub id: u32,
+    pub name: String,
+    #[serde(default = "yes")]
+    pub enabled: bool,
+    pub kind: AmbientKind,
+}
+
+/// Ambient wind sources; each defines a target wind field `w(x, t)` in m/s.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(tag = "type", rename_all = "snake_case", deny_unknown_fields)]
+pub enum AmbientKind {
+    /// Constant wind with gusts (Unity WindZone): `main × (1 + pulse)` plus turbulence.
+    Directional {
+        direction_deg: f32,
+        /// Steady speed, m/s.
+        main: f32,
+        /// Amplitude (m/s) of spatially varying noise added to the wind.
+        turbulence: f32,
+        /// Relative size of periodic gusts (0 = none, 1 = doubles the wind at the peak).
+        pulse_magnitude: f32,
+        /// Gusts per second.
+        pulse_frequency: f32,
+    },
+    /// Gradient noise scrolled along the wind direction (Ghost of Tsushima, Godot demo).
+    Noise {
+        direction_deg: f32,
+        /// Feature size in metres.
+        scale: f32,
+        /// Scroll speed in m/s.
+        speed: f32,
+        /// Peak wind in m/s.
+        strength: f32,
+    },
+    /// Tessendorf/Phillips-spectrum gust field, inverse-FFT'd, tiling every `tile_size` metres.
+    Fft {
+        direction_deg: f32,
+        /// Wind speed V in m/s (sets the spectrum's peak, L = V²/g) and the mean wind.
+        wind_speed: f32,
+        /// Gust amplitude in m/s (standard deviation of the gust field).
+        amplitude: f32,
+        /// FFT size per axis (power of two, 8–512).
+        resolution: u32,
+        /// Metres covered by one FFT tile.
+        tile_size: f32,
+        seed: u64,
+    },
+    /// Trigonometric baseline: `amplitude × sin(2π (x·d / wavelength − frequency t))`.
+    Sine {
+        direction_deg: f32,
+        amplitude: f32,
+        wavelength: f32,
+        frequency: f32,
+    },
+}
+
+impl AmbientKind {
+    pub fn type_name(&self) -> &'static str {
+        match self {
+            Self::Directional { .. } => "directional",
+            Self::Noise { .. } => "noise",
+            Self::Fft { .. } => "fft",
+            Self::Sine { .. } => "sine",
+        }
+    }
+}
+
+/// Fluid solver parameters (defaults: the WebGL reference solver, wind-model.md §2).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default)]
+#[serde(deny_unknown_fields)]
+pub struct SimParams {
+    /// Seconds per step (≤ 1/30).
+    pub dt: f32,
+    /// Solver substeps per step (each of `dt / substeps`).
+    pub substeps: u32,
+    /// Jacobi iterations per projection.
+    pub pressure_iterations: u32,
+    /// Warm start: the previous pressure is multiplied by this (0 = cold start).
+    pub pressure_decay: f32,
+    /// Vorticity confinement strength ε in `f = ε·h·w·N̂` (h the cell size in metres). The
+    /// paper's factor 50 and the WebGL solver's 30 are in texel units; in metres and m/s, 1–5
+    /// gives the same lively eddies without letting confinement overpower the flow.
+    pub vorticity: f32,
+    /// Velocity dissipation rate (1/s): `vel /= 1 + dissipation × dt`.
+    pub velocity_dissipation: f32,
+    /// Rate (1/s) at which the field relaxes toward the ambient layers' wind.
+    pub ambient_coupling: f32,
+    /// Rate (1/s) at which an arrow brings the wind on its centre line up to its strength.
+    pub arrow_response: f32,
+    pub boundary: Boundary,
+    pub advection: Advection,
+}
+
+impl Default for SimParams {
+    fn default() -> Self {
+        Self {
+            dt: 1.0 / 60.0,
+            substeps: 1,
+            pressure_iterations: 20,
+            pressure_decay: 0.8,
+            vorticity: 2.0,
+            velocity_dissipation: 0.2,
+            ambient_coupling: 1.0,
+            arrow_response: 4.0,
+            boundary: Boundary::Open,
+            advection: Advection::SemiLagrangian,
+        }
+    }
+}
+
+/// What happens at the edge of the world.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Boundary {
+    /// Walls: no flow through the edge.
+    Closed,
+    /// Outflow: zero-gradient velocity, zero pressure outside.
+    #[default]
+    Open,
+    /// The field wraps; baked fields tile seamlessly.
+    Periodic,
+}
+
+/// Advection scheme.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Advection {
+    /// First-order semi-Lagrangian (paper eqs. 9–10).
+    #[default]
+    SemiLagrangian,
+    /// Limited MacCormack: second order, keeps gusts sharp.
+    MacCormack,
+}
+
+/// Grass preview parameters (paper eqs. 11–14 and the Bezier model of Jahrmann & Wimmer).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default)]
+#[serde(deny_unknown_fields)]
+pub struct GrassParams {
+    /// Blades per square metre.
+    pub density: f32,
+    /// Blade height range `[min, max]` in metres.
+    pub height: Vec2,
+    /// Blade width range `[min, max]` in metres.
+    pub width: Vec2,
+    /// Stiffness range `[min, max]` (Bezier model recovery).
+    pub stiffness: Vec2,
+    /// Gravity bend, eq. 11.
+    pub k1: f32,
+    /// Forward bend, eq. 11.
+    pub k2: f32,
+    /// Stiffness blend λ of eq. 13 (1 stiff, 0 fully driven).
+    pub lambda: f32,
+    pub shadow: Shadow,
+    /// Base-to-tip colour gradients; each blade picks one.
+    pub palettes: Vec<Palette>,
+    pub seed: u64,
+    pub model: GrassModel,
+}
+
+impl Default for GrassParams {
+    fn default() -> Self {
+        Self {
+            density: 60.0,
+            height: [0.3, 0.7],
+            width: [0.02, 0.05],
+            stiffness: [0.5, 1.5],
+            k1: 0.05,
+            k2: 0.1,
+            lambda: 0.2,
+            shadow: Shadow::default(),
+            palettes: vec![
+                Palette {
+                    name: "meadow".into(),
+                    base: [0.10, 0.22, 0.05],
+                    tip: [0.45, 0.65, 0.20],
+                },
+                Palette {
+                    name: "dry".into(),
+                    base: [0.25, 0.25, 0.08],
+                    tip: [0.75, 0.70, 0.35],
+                },
+            ],
+            seed: 1,
+            model: GrassModel::CwdQuadratic,
+        }
+    }
+}
+
+/// Height-based self-shadow, eq. 14: `base × clamp(y − |F|·c1 + c2, m_min, m_max)`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(default)]
+#[serde(deny_unknown_fields)]
+pub struct Shadow {
+    pub m_min: f32,
+    pub m_max: f32,
+    pub c1: f32,
+    pub c2: f32,
+}
+
+impl Default for Shadow {
+    fn default() -> Self {
+        Self {
+            m_min: 0.35,
+            m_max: 1.0,
+            c1: 0.05,
+            c2: 0.55,
+        }
+    }
+}
+
+/// A blade colour gradient, linear RGB 0–1.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Palette {
+    pub name: String,
+    pub base: [f32; 3],
+    pub tip: [f32; 3],
+}
+
+/// Blade deformation model.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "kebab-case")]
+pub enum GrassModel {
+    /// The paper's grouped quadratic deformation (eqs. 11–14).
+    #[default]
+    CwdQuadratic,
+    /// Jahrmann & Wimmer Bezier blades with a physics compute pass.
+    BezierPhysics,
+}
+
+impl Layout {
+    /// A new, empty layout over a `width × depth` world.
+    pub fn new(name: &str, size: Vec2, grid: [u32; 2]) -> Self {
+        Self {
+            format: FORMAT.into(),
+            version: VERSION,
+            name: name.into(),
+            world: World {
+                size,
+                origin: [0.0, 0.0],
+                grid,
+                map: None,
+            },
+            trees: Vec::new(),
+            obstacles: Vec::new(),
+            ambient: Vec::new(),
+            sim: SimParams::default(),
+            grass: GrassParams::default(),
+        }
+    }
+
+    /// All nodes of all trees, depth first, with their tree index.
+    pub fn nodes(&self) -> impl Iterator<Item = (usize, &Node)> {
+        self.trees
+            .iter()
+            .enumerate()
+            .flat_map(|(t, tree)| tree.root.iter().map(move |n| (t, n)))
+    }
+
+    /// The largest id in use by any node, tree, obstacle or layer, plus one.
+    pub fn next_id(&self) -> u32 {
+        let nodes = self.nodes().map(|(_, n)| n.id);
+        let trees = self.trees.iter().map(|t| t.id);
+        let obstacles = self.obstacles.iter().map(|o| o.id);
+        let layers = self.ambient.iter().map(|a| a.id);
+        nodes
+            .chain(trees)
+            .chain(obstacles)
+            .chain(layers)
+            .max()
+            .map_or(1, |m| m + 1)
+    }
+
+    /// World rectangle `(min, max)` in metres.
+    pub fn bounds(&self) -> (Vec2, Vec2) {
+        let o = self.world.origin;
+        let s = self.world.size;
+        (o, [o[0] + s[0], o[1] + s[1]])
+    }
+}
+
+impl Node {
+    pub fn new(id: u32, pos: Vec2, strength: f32, radius: f32) -> Self {
+        Self {
+            id,
+            pos,
+            strength,
+            radius,
+            children: Vec::new(),
+        }
+    }
+
+    /// This node and all its descendants, depth first (parents before children).
+    pub fn iter(&self) -> NodeIter<'_> {
+        NodeIter { stack: vec![self] }
+    }
+
+    /// Finds a node of this subtree by id.
+    pub fn find(&self, id: u32) -> Option<&Node> {
+        self.iter().find(|n| n.id == id)
+    }
+
+    /// Finds a node of this subtree by id, mutably.
+    pub fn find_mut(&mut self, id: u32) -> Option<&mut Node> {
+        if self.id == id {
+            return Some(self);
+        }
+        self.children.iter_mut().find_map(|c| c.find_mut(id))
+    }
+
+    /// The parent of node `id` within this subtree and the child's index in it.
+    pub fn parent_of(&self, id: u32) -> Option<(&Node, usize)> {
+        for (i, c) in self.children.iter().enumerate() {
+            if c.id == id {
+                return Some((self, i));
+            }
+            if let Some(found) = c.parent_of(id) {
+                return Some(found);
+            }
+        }
+        None
+    }
+
+    /// Every arrow of this subtree as `(parent, child, path length from this node to the
+    /// parent in metres)`, parents before children.
+    pub fn arrows(&self) -> Vec<(&Node, &Node, f32)> {
+        let mut out = Vec::new();
+        let mut stack = vec![(self, 0.0f32)];
+        while let Some((n, s)) = stack.pop() {
+            for c in n.children.iter().rev() {
+                out.push((n, c, s));
+                let len = ((c.pos[0] - n.pos[0]).powi(2) + (c.pos[1] - n.pos[1]).powi(2)).sqrt();
+                stack.push((c, s + len));
+            }
+        }
+        out
+    }
+
+    pub fn count(&self) -> usize {
+        self.iter().count()
+    }
+}
+
+/// Depth-first iterator over a node and its descendants.
+pub struct NodeIter<'a> {
+    stack: Vec<&'a Node>,
+}
+
+impl<'a> Iterator for NodeIter<'a> {
+    type Item = &'a Node;
+    fn next(&mut self) -> Option<&'a Node> {
+        let n = self.stack.pop()?;
+        self.stack.extend(n.children.iter().rev());
+        Some(n)
+    }
+}
+
+/// Unit vector for an angle measured from `+x` toward `+z`.
+pub fn direction(deg: f32) -> Vec2 {
+    let r = deg.to_radians();
+    [r.cos(), r.sin()]
+}

@@ -1,0 +1,380 @@
+//! Semantic validation of a [`Layout`]: every problem, each with the JSON path of its field.
+
+use super::types::*;
+use std::collections::HashMap;
+use std::fmt;
+
+/// The solver's working memory per grid cell in bytes (velocity faces, temporaries, pressure,
+/// divergence, curl, solid mask). The CPU solver checks its own allocation against this.
+pub const SOLVER_BYTES_PER_CELL: u64 = 56;
+/// Largest solver memory a layout may ask for: 2 GiB.
+pub const GRID_MEMORY_BUDGET: u64 = 2 << 30;
+/// Grid axes must lie in this range.
+pub const GRID_AXIS_MIN: u32 = 8;
+pub const GRID_AXIS_MAX: u32 = 16384;
+/// Largest world side in metres.
+pub const WORLD_SIZE_MAX: f32 = 100_000.0;
+/// Largest arrow strength (target wind speed, m/s) and radius (m) accepted.
+pub const STRENGTH_MAX: f32 = 500.0;
+pub const RADIUS_MAX: f32 = 100_000.0;
+
+/// One semantic problem: the JSON path of the field and what is wrong with it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Issue {
+    /// e.g. `trees[1].root.children[0].radius`
+    pub path: String,
+    pub message: String,
+}
+
+impl fmt::Display for Issue {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{}: {}", self.path, self.message)
+    }
+}
+
+/// Bytes the solver needs for an `nx × ny` grid.
+pub fn grid_memory(grid: [u32; 2]) -> u64 {
+    u64::from(grid[0]) * u64::from(grid[1]) * SOLVER_BYTES_PER_CELL
+}
+
+fn mib(bytes: u64) -> String {
+    format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
+}
+
+struct Checker {
+    issues: Vec<Issue>,
+}
+
+impl Checker {
+    fn push(&mut self, path: &str, message: impl Into<String>) {
+        self.issues.push(Issue {
+            path: path.to_string(),
+            message: message.into(),
+        });
+    }
+
+    /// Finite and within `[lo, hi]`.
+    fn range(&mut self, path: &str, v: f32, lo: f32, hi: f32) -> bool {
+        if !v.is_finite() {
+            self.push(path, format!("must be a finite number, got {v}"));
+            false
+        } else if v < lo || v > hi {
+            self.push(path, format!("must be between {lo} and {hi}, got {v}"));
+            false
+        } else {
+            true
+        }
+    }
+
+    /// Finite and strictly positive, at most `hi`.
+    fn positive(&mut self, path: &str, v: f32, hi: f32) -> bool {
+        if !v.is_finite() {
+            self.push(path, format!("must be a finite number, got {v}"));
+            false
+        } else if v <= 0.0 {
+            self.push(path, format!("must be > 0, got {v}"));
+            false
+        } else if v > hi {
+            self.push(path, format!("must be at most {hi}, got {v}"));
+            false
+        } else {
+            true
+        }
+    }
+
+    fn finite(&mut self, path: &str, v: f32) -> bool {
+        self.range(path, v, f32::MIN, f32::MAX)
+    }
+
+    fn point(&mut self, path: &str, p: Vec2) {
+        self.finite(&format!("{path}[0]"), p[0]);
+        self.finite(&format!("{path}[1]"), p[1]);
+    }
+
+    fn min_max(&mut self, path: &str, r: Vec2, hi: f32) {
+        let a = self.positive(&format!("{path}[0]"), r[0], hi);
+        let b = self.positive(&format!("{path}[1]"), r[1], hi);
+        if a && b && r[0] > r[1] {
+            self.push(path, format!("min {} is larger than max {}", r[0], r[1]));
+        }
+    }
+
+    fn unique_id(&mut self, seen: &mut HashMap<u32, String>, what: &str, id: u32, path: &str) {
+        if let Some(first) = seen.get(&id) {
+            self.push(
+                &format!("{path}.id"),
+                format!("duplicate {what} id {id} (already used by {first})"),
+            );
+        } else {
+            seen.insert(id, path.to_string());
+        }
+    }
+}
+
+/// Checks a parsed layout; returns every problem found (empty when valid).
+pub fn validate(layout: &Layout) -> Vec<Issue> {
+    let mut c = Checker { issues: Vec::new() };
+    if layout.format != FORMAT {
+        c.push(
+            "format",
+            format!("must be \"{FORMAT}\", got \"{}\"", layout.format),
+        );
+    }
+    if layout.version != VERSION {
+        c.push(
+            "version",
+            format!("must be {VERSION} once loaded, got {}", layout.version),
+        );
+    }
+    check_world(&mut c, &layout.world);
+
+    let mut tree_ids = HashMap::new();
+    let mut node_ids = HashMap::new();
+    for (t, tree) in layout.trees.iter().enumerate() {
+        let p = format!("trees[{t}]");
+        c.unique_id(&mut tree_ids, "tree", tree.id, &p);
+        c.positive(
+            &format!("{p}.propagation_speed"),
+            tree.propagation_speed,
+            1.0e6,
+        );
+        if let TimeWindow::Between { start, end } = tree.window {
+            let ok = c.range(&format!("{p}.window.start"), start, 0.0, 1.0e7);
+            let ok = c.range(&format!("{p}.window.end"), end, 0.0, 1.0e7) && ok;
+            if ok && end <= start {
+                c.push(
+                    &format!("{p}.window.end"),
+                    format!("must be after start ({start}), got {end}"),
+                );
+            }
+        }
+        if let Emission::Pulsed { period, duty } = tree.emission {
+            c.positive(&format!("{p}.emission.period"), period, 1.0e6);
+            c.positive(&format!("{p}.emission.duty"), duty, 1.0);
+        }
+        check_node(&mut c, &mut node_ids, &tree.root, &format!("{p}.root"));
+    }
+
+    let mut obstacle_ids = HashMap::new();
+    for (o, obstacle) in layout.obstacles.iter().enumerate() {
+        let p = format!("obstacles[{o}]");
+        c.unique_id(&mut obstacle_ids, "obstacle", obstacle.id, &p);
+        match &obstacle.shape {
+            Shape::Circle { center, radius } => {
+                c.point(&format!("{p}.shape.center"), *center);
+                c.positive(&format!("{p}.shape.radius"), *radius, RADIUS_MAX);
+            }
+            Shape::Polygon { points } => {
+                if points.len() < 3 {
+                    c.push(
+                        &format!("{p}.shape.points"),
+                        format!("a polygon needs at least 3 points, got {}", points.len()),
+                    );
+                }
+                for (i, pt) in points.iter().enumerate() {
+                    c.point(&format!("{p}.shape.points[{i}]"), *pt);
+                }
+                if points.len() >= 3 && points.iter().flatten().all(|v| v.is_finite()) {
+                    let area = polygon_area(points);
+                    if area.abs() < 1e-9 {
+                        c.push(&format!("{p}.shape.points"), "polygon has zero area");
+                    }
+                }
+            }
+        }
+    }
+
+    let mut layer_ids = HashMap::new();
+    for (a, layer) in layout.ambient.iter().enumerate() {
+        let p = format!("ambient[{a}]");
+        c.unique_id(&mut layer_ids, "ambient layer", layer.id, &p);
+        let k = format!("{p}.kind");
+        match &layer.kind {
+            AmbientKind::Directional {
+                direction_deg,
+                main,
+                turbulence,
+                pulse_magnitude,
+                pulse_frequency,
+            } => {
+                c.finite(&format!("{k}.direction_deg"), *direction_deg);
+                c.range(&format!("{k}.main"), *main, 0.0, 500.0);
+                c.range(&format!("{k}.turbulence"), *turbulence, 0.0, 500.0);
+                c.range(&format!("{k}.pulse_magnitude"), *pulse_magnitude, 0.0, 10.0);
+                c.range(
+                    &format!("{k}.pulse_frequency"),
+                    *pulse_frequency,
+                    0.0,
+                    100.0,
+                );
+            }
+            AmbientKind::Noise {
+                direction_deg,
+                scale,
+                speed,
+                strength,
+            } => {
+                c.finite(&format!("{k}.direction_deg"), *direction_deg);
+                c.positive(&format!("{k}.scale"), *scale, WORLD_SIZE_MAX);
+                c.range(&format!("{k}.speed"), *speed, 0.0, 1000.0);
+                c.range(&format!("{k}.strength"), *strength, 0.0, 500.0);
+            }
+            AmbientKind::Fft {
+                direction_deg,
+                wind_speed,
+                amplitude,
+                resolution,
+                tile_size,
+                seed: _,
+            } => {
+                c.finite(&format!("{k}.direction_deg"), *direction_deg);
+                c.positive(&format!("{k}.wind_speed"), *wind_speed, 500.0);
+                c.range(&format!("{k}.amplitude"), *amplitude, 0.0, 500.0);
+                if !resolution.is_power_of_two() || !(8..=512).contains(resolution) {
+                    c.push(
+                        &format!("{k}.resolution"),
+                        format!("must be a power of two from 8 to 512, got {resolution}"),
+                    );
+                }
+                c.positive(&format!("{k}.tile_size"), *tile_size, WORLD_SIZE_MAX);
+            }
+            AmbientKind::Sine {
+                direction_deg,
+                amplitude,
+                wavelength,
+                frequency,
+            } => {
+                c.finite(&format!("{k}.direction_deg"), *direction_deg);
+                c.range(&format!("{k}.amplitude"), *amplitude, 0.0, 500.0);
+                c.positive(&format!("{k}.wavelength"), *wavelength, WORLD_SIZE_MAX);
+                c.range(&format!("{k}.frequency"), *frequency, -100.0, 100.0);
+            }
+        }
+    }
+
+    check_sim(&mut c, &layout.sim);
+    check_grass(&mut c, &layout.grass);
+    c.issues
+}
+
+fn check_world(c: &mut Checker, w: &World) {
+    c.positive("world.size[0]", w.size[0], WORLD_SIZE_MAX);
+    c.positive("world.size[1]", w.size[1], WORLD_SIZE_MAX);
+    c.point("world.origin", w.origin);
+    let mut axes_ok = true;
+    for (i, n) in w.grid.iter().enumerate() {
+        if !(GRID_AXIS_MIN..=GRID_AXIS_MAX).contains(n) {
+            axes_ok = false;
+            c.push(
+                &format!("world.grid[{i}]"),
+                format!("must be between {GRID_AXIS_MIN} and {GRID_AXIS_MAX} cells, got {n}"),
+            );
+        }
+    }
+    let bytes = grid_memory(w.grid);
+    if axes_ok && bytes > GRID_MEMORY_BUDGET {
+        c.push(
+            "world.grid",
+            format!(
+                "{}x{} needs {} of solver memory, over the budget of {}",
+                w.grid[0],
+                w.grid[1],
+                mib(bytes),
+                mib(GRID_MEMORY_BUDGET)
+            ),
+        );
+    }
+    if let Some(map) = &w.map {
+        if map.image.trim().is_empty() {
+            c.push("world.map.image", "must name an image file");
+        }
+        c.range("world.map.opacity", map.opacity, 0.0, 1.0);
+    }
+}
+
+fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &str) {
+    c.unique_id(ids, "node", n.id, path);
+    c.point(&format!("{path}.pos"), n.pos);
+    c.range(&format!("{path}.strength"), n.strength, 0.0, STRENGTH_MAX);
+    c.positive(&format!("{path}.radius"), n.radius, RADIUS_MAX);
+    for (i, child) in n.children.iter().enumerate() {
+        let cp = format!("{path}.children[{i}]");
+        if child.pos == n.pos {
+            c.push(
+                &format!("{cp}.pos"),
+                "an arrow end point must differ from its start point",
+            );
+        }
+        check_node(c, ids, child, &cp);
+    }
+}
+
+fn check_sim(c: &mut Checker, s: &SimParams) {
+    c.positive("sim.dt", s.dt, 1.0 / 30.0);
+    if !(1..=16).contains(&s.substeps) {
+        c.push(
+            "sim.substeps",
+            format!("must be between 1 and 16, got {}", s.substeps),
+        );
+    }
+    if !(1..=1000).contains(&s.pressure_iterations) {
+        c.push(
+            "sim.pressure_iterations",
+            format!("must be between 1 and 1000, got {}", s.pressure_iterations),
+        );
+    }
+    c.range("sim.pressure_decay", s.pressure_decay, 0.0, 1.0);
+    c.range("sim.vorticity", s.vorticity, 0.0, 1000.0);
+    c.range(
+        "sim.velocity_dissipation",
+        s.velocity_dissipation,
+        0.0,
+        100.0,
+    );
+    c.range("sim.ambient_coupling", s.ambient_coupling, 0.0, 100.0);
+    c.range("sim.arrow_response", s.arrow_response, 0.0, 1000.0);
+}
+
+fn check_grass(c: &mut Checker, g: &GrassParams) {
+    c.positive("grass.density", g.density, 100_000.0);
+    c.min_max("grass.height", g.height, 100.0);
+    c.min_max("grass.width", g.width, 10.0);
+    c.min_max("grass.stiffness", g.stiffness, 1000.0);
+    c.range("grass.k1", g.k1, 0.0, 10.0);
+    c.range("grass.k2", g.k2, 0.0, 10.0);
+    c.range("grass.lambda", g.lambda, 0.0, 1.0);
+    let s = &g.shadow;
+    let a = c.range("grass.shadow.m_min", s.m_min, 0.0, 10.0);
+    let b = c.range("grass.shadow.m_max", s.m_max, 0.0, 10.0);
+    if a && b && s.m_min > s.m_max {
+        c.push(
+            "grass.shadow.m_min",
+            format!("must not exceed m_max ({}), got {}", s.m_max, s.m_min),
+        );
+    }
+    c.range("grass.shadow.c1", s.c1, -100.0, 100.0);
+    c.range("grass.shadow.c2", s.c2, -100.0, 100.0);
+    if g.palettes.is_empty() {
+        c.push("grass.palettes", "needs at least one palette");
+    }
+    for (i, p) in g.palettes.iter().enumerate() {
+        for (j, v) in p.base.iter().enumerate() {
+            c.range(&format!("grass.palettes[{i}].base[{j}]"), *v, 0.0, 1.0);
+        }
+        for (j, v) in p.tip.iter().enumerate() {
+            c.range(&format!("grass.palettes[{i}].tip[{j}]"), *v, 0.0, 1.0);
+        }
+    }
+}
+
+/// Signed area of a polygon (shoelace).
+pub fn polygon_area(points: &[Vec2]) -> f32 {
+    let n = points.len();
+    let mut a = 0.0;
+    for i in 0..n {
+        let p = points[i];
+        let q = points[(i + 1) % n];
+        a += p[0] * q[1] - q[0] * p[1];
+    }
+    a * 0.5
+}

@@ -1,0 +1,8 @@
+//! windloom: author wind over a top-down map of a level, simulate it, export it for engines.
+//!
+//! Dependency direction (see `docs/ARCHITECTURE.md`): `doc` ← `sim` ← {`io`, `app`, CLI}.
+
+pub mod app;
+pub mod doc;
+pub mod io;
+pub mod sim;

@@ -1,0 +1,132 @@
+//! The solver benchmark behind `windloom bench`: times steps and passes, counts the bytes each
+//! pass must move, and measures the machine's memory bandwidth in the same run, so the result
+//! can be compared with the bandwidth bound. Speed is measured here, never asserted in tests.
+
+use super::Solver;
+use crate::doc::{Advection, Layout};
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::time::Instant;
+
+#[derive(Debug, Clone, Serialize)]
+pub struct BenchReport {
+    pub backend: &'static str,
+    pub layout: String,
+    pub grid: [usize; 2],
+    pub iterations: u32,
+    pub steps: usize,
+    pub threads: usize,
+    pub advection: Advection,
+    pub median_ms: f64,
+    pub min_ms: f64,
+    /// Median milliseconds per pass.
+    pub passes_ms: BTreeMap<&'static str, f64>,
+    /// Bytes each pass reads plus writes per step (each array element once).
+    pub passes_bytes: BTreeMap<&'static str, u64>,
+    pub bytes_per_step: u64,
+    /// Parallel copy bandwidth measured in this run, (read + write bytes) / s.
+    pub bandwidth_gb_s: f64,
+    /// `bytes_per_step / bandwidth`: the fastest a step could be if every pass streamed.
+    pub bound_ms: f64,
+    /// `median_ms / bound_ms`.
+    pub ratio_to_bound: f64,
+}
+
+/// Bytes each pass must read and write for one step (see docs/PERFORMANCE.md).
+pub fn pass_bytes(s: &Solver, force_faces: usize) -> Vec<(&'static str, u64)> {
+    let c = (s.nx * s.ny) as u64;
+    let f = ((s.nx + 1) * s.ny + s.nx * (s.ny + 1)) as u64;
+    let k = u64::from(s.params.pressure_iterations);
+    let advection = match s.params.advection {
+        Advection::SemiLagrangian => 9 * f,
+        Advection::MacCormack => 39 * f,
+    };
+    let confinement = if s.params.vorticity > 0.0 {
+        12 * c + 20 * c + 9 * f
+    } else {
+        0
+    };
+    vec![
+        ("forces", 25 * force_faces as u64),
+        ("curl", 4 * f + 5 * c),
+        ("confinement", confinement),
+        ("divergence", 4 * f + 5 * c),
+        ("pressure", 8 * c + 13 * c * k),
+        ("gradient", 4 * c + 9 * f),
+        ("advection", advection),
+    ]
+}
+
+/// Best-of-five parallel copy bandwidth over 2 × 256 MiB, in GB/s (read + write bytes).
+pub fn measure_bandwidth() -> f64 {
+    let n = 64 << 20;
+    let src = vec![1.0f32; n];
+    let mut dst = vec![0.0f32; n];
+    let chunk = n / (rayon::current_num_threads() * 8).max(1);
+    let mut best = f64::MAX;
+    for _ in 0..5 {
+        let t = Instant::now();
+        dst.par_chunks_mut(chunk)
+            .zip(src.par_chunks(chunk))
+            .for_each(|(d, s)| d.copy_from_slice(s));
+        best = best.min(t.elapsed().as_secs_f64());
+    }
+    std::hint::black_box(&dst);
+    (2 * n * 4) as f64 / best / 1e9
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Runs `steps` timed steps (after `warmup` untimed ones) of `layout` on the CPU solver.
+pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> BenchReport {
+    let bandwidth = measure_bandwidth();
+    let mut s = Solver::new(layout);
+    for _ in 0..warmup {
+        s.step();
+    }
+    let mut totals = Vec::with_capacity(steps);
+    let mut per_pass: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
+    let mut bytes: BTreeMap<&'static str, u64> = BTreeMap::new();
+    for _ in 0..steps.max(1) {
+        s.timings = Default::default();
+        let t = Instant::now();
+        s.step();
+        totals.push(t.elapsed().as_secs_f64() * 1e3);
+        for (name, secs) in s.timings.as_pairs() {
+            per_pass.entry(name).or_default().push(secs * 1e3);
+        }
+        for (name, b) in pass_bytes(&s, s.force_faces) {
+            *bytes.entry(name).or_default() += b * u64::from(s.params.substeps);
+        }
+    }
+    let n = steps.max(1) as u64;
+    bytes.values_mut().for_each(|b| *b /= n);
+    let bytes_per_step: u64 = bytes.values().sum();
+    let median_ms = median(&mut totals.clone());
+    let min_ms = totals.iter().copied().fold(f64::MAX, f64::min);
+    let bound_ms = bytes_per_step as f64 / (bandwidth * 1e9) * 1e3;
+    BenchReport {
+        backend: "cpu",
+        layout: name.to_string(),
+        grid: [s.nx, s.ny],
+        iterations: s.params.pressure_iterations,
+        steps: steps.max(1),
+        threads: rayon::current_num_threads(),
+        advection: s.params.advection,
+        median_ms,
+        min_ms,
+        passes_ms: per_pass
+            .into_iter()
+            .map(|(k, mut v)| (k, median(&mut v)))
+            .collect(),
+        passes_bytes: bytes,
+        bytes_per_step,
+        bandwidth_gb_s: bandwidth,
+        bound_ms,
+        ratio_to_bound: median_ms / bound_ms,
+    }
+}

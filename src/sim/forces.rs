@@ -1,0 +1,427 @@
+//! The force model: a function of (layout, time) giving the AGC arrow splats and the ambient
+//! target wind. Shared by the CPU solver and (later) the GPU path, which uploads the splats.
+
+use crate::doc::{self, AmbientKind, Emission, Layout, TimeWindow, Tree};
+use rustfft::{FftPlanner, num_complex::Complex32};
+
+/// One active arrow at one instant: a capsule from `a` to `b` (world metres) that drives the
+/// wind along `dir` (unit) toward `strength` m/s, with Gaussian weight `g = exp(-d² / radius²)`,
+/// `d` the distance to the segment. The force is always along the arrow and fades as the wind
+/// along it reaches `strength`: per step, `Δvel = (1 − e^(−k·g·dt)) · max(0, strength − vel·dir) · dir`
+/// with `k` the layout's `arrow_response`. `#[repr(C)]` because the GPU path uploads these.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[repr(C)]
+pub struct ArrowSplat {
+    pub a: [f32; 2],
+    pub b: [f32; 2],
+    pub dir: [f32; 2],
+    pub strength: f32,
+    pub radius: f32,
+}
+
+/// Beyond this many radii a splat's Gaussian (< e⁻⁹ ≈ 1.2e-4) is dropped.
+pub const SPLAT_CUTOFF_RADII: f32 = 3.0;
+
+impl ArrowSplat {
+    /// Gaussian weight of the arrow at world point `p` (0 beyond the cutoff).
+    #[inline]
+    pub fn weight(&self, p: [f32; 2]) -> f32 {
+        let d2 = segment_dist2(p, self.a, self.b);
+        let r2 = self.radius * self.radius;
+        if d2 > r2 * SPLAT_CUTOFF_RADII * SPLAT_CUTOFF_RADII {
+            0.0
+        } else {
+            (-d2 / r2).exp()
+        }
+    }
+
+    /// Velocity change (m/s) over `dt` at world point `p` where the wind is `vel`, with
+    /// response rate `k` (1/s).
+    #[inline]
+    pub fn impulse(&self, p: [f32; 2], vel: [f32; 2], k: f32, dt: f32) -> [f32; 2] {
+        let g = self.weight(p);
+        if g == 0.0 {
+            return [0.0, 0.0];
+        }
+        let deficit = (self.strength - (vel[0] * self.dir[0] + vel[1] * self.dir[1])).max(0.0);
+        let m = (1.0 - (-k * g * dt).exp()) * deficit;
+        [self.dir[0] * m, self.dir[1] * m]
+    }
+
+    /// World-space bounding box `(min, max)` of the region the splat touches.
+    pub fn bounds(&self) -> ([f32; 2], [f32; 2]) {
+        let r = self.radius * SPLAT_CUTOFF_RADII;
+        (
+            [self.a[0].min(self.b[0]) - r, self.a[1].min(self.b[1]) - r],
+            [self.a[0].max(self.b[0]) + r, self.a[1].max(self.b[1]) + r],
+        )
+    }
+}
+
+#[inline]
+fn segment_dist2(p: [f32; 2], a: [f32; 2], b: [f32; 2]) -> f32 {
+    let ab = [b[0] - a[0], b[1] - a[1]];
+    let ap = [p[0] - a[0], p[1] - a[1]];
+    let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+    let t = if len2 > 0.0 {
+        ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let d = [ap[0] - ab[0] * t, ap[1] - ab[1] * t];
+    d[0] * d[0] + d[1] * d[1]
+}
+
+/// Whether a tree blows at time `t` (window only; pulses are per arrow).
+fn in_window(tree: &Tree, t: f32) -> Option<f32> {
+    if !tree.enabled {
+        return None;
+    }
+    match tree.window {
+        TimeWindow::Always => Some(0.0),
+        TimeWindow::Between { start, end } => (t >= start && t < end).then_some(start),
+    }
+}
+
+/// Whether an arrow whose pulse arrives `delay` seconds after the tree starts is on at `t`.
+///
+/// The wind front leaves the root when the tree's window opens and travels along the arrows
+/// at the tree's propagation speed, so an arrow deeper in the tree switches on later. With
+/// pulsed emission every pulse travels the same way: an arrow is on while the pulse that left
+/// the root `delay` seconds ago was on.
+fn arrow_active(emission: Emission, since_start: f32, delay: f32) -> bool {
+    let local = since_start - delay;
+    if local < 0.0 {
+        return false;
+    }
+    match emission {
+        Emission::Continuous => true,
+        Emission::Pulsed { period, duty } => (local % period) < duty * period,
+    }
+}
+
+/// The arrows of all trees that push at time `t`.
+pub fn agc_splats(layout: &Layout, t: f32) -> Vec<ArrowSplat> {
+    let mut out = Vec::new();
+    for tree in &layout.trees {
+        let Some(start) = in_window(tree, t) else {
+            continue;
+        };
+        for (parent, child, path_len) in tree.root.arrows() {
+            let delay = path_len / tree.propagation_speed;
+            if !arrow_active(tree.emission, t - start, delay) {
+                continue;
+            }
+            let d = [child.pos[0] - parent.pos[0], child.pos[1] - parent.pos[1]];
+            let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+            if len <= 0.0 || child.strength <= 0.0 {
+                continue;
+            }
+            out.push(ArrowSplat {
+                a: parent.pos,
+                b: child.pos,
+                dir: [d[0] / len, d[1] / len],
+                strength: child.strength,
+                radius: child.radius,
+            });
+        }
+    }
+    out
+}
+
+/// Integer hash (a PCG-style permutation), so the noise is the same on every platform and can
+/// be reproduced bit for bit in WGSL.
+#[inline]
+fn hash(x: i32, y: i32, seed: u32) -> u32 {
+    let mut h = (x as u32).wrapping_mul(0x8da6_b343)
+        ^ (y as u32).wrapping_mul(0xd816_3841)
+        ^ seed.wrapping_mul(0xcb1a_b31f);
+    h ^= h >> 16;
+    h = h.wrapping_mul(0x7feb_352d);
+    h ^= h >> 15;
+    h = h.wrapping_mul(0x846c_a68b);
+    h ^ (h >> 16)
+}
+
+/// 2D gradient noise in about [-1, 1], smooth (quintic fade), period-free.
+pub fn gradient_noise(x: f32, y: f32, seed: u32) -> f32 {
+    let xi = x.floor();
+    let yi = y.floor();
+    let fx = x - xi;
+    let fy = y - yi;
+    let (xi, yi) = (xi as i32, yi as i32);
+    let grad = |ix: i32, iy: i32, dx: f32, dy: f32| {
+        let a = (hash(ix, iy, seed) >> 8) as f32 * (std::f32::consts::TAU / 16_777_216.0);
+        a.cos() * dx + a.sin() * dy
+    };
+    let fade = |t: f32| t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+    let n00 = grad(xi, yi, fx, fy);
+    let n10 = grad(xi + 1, yi, fx - 1.0, fy);
+    let n01 = grad(xi, yi + 1, fx, fy - 1.0);
+    let n11 = grad(xi + 1, yi + 1, fx - 1.0, fy - 1.0);
+    let u = fade(fx);
+    let v = fade(fy);
+    let nx0 = n00 + (n10 - n00) * u;
+    let nx1 = n01 + (n11 - n01) * u;
+    (nx0 + (nx1 - nx0) * v) * std::f32::consts::SQRT_2
+}
+
+/// An FFT gust field (Tessendorf/Phillips spectrum), tiling with period `tile` metres.
+pub struct FftGusts {
+    n: usize,
+    tile: f32,
+    h0: Vec<Complex32>,
+    omega: Vec<f32>,
+    norm: f32,
+    field: Vec<f32>,
+    field_time: f32,
+}
+
+const GRAVITY: f32 = 9.81;
+
+impl FftGusts {
+    pub fn new(n: usize, tile: f32, wind_speed: f32, dir: [f32; 2], seed: u64) -> Self {
+        let l = wind_speed * wind_speed / GRAVITY;
+        let mut rng = SplitMix(seed);
+        let mut h0 = vec![Complex32::new(0.0, 0.0); n * n];
+        let mut omega = vec![0.0; n * n];
+        for j in 0..n {
+            for i in 0..n {
+                let kx = wave_number(i, n, tile);
+                let kz = wave_number(j, n, tile);
+                let k = (kx * kx + kz * kz).sqrt();
+                if k < 1e-6 {
+                    continue;
+                }
+                let kl = k * l.max(1e-3);
+                let align = (kx * dir[0] + kz * dir[1]) / k;
+                // P(k) ∝ exp(-1/(kL)²)/k⁴ · |k̂·ŵ|², damping waves far below the tile size.
+                let small = tile / n as f32 * 0.5;
+                let p = (-1.0 / (kl * kl)).exp() / k.powi(4)
+                    * align
+                    * align
+                    * (-(k * small).powi(2)).exp();
+                let (g1, g2) = rng.gaussian_pair();
+                let s = (p * 0.5).sqrt();
+                h0[j * n + i] = Complex32::new(g1 * s, g2 * s);
+                omega[j * n + i] = (GRAVITY * k).sqrt();
+            }
+        }
+        let mut f = Self {
+            n,
+            tile,
+            h0,
+            omega,
+            norm: 1.0,
+            field: vec![0.0; n * n],
+            field_time: f32::NAN,
+        };
+        f.evaluate(0.0);
+        let rms = (f.field.iter().map(|v| v * v).sum::<f32>() / (n * n) as f32).sqrt();
+        f.norm = if rms > 0.0 { 1.0 / rms } else { 0.0 };
+        f.field.iter_mut().for_each(|v| *v *= f.norm);
+        f
+    }
+
+    /// Recomputes the field at time `t` (cached: a second call at the same `t` is free).
+    pub fn evaluate(&mut self, t: f32) {
+        if self.field_time == t {
+            return;
+        }
+        let n = self.n;
+        let mut h = vec![Complex32::new(0.0, 0.0); n * n];
+        for j in 0..n {
+            for i in 0..n {
+                let m = ((n - j) % n) * n + (n - i) % n;
+                let w = self.omega[j * n + i] * t;
+                let e = Complex32::new(w.cos(), w.sin());
+                h[j * n + i] = self.h0[j * n + i] * e + self.h0[m].conj() * e.conj();
+            }
+        }
+        let fft = FftPlanner::new().plan_fft_inverse(n);
+        for row in h.chunks_exact_mut(n) {
+            fft.process(row);
+        }
+        let mut col = vec![Complex32::new(0.0, 0.0); n];
+        for i in 0..n {
+            for j in 0..n {
+                col[j] = h[j * n + i];
+            }
+            fft.process(&mut col);
+            for j in 0..n {
+                h[j * n + i] = col[j];
+            }
+        }
+        for (f, c) in self.field.iter_mut().zip(&h) {
+            *f = c.re * self.norm;
+        }
+        self.field_time = t;
+    }
+
+    /// The (unit-rms) gust value at world point `p`, bilinear, wrapping every `tile` metres.
+    pub fn sample(&self, p: [f32; 2]) -> f32 {
+        let n = self.n as f32;
+        let x = (p[0] / self.tile).rem_euclid(1.0) * n;
+        let z = (p[1] / self.tile).rem_euclid(1.0) * n;
+        let (i0, j0) = (x.floor() as usize % self.n, z.floor() as usize % self.n);
+        let (i1, j1) = ((i0 + 1) % self.n, (j0 + 1) % self.n);
+        let (fx, fz) = (x - x.floor(), z - z.floor());
+        let at = |i: usize, j: usize| self.field[j * self.n + i];
+        let a = at(i0, j0) + (at(i1, j0) - at(i0, j0)) * fx;
+        let b = at(i0, j1) + (at(i1, j1) - at(i0, j1)) * fx;
+        a + (b - a) * fz
+    }
+
+    pub fn field(&self) -> &[f32] {
+        &self.field
+    }
+}
+
+fn wave_number(i: usize, n: usize, tile: f32) -> f32 {
+    let m = if i <= n / 2 {
+        i as f32
+    } else {
+        i as f32 - n as f32
+    };
+    std::f32::consts::TAU * m / tile
+}
+
+/// A tiny deterministic generator for the FFT spectrum's random phases.
+struct SplitMix(u64);
+
+impl SplitMix {
+    fn next(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9e37_79b9_7f4a_7c15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+        z ^ (z >> 31)
+    }
+
+    fn unit(&mut self) -> f32 {
+        ((self.next() >> 40) as f32 + 0.5) / 16_777_216.0
+    }
+
+    fn gaussian_pair(&mut self) -> (f32, f32) {
+        let r = (-2.0 * self.unit().ln()).sqrt();
+        let a = std::f32::consts::TAU * self.unit();
+        (r * a.cos(), r * a.sin())
+    }
+}
+
+/// Ambient layers prepared for one instant: evaluates the target wind at any point.
+pub struct Ambient {
+    layers: Vec<(AmbientKind, Option<FftGusts>)>,
+    t: f32,
+}
+
+impl Ambient {
+    /// Prepares the enabled layers of `layout` (FFT spectra are built here, once).
+    pub fn new(layout: &Layout) -> Self {
+        let layers = layout
+            .ambient
+            .iter()
+            .filter(|a| a.enabled)
+            .map(|a| {
+                let fft = match &a.kind {
+                    AmbientKind::Fft {
+                        direction_deg,
+                        wind_speed,
+                        resolution,
+                        tile_size,
+                        seed,
+                        ..
+                    } => Some(FftGusts::new(
+                        *resolution as usize,
+                        *tile_size,
+                        *wind_speed,
+                        doc::direction(*direction_deg),
+                        *seed,
+                    )),
+                    _ => None,
+                };
+                (a.kind.clone(), fft)
+            })
+            .collect();
+        Self { layers, t: 0.0 }
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.layers.is_empty()
+    }
+
+    /// Moves the layers to time `t`.
+    pub fn set_time(&mut self, t: f32) {
+        self.t = t;
+        for (_, fft) in &mut self.layers {
+            if let Some(f) = fft {
+                f.evaluate(t);
+            }
+        }
+    }
+
+    /// Target ambient wind (m/s) at world point `p`.
+    pub fn wind(&self, p: [f32; 2]) -> [f32; 2] {
+        let t = self.t;
+        let mut w = [0.0f32, 0.0];
+        for (kind, fft) in &self.layers {
+            let (dir, speed) = match kind {
+                AmbientKind::Directional {
+                    direction_deg,
+                    main,
+                    turbulence,
+                    pulse_magnitude,
+                    pulse_frequency,
+                } => {
+                    let d = doc::direction(*direction_deg);
+                    let pulse = 1.0
+                        + pulse_magnitude
+                            * (0.5 + 0.5 * (std::f32::consts::TAU * pulse_frequency * t).sin());
+                    // Frozen turbulence scrolled with the mean wind (Taylor's hypothesis).
+                    let q = [p[0] - d[0] * main * t, p[1] - d[1] * main * t];
+                    let s = 1.0 / 8.0;
+                    w[0] += turbulence * gradient_noise(q[0] * s, q[1] * s, 11);
+                    w[1] += turbulence * gradient_noise(q[0] * s, q[1] * s, 23);
+                    (d, main * pulse)
+                }
+                AmbientKind::Noise {
+                    direction_deg,
+                    scale,
+                    speed,
+                    strength,
+                } => {
+                    let d = doc::direction(*direction_deg);
+                    let q = [p[0] - d[0] * speed * t, p[1] - d[1] * speed * t];
+                    let n = gradient_noise(q[0] / scale, q[1] / scale, 5);
+                    (d, strength * (0.5 + 0.5 * n).clamp(0.0, 1.0))
+                }
+                AmbientKind::Fft {
+                    direction_deg,
+                    wind_speed,
+                    amplitude,
+                    ..
+                } => {
+                    let d = doc::direction(*direction_deg);
+                    let f = fft.as_ref().map_or(0.0, |f| {
+                        f.sample([p[0] - d[0] * wind_speed * t, p[1] - d[1] * wind_speed * t])
+                    });
+                    (d, wind_speed + amplitude * f)
+                }
+                AmbientKind::Sine {
+                    direction_deg,
+                    amplitude,
+                    wavelength,
+                    frequency,
+                } => {
+                    let d = doc::direction(*direction_deg);
+                    let x = p[0] * d[0] + p[1] * d[1];
+                    let s = (std::f32::consts::TAU * (x / wavelength - frequency * t)).sin();
+                    (d, amplitude * s)
+                }
+            };
+            w[0] += dir[0] * speed;
+            w[1] += dir[1] * speed;
+        }
+        w
+    }
+}

@@ -1,0 +1,9 @@
+//! The simulation: the force model (AGC arrow trees, ambient layers), obstacle rasterisation
+//! and the CPU stable-fluid solver. Knows nothing of wgpu or egui.
+
+pub mod bench;
+pub mod forces;
+pub mod obstacles;
+pub mod solver;
+
+pub use solver::{MAX_SPEED, PassTimes, Solver};

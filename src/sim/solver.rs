@@ -1,0 +1,996 @@
+//! The CPU stable-fluid solver: the reference the GPU must match and the engine of bakes.
+//!
+//! A staggered (MAC) grid: `u` lives on the vertical faces (`(nx+1) × ny`, face `(i, j)` at
+//! grid point `(i, j + ½)`), `v` on the horizontal faces (`nx × (ny+1)`, at `(i + ½, j)`),
+//! pressure, divergence and curl at cell centres. Divergence, the pressure Laplacian and the
+//! gradient are then compatible, so after projection the divergence equals the Jacobi residual
+//! exactly (wind-model.md §2, item 6). Velocities are m/s; cell sizes `hx × hz` metres.
+//!
+//! Every pass computes each output cell from inputs only, so the result is bit-for-bit the
+//! same whatever the number of rayon threads.
+
+use super::forces::{Ambient, ArrowSplat, agc_splats};
+use super::obstacles;
+use crate::doc::{Advection, Boundary, Layout, SOLVER_BYTES_PER_CELL, SimParams};
+use rayon::prelude::*;
+use std::time::Instant;
+
+/// No velocity component ever exceeds this (m/s): extreme authored forces saturate instead of
+/// overflowing, so the field can never hold infinities or NaN.
+pub const MAX_SPEED: f32 = 1.0e4;
+
+const L: u8 = 1;
+const R: u8 = 2;
+const B: u8 = 4;
+const T: u8 = 8;
+/// Shift from "neighbour is fluid" bits to "neighbour is an open edge (p = 0)" bits.
+const EDGE: u8 = 4;
+const ALL_FLUID: u8 = L | R | B | T;
+
+/// Time spent in each pass (seconds, accumulated since the last reset).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PassTimes {
+    pub forces: f64,
+    pub curl: f64,
+    pub confinement: f64,
+    pub divergence: f64,
+    pub pressure: f64,
+    pub gradient: f64,
+    pub advection: f64,
+}
+
+impl PassTimes {
+    pub fn total(&self) -> f64 {
+        self.forces
+            + self.curl
+            + self.confinement
+            + self.divergence
+            + self.pressure
+            + self.gradient
+            + self.advection
+    }
+
+    pub fn as_pairs(&self) -> [(&'static str, f64); 7] {
+        [
+            ("forces", self.forces),
+            ("curl", self.curl),
+            ("confinement", self.confinement),
+            ("divergence", self.divergence),
+            ("pressure", self.pressure),
+            ("gradient", self.gradient),
+            ("advection", self.advection),
+        ]
+    }
+}
+
+/// The 2D wind solver for one layout.
+pub struct Solver {
+    pub nx: usize,
+    pub ny: usize,
+    /// Cell size in metres along x and z.
+    pub hx: f32,
+    pub hz: f32,
+    pub origin: [f32; 2],
+    pub params: SimParams,
+    /// Simulation time in seconds.
+    pub time: f32,
+    /// x velocity on vertical faces, `(nx + 1) × ny`.
+    pub u: Vec<f32>,
+    /// z velocity on horizontal faces, `nx × (ny + 1)`.
+    pub v: Vec<f32>,
+    /// Pressure (scaled by dt/ρ), divergence and curl at cell centres.
+    pub p: Vec<f32>,
+    pub div: Vec<f32>,
+    pub curl: Vec<f32>,
+    /// 1 where a cell is solid.
+    pub solid: Vec<u8>,
+    u_tmp: Vec<f32>,
+    v_tmp: Vec<f32>,
+    u_hat: Vec<f32>,
+    v_hat: Vec<f32>,
+    p_tmp: Vec<f32>,
+    /// 1 where a face's velocity is free to change (not touching a solid or a wall).
+    u_free: Vec<u8>,
+    v_free: Vec<u8>,
+    /// Per cell: which neighbours take part in the pressure solve (see `L`…`EDGE`).
+    flags: Vec<u8>,
+    /// Rows whose interior cells all have four fluid neighbours (the Jacobi fast path).
+    row_regular: Vec<bool>,
+    layout: Layout,
+    ambient: Ambient,
+    pub timings: PassTimes,
+    /// Faces the last forces pass visited (rows a splat or ambient layer reaches).
+    pub force_faces: usize,
+}
+
+impl Solver {
+    /// A solver for `layout` at rest. The layout must be valid (see `doc::validate`).
+    pub fn new(layout: &Layout) -> Self {
+        let nx = layout.world.grid[0] as usize;
+        let ny = layout.world.grid[1] as usize;
+        let params = layout.sim;
+        let solid = obstacles::rasterize(layout);
+        let cell = |i: usize, j: usize| solid[j * nx + i] != 0;
+
+        let mut u_free = vec![0u8; (nx + 1) * ny];
+        for j in 0..ny {
+            for i in 0..=nx {
+                let free = if i > 0 && i < nx {
+                    !cell(i - 1, j) && !cell(i, j)
+                } else {
+                    match params.boundary {
+                        Boundary::Closed => false,
+                        Boundary::Open => !cell(if i == 0 { 0 } else { nx - 1 }, j),
+                        Boundary::Periodic => !cell(0, j) && !cell(nx - 1, j),
+                    }
+                };
+                u_free[j * (nx + 1) + i] = u8::from(free);
+            }
+        }
+        let mut v_free = vec![0u8; nx * (ny + 1)];
+        for j in 0..=ny {
+            for i in 0..nx {
+                let free = if j > 0 && j < ny {
+                    !cell(i, j - 1) && !cell(i, j)
+                } else {
+                    match params.boundary {
+                        Boundary::Closed => false,
+                        Boundary::Open => !cell(i, if j == 0 { 0 } else { ny - 1 }),
+                        Boundary::Periodic => !cell(i, 0) && !cell(i, ny - 1),
+                    }
+                };
+                v_free[j * nx + i] = u8::from(free);
+            }
+        }
+
+        let mut flags = vec![0u8; nx * ny];
+        for j in 0..ny {
+            for i in 0..nx {
+                if cell(i, j) {
+                    continue;
+                }
+                let mut f = 0u8;
+                let neighbours = [
+                    (L, i.checked_sub(1).map(|a| (a, j)), (nx - 1, j)),
+                    (R, (i + 1 < nx).then_some((i + 1, j)), (0, j)),
+                    (B, j.checked_sub(1).map(|b| (i, b)), (i, ny - 1)),
+                    (T, (j + 1 < ny).then_some((i, j + 1)), (i, 0)),
+                ];
+                for (bit, inside, wrapped) in neighbours {
+                    match inside {
+                        Some((a, b)) => {
+                            if !cell(a, b) {
+                                f |= bit;
+                            }
+                        }
+                        None => match params.boundary {
+                            Boundary::Closed => {}
+                            Boundary::Open => f |= bit << EDGE,
+                            Boundary::Periodic => {
+                                if !cell(wrapped.0, wrapped.1) {
+                                    f |= bit;
+                                }
+                            }
+                        },
+                    }
+                }
+                flags[j * nx + i] = f;
+            }
+        }
+        let row_regular = (0..ny)
+            .map(|j| (1..nx.saturating_sub(1)).all(|i| flags[j * nx + i] == ALL_FLUID))
+            .collect();
+
+        let cells = nx * ny;
+        let (min, _) = layout.bounds();
+        Self {
+            nx,
+            ny,
+            hx: layout.world.size[0] / nx as f32,
+            hz: layout.world.size[1] / ny as f32,
+            origin: min,
+            params,
+            time: 0.0,
+            u: vec![0.0; (nx + 1) * ny],
+            v: vec![0.0; nx * (ny + 1)],
+            p: vec![0.0; cells],
+            div: vec![0.0; cells],
+            curl: vec![0.0; cells],
+            solid,
+            u_tmp: vec![0.0; (nx + 1) * ny],
+            v_tmp: vec![0.0; nx * (ny + 1)],
+            u_hat: vec![0.0; (nx + 1) * ny],
+            v_hat: vec![0.0; nx * (ny + 1)],
+            p_tmp: vec![0.0; cells],
+            u_free,
+            v_free,
+            flags,
+            row_regular,
+            layout: layout.clone(),
+            ambient: Ambient::new(layout),
+            timings: PassTimes::default(),
+            force_faces: 0,
+        }
+    }
+
+    /// Bytes of grid memory this solver holds (checked against the validation budget).
+    pub fn memory_bytes(&self) -> u64 {
+        let f32s = self.u.len()
+            + self.v.len()
+            + self.p.len()
+            + self.div.len()
+            + self.curl.len()
+            + self.u_tmp.len()
+            + self.v_tmp.len()
+            + self.u_hat.len()
+            + self.v_hat.len()
+            + self.p_tmp.len();
+        let bytes = self.solid.len() + self.u_free.len() + self.v_free.len() + self.flags.len();
+        (f32s * 4 + bytes) as u64
+    }
+
+    /// Upper bound used by validation for the same grid.
+    pub fn memory_budget(&self) -> u64 {
+        (self.nx * self.ny) as u64 * SOLVER_BYTES_PER_CELL
+    }
+
+    /// Replaces the layout the forces come from (an edit), keeping the running field. Grid,
+    /// obstacles and boundary changes need a new solver.
+    pub fn set_layout(&mut self, layout: &Layout) {
+        self.layout = layout.clone();
+        self.ambient = Ambient::new(layout);
+        self.params = layout.sim;
+    }
+
+    /// Advances the simulation by `params.dt` (in `params.substeps` substeps).
+    pub fn step(&mut self) {
+        let n = self.params.substeps.max(1);
+        let dt = self.params.dt / n as f32;
+        for _ in 0..n {
+            self.substep(dt);
+        }
+    }
+
+    fn substep(&mut self, dt: f32) {
+        let t0 = Instant::now();
+        self.apply_forces(dt);
+        let t1 = Instant::now();
+        self.compute_curl();
+        let t2 = Instant::now();
+        self.confine_vorticity(dt);
+        let t3 = Instant::now();
+        self.compute_divergence();
+        let t4 = Instant::now();
+        self.solve_pressure();
+        let t5 = Instant::now();
+        self.subtract_gradient();
+        let t6 = Instant::now();
+        self.advect(dt);
+        let t7 = Instant::now();
+        self.time += dt;
+        let tm = &mut self.timings;
+        tm.forces += (t1 - t0).as_secs_f64();
+        tm.curl += (t2 - t1).as_secs_f64();
+        tm.confinement += (t3 - t2).as_secs_f64();
+        tm.divergence += (t4 - t3).as_secs_f64();
+        tm.pressure += (t5 - t4).as_secs_f64();
+        tm.gradient += (t6 - t5).as_secs_f64();
+        tm.advection += (t7 - t6).as_secs_f64();
+    }
+
+    /// Step 1: AGC arrow splats and the pull toward the ambient wind. Both read the velocity
+    /// before the pass, so the u and v faces see the same state.
+    pub fn apply_forces(&mut self, dt: f32) {
+        let splats = agc_splats(&self.layout, self.time);
+        self.ambient.set_time(self.time);
+        let coupling = if self.ambient.is_empty() {
+            0.0
+        } else {
+            1.0 - (-self.params.ambient_coupling * dt).exp()
+        };
+        let f = Forcing {
+            g: self.geometry(),
+            origin: self.origin,
+            splats: &splats,
+            bounds: splats.iter().map(ArrowSplat::bounds).collect(),
+            ambient: &self.ambient,
+            coupling,
+            response: self.params.arrow_response,
+            dt,
+        };
+        if splats.is_empty() && coupling == 0.0 {
+            self.force_faces = 0;
+            return;
+        }
+        let rows_u = f.increments(&self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
+        let rows_v = f.increments(&self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
+        self.force_faces = add_rows(&mut self.u, &self.u_tmp, &rows_u, self.nx + 1)
+            + add_rows(&mut self.v, &self.v_tmp, &rows_v, self.nx);
+        self.sync_periodic();
+    }
+
+    /// Step 2: vorticity at cell centres, `∂v/∂x − ∂u/∂z`, central differences.
+    pub fn compute_curl(&mut self) {
+        let (nx, ny, hx, hz) = (self.nx, self.ny, self.hx, self.hz);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let (u, v) = (&self.u, &self.v);
+        let uc = |i: usize, j: usize| 0.5 * (u[j * (nx + 1) + i] + u[j * (nx + 1) + i + 1]);
+        let vc = |i: usize, j: usize| 0.5 * (v[j * nx + i] + v[(j + 1) * nx + i]);
+        let solid = &self.solid;
+        self.curl
+            .par_chunks_mut(nx)
+            .enumerate()
+            .for_each(|(j, row)| {
+                let (jb, jt) = neighbours(j, ny, periodic);
+                for (i, w) in row.iter_mut().enumerate() {
+                    if solid[j * nx + i] != 0 {
+                        *w = 0.0;
+                        continue;
+                    }
+                    let (il, ir) = neighbours(i, nx, periodic);
+                    let dvdx = (vc(ir, j) - vc(il, j))
+                        / (hx * (ir as f32 - il as f32).abs().clamp(1.0, 2.0));
+                    let dudz = (uc(i, jt) - uc(i, jb))
+                        / (hz * (jt as f32 - jb as f32).abs().clamp(1.0, 2.0));
+                    *w = dvdx - dudz;
+                }
+            });
+    }
+
+    /// Step 3: vorticity confinement, `f = ε h w (N_z, −N_x)` with `N` the unit gradient of
+    /// `|w|`, pushing along the rotation so small eddies survive advection.
+    pub fn confine_vorticity(&mut self, dt: f32) {
+        let eps = self.params.vorticity;
+        if eps <= 0.0 {
+            return;
+        }
+        let (nx, ny) = (self.nx, self.ny);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let h = self.hx.min(self.hz);
+        let curl = &self.curl;
+        // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
+        self.p_tmp
+            .par_chunks_mut(nx)
+            .zip(self.div.par_chunks_mut(nx))
+            .enumerate()
+            .for_each(|(j, (fx_row, fz_row))| {
+                let (jb, jt) = neighbours(j, ny, periodic);
+                for i in 0..nx {
+                    let (il, ir) = neighbours(i, nx, periodic);
+                    let w = curl[j * nx + i];
+                    let gx = 0.5 * (curl[j * nx + ir].abs() - curl[j * nx + il].abs());
+                    let gz = 0.5 * (curl[jt * nx + i].abs() - curl[jb * nx + i].abs());
+                    let len = (gx * gx + gz * gz).sqrt() + 1e-5;
+                    let s = eps * h * w / len;
+                    fx_row[i] = s * gz;
+                    fz_row[i] = -s * gx;
+                }
+            });
+        let fx = &self.p_tmp;
+        let fz = &self.div;
+        self.u
+            .par_chunks_mut(nx + 1)
+            .enumerate()
+            .for_each(|(j, row)| {
+                for (i, u) in row.iter_mut().enumerate() {
+                    if self.u_free[j * (nx + 1) + i] == 0 {
+                        continue;
+                    }
+                    let a = fx[j * nx
+                        + if i == 0 {
+                            if periodic { nx - 1 } else { 0 }
+                        } else {
+                            i - 1
+                        }];
+                    let b = fx[j * nx
+                        + if i == nx {
+                            if periodic { 0 } else { nx - 1 }
+                        } else {
+                            i
+                        }];
+                    *u = clamp_speed(*u + dt * 0.5 * (a + b));
+                }
+            });
+        self.v.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            for (i, v) in row.iter_mut().enumerate() {
+                if self.v_free[j * nx + i] == 0 {
+                    continue;
+                }
+                let jb = if j == 0 {
+                    if periodic { ny - 1 } else { 0 }
+                } else {
+                    j - 1
+                };
+                let jt = if j == ny {
+                    if periodic { 0 } else { ny - 1 }
+                } else {
+                    j
+                };
+                *v = clamp_speed(*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]));
+            }
+        });
+        self.sync_periodic();
+    }
+
+    /// Step 4: divergence per cell, `(u_R − u_L)/hx + (v_T − v_B)/hz` (0 in solids).
+    pub fn compute_divergence(&mut self) {
+        let (nx, hx, hz) = (self.nx, self.hx, self.hz);
+        let (u, v, solid) = (&self.u, &self.v, &self.solid);
+        self.div
+            .par_chunks_mut(nx)
+            .enumerate()
+            .for_each(|(j, row)| {
+                divergence_row(row, j, nx, hx, hz, u, v, solid);
+            });
+    }
+
+    /// Steps 5: warm start and Jacobi iterations for `∇²p = div`.
+    pub fn solve_pressure(&mut self) {
+        let decay = self.params.pressure_decay;
+        self.p.par_iter_mut().for_each(|p| *p *= decay);
+        for _ in 0..self.params.pressure_iterations {
+            self.jacobi_iteration();
+        }
+    }
+
+    /// One Jacobi sweep: `p ← (Σ w_n p_n − div) / Σ w_n` over the neighbours that take part
+    /// (solids and closed walls: Neumann, dropped; open edges: p = 0 outside).
+    pub fn jacobi_iteration(&mut self) {
+        let (nx, ny) = (self.nx, self.ny);
+        let wx = 1.0 / (self.hx * self.hx);
+        let wz = 1.0 / (self.hz * self.hz);
+        let inv_regular = 1.0 / (2.0 * wx + 2.0 * wz);
+        let (p, div, flags, regular) = (&self.p, &self.div, &self.flags, &self.row_regular);
+        self.p_tmp
+            .par_chunks_mut(nx)
+            .enumerate()
+            .for_each(|(j, out)| {
+                let jb = if j == 0 { ny - 1 } else { j - 1 };
+                let jt = if j + 1 == ny { 0 } else { j + 1 };
+                let row = &p[j * nx..(j + 1) * nx];
+                let below = &p[jb * nx..(jb + 1) * nx];
+                let above = &p[jt * nx..(jt + 1) * nx];
+                let d = &div[j * nx..(j + 1) * nx];
+                let f = &flags[j * nx..(j + 1) * nx];
+                let general = |i: usize| {
+                    let fl = f[i];
+                    let il = if i == 0 { nx - 1 } else { i - 1 };
+                    let ir = if i + 1 == nx { 0 } else { i + 1 };
+                    let mut sum = 0.0;
+                    let mut ws = 0.0;
+                    for (bit, w, val) in [
+                        (L, wx, row[il]),
+                        (R, wx, row[ir]),
+                        (B, wz, below[i]),
+                        (T, wz, above[i]),
+                    ] {
+                        if fl & bit != 0 {
+                            sum += w * val;
+                            ws += w;
+                        } else if fl & (bit << EDGE) != 0 {
+                            ws += w;
+                        }
+                    }
+                    if ws > 0.0 { (sum - d[i]) / ws } else { 0.0 }
+                };
+                if regular[j] && nx > 2 {
+                    out[0] = general(0);
+                    for i in 1..nx - 1 {
+                        out[i] = (wx * (row[i - 1] + row[i + 1]) + wz * (below[i] + above[i])
+                            - d[i])
+                            * inv_regular;
+                    }
+                    out[nx - 1] = general(nx - 1);
+                } else {
+                    for (i, o) in out.iter_mut().enumerate() {
+                        *o = general(i);
+                    }
+                }
+            });
+        std::mem::swap(&mut self.p, &mut self.p_tmp);
+    }
+
+    /// Step 6: subtract the pressure gradient from every free face.
+    pub fn subtract_gradient(&mut self) {
+        let (nx, ny, hx, hz) = (self.nx, self.ny, self.hx, self.hz);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let p = &self.p;
+        let u_free = &self.u_free;
+        let v_free = &self.v_free;
+        // Outside the domain: periodic wraps, open edges hold p = 0 (closed edges are not free).
+        let px = |i: isize, j: usize| -> f32 {
+            if i < 0 {
+                if periodic { p[j * nx + nx - 1] } else { 0.0 }
+            } else if i as usize >= nx {
+                if periodic { p[j * nx] } else { 0.0 }
+            } else {
+                p[j * nx + i as usize]
+            }
+        };
+        self.u
+            .par_chunks_mut(nx + 1)
+            .enumerate()
+            .for_each(|(j, row)| {
+                for (i, u) in row.iter_mut().enumerate() {
+                    if u_free[j * (nx + 1) + i] == 0 {
+                        *u = 0.0;
+                        continue;
+                    }
+                    let i = i as isize;
+                    *u -= (px(i, j) - px(i - 1, j)) / hx;
+                }
+            });
+        let pz = |i: usize, j: isize| -> f32 {
+            if j < 0 {
+                if periodic { p[(ny - 1) * nx + i] } else { 0.0 }
+            } else if j as usize >= ny {
+                if periodic { p[i] } else { 0.0 }
+            } else {
+                p[j as usize * nx + i]
+            }
+        };
+        self.v.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
+            for (i, v) in row.iter_mut().enumerate() {
+                if v_free[j * nx + i] == 0 {
+                    *v = 0.0;
+                    continue;
+                }
+                let j = j as isize;
+                *v -= (pz(i, j) - pz(i, j - 1)) / hz;
+            }
+        });
+        self.sync_periodic();
+    }
+
+    /// Step 7: advection (semi-Lagrangian or limited MacCormack) with dissipation
+    /// `vel / (1 + dissipation × dt)` folded into the same write.
+    pub fn advect(&mut self, dt: f32) {
+        let g = self.geometry();
+        let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
+        match self.params.advection {
+            Advection::SemiLagrangian => {
+                let (u, v) = (&self.u, &self.v);
+                advect_faces(&g, u, v, u, &mut self.u_tmp, dt, keep, &self.u_free, false);
+                advect_faces(&g, u, v, v, &mut self.v_tmp, dt, keep, &self.v_free, true);
+                std::mem::swap(&mut self.u, &mut self.u_tmp);
+                std::mem::swap(&mut self.v, &mut self.v_tmp);
+            }
+            Advection::MacCormack => {
+                // Forward: φ̂ = A(φ); backward: φ̌ = A⁻¹(φ̂); φ' = φ̂ + (φ − φ̌)/2, clamped to
+                // the forward stencil's range so the correction cannot create new extrema.
+                let (u, v) = (&self.u, &self.v);
+                advect_faces(&g, u, v, u, &mut self.u_tmp, dt, 1.0, &self.u_free, false);
+                advect_faces(&g, u, v, v, &mut self.v_tmp, dt, 1.0, &self.v_free, true);
+                advect_faces(
+                    &g,
+                    u,
+                    v,
+                    &self.u_tmp,
+                    &mut self.u_hat,
+                    -dt,
+                    1.0,
+                    &self.u_free,
+                    false,
+                );
+                advect_faces(
+                    &g,
+                    u,
+                    v,
+                    &self.v_tmp,
+                    &mut self.v_hat,
+                    -dt,
+                    1.0,
+                    &self.v_free,
+                    true,
+                );
+                maccormack(
+                    &g,
+                    u,
+                    v,
+                    &self.u_tmp,
+                    &mut self.u_hat,
+                    dt,
+                    keep,
+                    &self.u_free,
+                    false,
+                );
+                maccormack(
+                    &g,
+                    u,
+                    v,
+                    &self.v_tmp,
+                    &mut self.v_hat,
+                    dt,
+                    keep,
+                    &self.v_free,
+                    true,
+                );
+                std::mem::swap(&mut self.u, &mut self.u_hat);
+                std::mem::swap(&mut self.v, &mut self.v_hat);
+            }
+        }
+        self.sync_periodic();
+    }
+
+    fn geometry(&self) -> Geometry {
+        Geometry {
+            nx: self.nx,
+            ny: self.ny,
+            hx: self.hx,
+            hz: self.hz,
+            periodic: self.params.boundary == Boundary::Periodic,
+        }
+    }
+
+    /// With periodic boundaries the last face column/row is the first one.
+    fn sync_periodic(&mut self) {
+        if self.params.boundary != Boundary::Periodic {
+            return;
+        }
+        let (nx, ny) = (self.nx, self.ny);
+        for j in 0..ny {
+            self.u[j * (nx + 1) + nx] = self.u[j * (nx + 1)];
+        }
+        let (first, rest) = self.v.split_at_mut(nx);
+        rest[(ny - 1) * nx..ny * nx].copy_from_slice(first);
+    }
+
+    /// Velocity (m/s) at the centre of cell `(i, j)`: the average of its faces.
+    pub fn cell_velocity(&self, i: usize, j: usize) -> [f32; 2] {
+        let nx = self.nx;
+        [
+            0.5 * (self.u[j * (nx + 1) + i] + self.u[j * (nx + 1) + i + 1]),
+            0.5 * (self.v[j * nx + i] + self.v[(j + 1) * nx + i]),
+        ]
+    }
+
+    /// Cell-centred velocity field, `nx × ny` pairs `[x, z]` in m/s, row-major.
+    pub fn velocity_field(&self) -> Vec<[f32; 2]> {
+        (0..self.ny)
+            .flat_map(|j| (0..self.nx).map(move |i| (i, j)))
+            .map(|(i, j)| self.cell_velocity(i, j))
+            .collect()
+    }
+
+    /// Velocity at a world point (bilinear between cell centres).
+    pub fn velocity_at(&self, p: [f32; 2]) -> [f32; 2] {
+        let g = self.geometry();
+        let x = (p[0] - self.origin[0]) / self.hx;
+        let z = (p[1] - self.origin[1]) / self.hz;
+        [sample_u(&g, &self.u, x, z).0, sample_v(&g, &self.v, x, z).0]
+    }
+
+    /// The cell containing world point `p`, if inside the grid.
+    pub fn cell_at(&self, p: [f32; 2]) -> Option<(usize, usize)> {
+        let x = ((p[0] - self.origin[0]) / self.hx).floor();
+        let z = ((p[1] - self.origin[1]) / self.hz).floor();
+        (x >= 0.0 && z >= 0.0 && (x as usize) < self.nx && (z as usize) < self.ny)
+            .then_some((x as usize, z as usize))
+    }
+
+    /// Recomputes the divergence of the current field and returns its RMS over fluid cells.
+    pub fn divergence_rms(&mut self) -> f32 {
+        self.compute_divergence();
+        let (sum, n) = self
+            .div
+            .iter()
+            .zip(&self.solid)
+            .filter(|&(_, &s)| s == 0)
+            .fold((0.0f64, 0usize), |(s, n), (d, _)| {
+                (s + f64::from(d * d), n + 1)
+            });
+        (sum / n.max(1) as f64).sqrt() as f32
+    }
+
+    /// Kinetic energy per unit density, `½ Σ |u|²` over faces (times cell area).
+    pub fn kinetic_energy(&self) -> f64 {
+        let a = f64::from(self.hx * self.hz);
+        let su: f64 = self.u.iter().map(|x| f64::from(x * x)).sum();
+        let sv: f64 = self.v.iter().map(|x| f64::from(x * x)).sum();
+        0.5 * a * (su + sv)
+    }
+
+    /// Mutable access to the raw face velocities, for tests and tools that seed a field.
+    pub fn faces_mut(&mut self) -> (&mut [f32], &mut [f32]) {
+        (&mut self.u, &mut self.v)
+    }
+
+    /// Zeroes non-free faces and syncs periodic copies after outside changes to the faces.
+    pub fn enforce_boundaries(&mut self) {
+        for (u, f) in self.u.iter_mut().zip(&self.u_free) {
+            if *f == 0 {
+                *u = 0.0;
+            }
+        }
+        for (v, f) in self.v.iter_mut().zip(&self.v_free) {
+            if *f == 0 {
+                *v = 0.0;
+            }
+        }
+        self.sync_periodic();
+    }
+
+    /// Solid (1) or fluid (0) per cell.
+    pub fn is_solid(&self, i: usize, j: usize) -> bool {
+        self.solid[j * self.nx + i] != 0
+    }
+
+    /// The bytes of the velocity faces, for determinism checks.
+    pub fn state_bytes(&self) -> Vec<u8> {
+        self.u
+            .iter()
+            .chain(&self.v)
+            .chain(&self.p)
+            .flat_map(|x| x.to_le_bytes())
+            .collect()
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn divergence_row(
+    row: &mut [f32],
+    j: usize,
+    nx: usize,
+    hx: f32,
+    hz: f32,
+    u: &[f32],
+    v: &[f32],
+    solid: &[u8],
+) {
+    let ur = &u[j * (nx + 1)..(j + 1) * (nx + 1)];
+    let vb = &v[j * nx..(j + 1) * nx];
+    let vt = &v[(j + 1) * nx..(j + 2) * nx];
+    let s = &solid[j * nx..(j + 1) * nx];
+    for i in 0..nx {
+        row[i] = if s[i] != 0 {
+            0.0
+        } else {
+            (ur[i + 1] - ur[i]) / hx + (vt[i] - vb[i]) / hz
+        };
+    }
+}
+
+/// Neighbour indices `(lower, upper)` of `i` on an axis of `n` cells: wrapped or clamped.
+#[inline]
+fn neighbours(i: usize, n: usize, periodic: bool) -> (usize, usize) {
+    if periodic {
+        ((i + n - 1) % n, (i + 1) % n)
+    } else {
+        (i.saturating_sub(1), (i + 1).min(n - 1))
+    }
+}
+
+#[inline]
+fn clamp_speed(x: f32) -> f32 {
+    x.clamp(-MAX_SPEED, MAX_SPEED)
+}
+
+/// Everything the forces pass needs for one substep.
+struct Forcing<'a> {
+    g: Geometry,
+    origin: [f32; 2],
+    splats: &'a [ArrowSplat],
+    bounds: Vec<([f32; 2], [f32; 2])>,
+    ambient: &'a Ambient,
+    coupling: f32,
+    response: f32,
+    dt: f32,
+}
+
+impl Forcing<'_> {
+    /// Writes the velocity change of every free face of the rows any force reaches into
+    /// `inc` (u faces, or v faces with `is_v`); returns which rows were written.
+    fn increments(
+        &self,
+        u: &[f32],
+        v: &[f32],
+        inc: &mut [f32],
+        free: &[u8],
+        is_v: bool,
+    ) -> Vec<bool> {
+        let g = &self.g;
+        let w = if is_v { g.nx } else { g.nx + 1 };
+        inc.par_chunks_mut(w)
+            .enumerate()
+            .map(|(j, row)| {
+                // Face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j) for v.
+                let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+                let z_world = self.origin[1] + (j as f32 + oz) * g.hz;
+                let active: Vec<&ArrowSplat> = self
+                    .splats
+                    .iter()
+                    .zip(&self.bounds)
+                    .filter(|(_, (lo, hi))| z_world >= lo[1] && z_world <= hi[1])
+                    .map(|(s, _)| s)
+                    .collect();
+                if active.is_empty() && self.coupling == 0.0 {
+                    return false;
+                }
+                for (i, out) in row.iter_mut().enumerate() {
+                    *out = 0.0;
+                    if free[j * w + i] == 0 {
+                        continue;
+                    }
+                    let (x, z) = (i as f32 + ox, j as f32 + oz);
+                    let vel = if is_v {
+                        [sample_u(g, u, x, z).0, v[j * w + i]]
+                    } else {
+                        [u[j * w + i], sample_v(g, v, x, z).0]
+                    };
+                    let p = [self.origin[0] + x * g.hx, z_world];
+                    let c = usize::from(is_v);
+                    let mut d = 0.0;
+                    for s in &active {
+                        d += s.impulse(p, vel, self.response, self.dt)[c];
+                    }
+                    if self.coupling > 0.0 {
+                        d += (self.ambient.wind(p)[c] - vel[c]) * self.coupling;
+                    }
+                    *out = d;
+                }
+                true
+            })
+            .collect()
+    }
+}
+
+/// `field += inc` on the rows marked in `rows`; returns the number of faces touched.
+fn add_rows(field: &mut [f32], inc: &[f32], rows: &[bool], w: usize) -> usize {
+    field
+        .par_chunks_mut(w)
+        .zip(inc.par_chunks(w))
+        .zip(rows.par_iter())
+        .map(|((f, d), &on)| {
+            if !on {
+                return 0;
+            }
+            for (x, dx) in f.iter_mut().zip(d) {
+                *x = clamp_speed(*x + dx);
+            }
+            f.len()
+        })
+        .sum()
+}
+
+#[derive(Clone, Copy)]
+struct Geometry {
+    nx: usize,
+    ny: usize,
+    hx: f32,
+    hz: f32,
+    periodic: bool,
+}
+
+/// Bilinear sample of a face field with `w × h` samples, at fractional sample coordinates;
+/// periodic grids wrap every `nx × ny` samples (the last face row/column repeats the first).
+/// Returns the value and the min/max of the four samples used (for the MacCormack limiter).
+#[inline]
+fn bilinear(g: &Geometry, f: &[f32], w: usize, h: usize, x: f32, z: f32) -> (f32, f32, f32) {
+    let (i0, i1, fx) = axis(x, w, g.nx, g.periodic);
+    let (j0, j1, fz) = axis(z, h, g.ny, g.periodic);
+    let a = f[j0 * w + i0];
+    let b = f[j0 * w + i1];
+    let c = f[j1 * w + i0];
+    let d = f[j1 * w + i1];
+    let top = a + (b - a) * fx;
+    let bottom = c + (d - c) * fx;
+    (
+        top + (bottom - top) * fz,
+        a.min(b).min(c).min(d),
+        a.max(b).max(c).max(d),
+    )
+}
+
+/// Sample indices and weight along one axis. Clamped: `[0, n-1]`; periodic: modulo `period`.
+#[inline]
+fn axis(x: f32, n: usize, period: usize, periodic: bool) -> (usize, usize, f32) {
+    if periodic {
+        let p = period as f32;
+        let x = x.rem_euclid(p);
+        let i0 = (x.floor() as usize).min(period - 1);
+        let f = x - i0 as f32;
+        (i0, (i0 + 1) % period, f)
+    } else {
+        let x = x.clamp(0.0, (n - 1) as f32);
+        let i0 = (x.floor() as usize).min(n.saturating_sub(2));
+        let f = x - i0 as f32;
+        (i0, (i0 + 1).min(n - 1), f)
+    }
+}
+
+/// `u` at grid point `(x, z)` (cell units; `u[i, j]` sits at `(i, j + ½)`).
+#[inline]
+fn sample_u(g: &Geometry, u: &[f32], x: f32, z: f32) -> (f32, f32, f32) {
+    bilinear(g, u, g.nx + 1, g.ny, x, z - 0.5)
+}
+
+/// `v` at grid point `(x, z)` (`v[i, j]` sits at `(i + ½, j)`).
+#[inline]
+fn sample_v(g: &Geometry, v: &[f32], x: f32, z: f32) -> (f32, f32, f32) {
+    bilinear(g, v, g.nx, g.ny + 1, x - 0.5, z)
+}
+
+/// Backtraced departure point of the u face `(i, j)` (or the v face, with `is_v`).
+#[inline]
+fn departure(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    i: usize,
+    j: usize,
+    is_v: bool,
+    dt: f32,
+) -> (f32, f32) {
+    let (x, z) = if is_v {
+        (i as f32 + 0.5, j as f32)
+    } else {
+        (i as f32, j as f32 + 0.5)
+    };
+    let vx = sample_u(g, u, x, z).0;
+    let vz = sample_v(g, v, x, z).0;
+    (x - vx * dt / g.hx, z - vz * dt / g.hz)
+}
+
+/// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
+#[allow(clippy::too_many_arguments)]
+fn advect_faces(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    src: &[f32],
+    dst: &mut [f32],
+    dt: f32,
+    keep: f32,
+    free: &[u8],
+    is_v: bool,
+) {
+    let w = if is_v { g.nx } else { g.nx + 1 };
+    dst.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+        for (i, out) in row.iter_mut().enumerate() {
+            *out = if free[j * w + i] == 0 {
+                0.0
+            } else {
+                let (x, z) = departure(g, u, v, i, j, is_v, dt);
+                let s = if is_v {
+                    sample_v(g, src, x, z)
+                } else {
+                    sample_u(g, src, x, z)
+                };
+                s.0 * keep
+            };
+        }
+    });
+}
+
+/// MacCormack correction: `back` holds φ̌ on entry and the limited result on exit.
+#[allow(clippy::too_many_arguments)]
+fn maccormack(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    fwd: &[f32],
+    back: &mut [f32],
+    dt: f32,
+    keep: f32,
+    free: &[u8],
+    is_v: bool,
+) {
+    let w = if is_v { g.nx } else { g.nx + 1 };
+    let orig = if is_v { v } else { u };
+    back.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
+        for (i, out) in row.iter_mut().enumerate() {
+            let k = j * w + i;
+            if free[k] == 0 {
+                *out = 0.0;
+                continue;
+            }
+            let (x, z) = departure(g, u, v, i, j, is_v, dt);
+            let (_, lo, hi) = if is_v {
+                sample_v(g, orig, x, z)
+            } else {
+                sample_u(g, orig, x, z)
+            };
+            *out = (fwd[k] + 0.5 * (orig[k] - *out)).clamp(lo, hi) * keep;
+        }
+    });
+}

@@ -1,0 +1,605 @@
+//! The layout document: examples, validation errors, schema, atomic saves, edits and undo, CLI.
+
+use proptest::prelude::*;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use windloom::doc::{self, Edit, History, Layout, Node, Shape};
+
+const EXAMPLES: &[&str] = &[
+    "meadow.json",
+    "two-winds.json",
+    "branching.json",
+    "obstacles.json",
+    "breeze-fft.json",
+];
+
+fn example_path(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("layouts")
+        .join(name)
+}
+
+fn example(name: &str) -> Layout {
+    windloom::io::load(&example_path(name)).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn errors(text: &str) -> Vec<String> {
+    match doc::parse(text) {
+        Ok(_) => panic!("expected errors for:\n{text}"),
+        Err(d) => d.0.iter().map(ToString::to_string).collect(),
+    }
+}
+
+fn has(errors: &[String], needle: &str) {
+    assert!(
+        errors.iter().any(|e| e.contains(needle)),
+        "no error contains {needle:?}; got:\n{}",
+        errors.join("\n")
+    );
+}
+
+/// A small valid layout in canonical form, as text, to corrupt in tests.
+fn small_text() -> String {
+    let mut l = Layout::new("t", [50.0, 40.0], [50, 40]);
+    let mut root = Node::new(1, [5.0, 20.0], 10.0, 3.0);
+    let mut child = Node::new(2, [20.0, 20.0], 25.0, 4.0);
+    child.children.push(Node::new(3, [35.0, 25.0], 20.0, 4.0));
+    root.children.push(child);
+    l.trees.push(doc::Tree {
+        id: 10,
+        name: "a".into(),
+        enabled: true,
+        window: doc::TimeWindow::Always,
+        emission: doc::Emission::Continuous,
+        propagation_speed: 20.0,
+        root,
+    });
+    doc::to_json(&l)
+}
+
+#[test]
+fn examples_load_validate_and_are_canonical() {
+    for name in EXAMPLES {
+        let text = std::fs::read_to_string(example_path(name)).unwrap();
+        let layout = example(name);
+        assert!(doc::validate(&layout).is_empty(), "{name} has issues");
+        // Saving is stable: the committed file is exactly what windloom writes…
+        assert_eq!(
+            doc::to_json(&layout),
+            text,
+            "{name} is not in canonical form"
+        );
+        // …and reading it back gives the same document.
+        assert_eq!(
+            doc::parse(&doc::to_json(&layout)).unwrap(),
+            layout,
+            "{name}"
+        );
+    }
+}
+
+#[test]
+fn examples_express_what_they_are_named_for() {
+    let two = example("two-winds.json");
+    assert_eq!(two.trees.len(), 2);
+    let dir = |t: &doc::Tree| t.root.children[0].pos[0] - t.root.pos[0];
+    assert!(
+        dir(&two.trees[0]) * dir(&two.trees[1]) < 0.0,
+        "winds must oppose"
+    );
+    let branching = example("branching.json");
+    let branches = branching.trees[0]
+        .root
+        .iter()
+        .filter(|n| n.children.len() > 1)
+        .count();
+    assert!(branches >= 1, "branching.json must branch");
+    assert!(
+        branching.trees[0].root.iter().any(|n| n.children.len() == 1
+            && n.id != branching.trees[0].root.id
+            && !n.children[0].children.is_empty()),
+        "branching.json must chain"
+    );
+    let obstacles = example("obstacles.json");
+    assert!(obstacles.trees.len() >= 2 && obstacles.obstacles.len() >= 3);
+    assert!(
+        obstacles
+            .obstacles
+            .iter()
+            .any(|o| matches!(o.shape, Shape::Polygon { .. }))
+    );
+    let fft = example("breeze-fft.json");
+    assert!(fft.trees.is_empty());
+    assert!(
+        fft.ambient
+            .iter()
+            .all(|a| matches!(a.kind, doc::AmbientKind::Fft { .. }))
+    );
+}
+
+#[test]
+fn default_layout_is_the_bundled_meadow() {
+    assert_eq!(doc::default_layout(), example("meadow.json"));
+}
+
+#[test]
+fn syntax_error_has_line_and_column() {
+    let text = "{\n  \"format\": \"windloom-layout\",\n  \"version\": 1,,\n}";
+    let e = errors(text);
+    assert_eq!(e.len(), 1);
+    assert!(e[0].starts_with("3:16: "), "{}", e[0]);
+}
+
+#[test]
+fn file_errors_name_the_file_line_and_path() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("bad.json");
+    let text = small_text().replace("\"radius\": 4.0", "\"radius\": -1.0");
+    std::fs::write(&p, &text).unwrap();
+    let msg = windloom::io::load(&p).unwrap_err().to_string();
+    let first = msg.lines().next().unwrap();
+    // The value -1.0 of the first child's radius.
+    let line = text
+        .lines()
+        .position(|l| l.contains("-1.0"))
+        .map(|i| i + 1)
+        .unwrap();
+    let want = format!("{}:{line}:", p.display());
+    assert!(first.starts_with(&want), "{first}");
+    assert!(
+        first.ends_with("trees[0].root.children[0].radius: must be > 0, got -1"),
+        "{first}"
+    );
+    // Both bad radii are reported, not only the first.
+    assert_eq!(msg.lines().count(), 2, "{msg}");
+}
+
+#[test]
+fn unknown_fields_suggest_the_nearest_name_and_all_are_reported() {
+    let text = small_text()
+        .replacen("\"strength\": 25.0", "\"strenght\": 25.0", 1)
+        .replacen("\"name\": \"t\"", "\"name\": \"t\", \"colour\": 3", 1)
+        .replacen(
+            "\"propagation_speed\": 20.0",
+            "\"propagation_speed\": -2.0",
+            1,
+        );
+    let e = errors(&text);
+    has(
+        &e,
+        "trees[0].root.children[0].strenght: unknown field `strenght`, did you mean `strength`?",
+    );
+    has(&e, "colour: unknown field `colour`, expected one of:");
+    // A value error elsewhere in the same file is reported in the same run.
+    has(&e, "trees[0].propagation_speed: must be > 0, got -2");
+}
+
+#[test]
+fn unknown_fields_inside_tagged_variants_are_found() {
+    let text = small_text().replacen(
+        "\"kind\": \"always\"",
+        "\"kind\": \"always\", \"start\": 1",
+        1,
+    );
+    has(
+        &errors(&text),
+        "trees[0].window.start: unknown field `start`",
+    );
+}
+
+#[test]
+fn non_finite_numbers_are_rejected() {
+    // JSON has no NaN literal: a syntax error with its position.
+    let nan = small_text().replacen("\"strength\": 25.0", "\"strength\": NaN", 1);
+    let e = errors(&nan);
+    assert_eq!(e.len(), 1);
+    // A number too large for f32 becomes infinite: rejected by name.
+    let inf = small_text().replacen("\"strength\": 25.0", "\"strength\": 1e39", 1);
+    has(
+        &errors(&inf),
+        "trees[0].root.children[0].strength: must be a finite number, got inf",
+    );
+}
+
+#[test]
+fn duplicate_node_ids_are_rejected() {
+    let text = small_text().replacen("\"id\": 3", "\"id\": 2", 1);
+    has(
+        &errors(&text),
+        "trees[0].root.children[0].children[0].id: duplicate node id 2 (already used by trees[0].root.children[0])",
+    );
+}
+
+#[test]
+fn versions_newer_and_unknown_are_rejected() {
+    let newer = small_text().replacen("\"version\": 1", "\"version\": 7", 1);
+    let e = errors(&newer);
+    has(&e, "version: version 7 was made by a newer windloom");
+    assert!(e[0].starts_with("3:14: "), "{}", e[0]);
+    let zero = small_text().replacen("\"version\": 1", "\"version\": 0", 1);
+    has(&errors(&zero), "version: version 0 does not exist");
+    let other = small_text().replacen("windloom-layout", "something-else", 1);
+    has(&errors(&other), "this is not a windloom layout");
+}
+
+#[test]
+fn absurd_sizes_are_rejected_with_the_budget() {
+    let text = small_text().replacen("\"size\": [\n      50.0", "\"size\": [\n      -5.0", 1);
+    has(&errors(&text), "world.size[0]: must be > 0, got -5");
+    let huge = small_text().replacen(
+        "\"grid\": [\n      50,\n      40",
+        "\"grid\": [\n      16000,\n      16000",
+        1,
+    );
+    let e = errors(&huge);
+    has(
+        &e,
+        "world.grid: 16000x16000 needs 13672 MiB of solver memory, over the budget of 2048 MiB",
+    );
+    let axis = small_text().replacen("\"grid\": [\n      50", "\"grid\": [\n      3", 1);
+    has(
+        &errors(&axis),
+        "world.grid[0]: must be between 8 and 16384 cells, got 3",
+    );
+}
+
+#[test]
+fn wrong_types_name_the_field() {
+    let text = small_text().replacen("\"strength\": 25.0", "\"strength\": \"strong\"", 1);
+    has(
+        &errors(&text),
+        "trees[0].root.children[0].strength: invalid type: string \"strong\"",
+    );
+}
+
+#[test]
+fn schema_file_is_up_to_date() {
+    let want = serde_json::to_string_pretty(&doc::schema()).unwrap() + "\n";
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("docs/layout.schema.json");
+    if std::env::var_os("UPDATE_SCHEMA").is_some() {
+        std::fs::write(&path, &want).unwrap();
+    }
+    let have = std::fs::read_to_string(&path).unwrap_or_default();
+    assert!(
+        have == want,
+        "docs/layout.schema.json is out of date: run `UPDATE_SCHEMA=1 cargo test --test doc schema`"
+    );
+}
+
+#[test]
+fn atomic_save_replaces_whole_files_and_leaves_nothing_behind() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("level.json");
+    let layout = example("branching.json");
+    windloom::io::save(&p, &layout).unwrap();
+    assert_eq!(windloom::io::load(&p).unwrap(), layout);
+    // Saving onto a directory fails: the directory and the earlier file stay as they were,
+    // and no temporary file is left in the folder.
+    let sub = dir.path().join("sub");
+    std::fs::create_dir(&sub).unwrap();
+    assert!(windloom::io::save(&sub, &layout).is_err());
+    assert!(sub.is_dir());
+    // A missing folder is an error too, not a partial write.
+    assert!(windloom::io::save(&dir.path().join("missing/x.json"), &layout).is_err());
+    let names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    assert_eq!(names.len(), 2, "{names:?}");
+    assert_eq!(windloom::io::load(&p).unwrap(), layout);
+}
+
+#[test]
+fn failed_edit_leaves_document_untouched() {
+    let mut l = example("branching.json");
+    let before = doc::to_json(&l);
+    let mut h = History::new();
+    let bad = Edit::SetNode {
+        id: l.trees[0].root.children[0].id,
+        strength: 10.0,
+        radius: -3.0,
+    };
+    assert!(h.apply(&mut l, bad).is_err());
+    assert!(h.apply(&mut l, Edit::RemoveNode { id: 99999 }).is_err());
+    let root = l.trees[0].root.id;
+    assert!(h.apply(&mut l, Edit::RemoveNode { id: root }).is_err());
+    assert_eq!(doc::to_json(&l), before);
+    assert!(!h.can_undo());
+}
+
+#[test]
+fn a_gesture_is_one_undo_step() {
+    let mut l = example("meadow.json");
+    let before = doc::to_json(&l);
+    let id = l.trees[0].root.children[0].id;
+    let mut h = History::new();
+    for i in 0..10 {
+        h.apply_merged(
+            &mut l,
+            Edit::SetNode {
+                id,
+                strength: 5.0 + i as f32,
+                radius: 5.0,
+            },
+            42,
+        )
+        .unwrap();
+    }
+    h.end_gesture();
+    assert_eq!(l.trees[0].root.children[0].strength, 14.0);
+    assert!(h.undo(&mut l));
+    assert_eq!(doc::to_json(&l), before);
+    assert!(!h.can_undo());
+    assert!(h.redo(&mut l));
+    assert_eq!(l.trees[0].root.children[0].strength, 14.0);
+}
+
+/// A random user action, resolved against the current document when applied.
+#[derive(Debug, Clone)]
+enum Op {
+    AddChild {
+        node: usize,
+        dx: f32,
+        dz: f32,
+    },
+    RemoveNode {
+        node: usize,
+    },
+    MoveNode {
+        node: usize,
+        x: f32,
+        z: f32,
+    },
+    SetNode {
+        node: usize,
+        strength: f32,
+        radius: f32,
+    },
+    AddTree {
+        x: f32,
+        z: f32,
+    },
+    RemoveTree {
+        tree: usize,
+    },
+    ToggleTree {
+        tree: usize,
+    },
+    AddCircle {
+        x: f32,
+        z: f32,
+        r: f32,
+    },
+    RemoveObstacle {
+        obstacle: usize,
+    },
+    SetVorticity {
+        v: f32,
+    },
+    Batch {
+        a: usize,
+        b: usize,
+    },
+}
+
+fn op() -> impl Strategy<Value = Op> {
+    let n = 0usize..64;
+    let c = -200.0f32..200.0;
+    prop_oneof![
+        (n.clone(), -20.0f32..20.0, -20.0f32..20.0).prop_map(|(node, dx, dz)| Op::AddChild {
+            node,
+            dx,
+            dz
+        }),
+        n.clone().prop_map(|node| Op::RemoveNode { node }),
+        (n.clone(), c.clone(), c.clone()).prop_map(|(node, x, z)| Op::MoveNode { node, x, z }),
+        (n.clone(), -10.0f32..200.0, -2.0f32..30.0).prop_map(|(node, strength, radius)| {
+            Op::SetNode {
+                node,
+                strength,
+                radius,
+            }
+        }),
+        (c.clone(), c.clone()).prop_map(|(x, z)| Op::AddTree { x, z }),
+        n.clone().prop_map(|tree| Op::RemoveTree { tree }),
+        n.clone().prop_map(|tree| Op::ToggleTree { tree }),
+        (c.clone(), c, -1.0f32..10.0).prop_map(|(x, z, r)| Op::AddCircle { x, z, r }),
+        n.clone()
+            .prop_map(|obstacle| Op::RemoveObstacle { obstacle }),
+        (-5.0f32..80.0).prop_map(|v| Op::SetVorticity { v }),
+        (n.clone(), n).prop_map(|(a, b)| Op::Batch { a, b }),
+    ]
+}
+
+fn to_edit(l: &Layout, op: &Op) -> Option<Edit> {
+    let nodes: Vec<&Node> = l.nodes().map(|(_, n)| n).collect();
+    let pick_node = |i: usize| (!nodes.is_empty()).then(|| nodes[i % nodes.len()]);
+    let id = l.next_id();
+    Some(match *op {
+        Op::AddChild { node, dx, dz } => {
+            let p = pick_node(node)?;
+            Edit::AddNode {
+                parent: p.id,
+                index: p.children.len(),
+                node: Node::new(id, [p.pos[0] + dx, p.pos[1] + dz], 20.0, 4.0),
+            }
+        }
+        Op::RemoveNode { node } => Edit::RemoveNode {
+            id: pick_node(node)?.id,
+        },
+        Op::MoveNode { node, x, z } => Edit::MoveNode {
+            id: pick_node(node)?.id,
+            pos: [x, z],
+        },
+        Op::SetNode {
+            node,
+            strength,
+            radius,
+        } => Edit::SetNode {
+            id: pick_node(node)?.id,
+            strength,
+            radius,
+        },
+        Op::AddTree { x, z } => Edit::AddTree {
+            index: l.trees.len(),
+            tree: doc::Tree {
+                id,
+                name: format!("tree {id}"),
+                enabled: true,
+                window: doc::TimeWindow::Always,
+                emission: doc::Emission::Continuous,
+                propagation_speed: 15.0,
+                root: Node::new(id + 1, [x, z], 20.0, 5.0),
+            },
+        },
+        Op::RemoveTree { tree } => Edit::RemoveTree {
+            id: l.trees.get(tree % l.trees.len().max(1))?.id,
+        },
+        Op::ToggleTree { tree } => {
+            let t = l.trees.get(tree % l.trees.len().max(1))?;
+            let mut props = doc::TreeProps::of(t);
+            props.enabled = !props.enabled;
+            Edit::SetTreeProps { id: t.id, props }
+        }
+        Op::AddCircle { x, z, r } => Edit::AddObstacle {
+            index: 0,
+            obstacle: doc::Obstacle {
+                id,
+                name: "rock".into(),
+                shape: Shape::Circle {
+                    center: [x, z],
+                    radius: r,
+                },
+            },
+        },
+        Op::RemoveObstacle { obstacle } => Edit::RemoveObstacle {
+            id: l.obstacles.get(obstacle % l.obstacles.len().max(1))?.id,
+        },
+        Op::SetVorticity { v } => {
+            let mut sim = l.sim;
+            sim.vorticity = v;
+            Edit::SetSim(sim)
+        }
+        Op::Batch { a, b } => Edit::Batch(vec![
+            to_edit(
+                l,
+                &Op::MoveNode {
+                    node: a,
+                    x: 1.0,
+                    z: 2.0,
+                },
+            )?,
+            to_edit(l, &Op::RemoveNode { node: b })?,
+        ]),
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(200))]
+
+    /// Any sequence of edits, undone, gives back the original bytes; redone, the final bytes.
+    #[test]
+    fn undo_all_restores_the_document_byte_for_byte(ops in prop::collection::vec(op(), 1..40)) {
+        let mut l = example("obstacles.json");
+        let original = doc::to_json(&l);
+        let mut h = History::new();
+        for op in &ops {
+            let Some(edit) = to_edit(&l, op) else { continue };
+            let before = doc::to_json(&l);
+            if h.apply(&mut l, edit).is_err() {
+                prop_assert_eq!(&doc::to_json(&l), &before, "a failed edit changed the document");
+            }
+            prop_assert!(doc::validate(&l).is_empty(), "an edit made the document invalid");
+        }
+        let edited = doc::to_json(&l);
+        while h.undo(&mut l) {}
+        prop_assert_eq!(&doc::to_json(&l), &original);
+        while h.redo(&mut l) {}
+        prop_assert_eq!(&doc::to_json(&l), &edited);
+    }
+}
+
+fn windloom(args: &[&str]) -> (i32, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn cli_validate_reports_every_file_and_fails_on_any_error() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.json");
+    std::fs::write(
+        &bad,
+        small_text().replacen("\"radius\": 3.0", "\"radius\": 0.0", 1),
+    )
+    .unwrap();
+    let good = example_path("meadow.json");
+    let (code, out, _) = windloom(&["validate", good.to_str().unwrap(), bad.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}");
+    assert!(out.contains(&format!("{}: ok", good.display())), "{out}");
+    assert!(
+        out.contains("trees[0].root.radius: must be > 0, got 0"),
+        "{out}"
+    );
+    let all: Vec<String> = EXAMPLES
+        .iter()
+        .map(|e| example_path(e).to_string_lossy().into_owned())
+        .collect();
+    let mut args = vec!["validate"];
+    args.extend(all.iter().map(String::as_str));
+    let (code, out, _) = windloom(&args);
+    assert_eq!(code, 0, "{out}");
+    assert_eq!(
+        out.lines().filter(|l| l.ends_with(": ok")).count(),
+        EXAMPLES.len()
+    );
+    let (code, _, err) = windloom(&["validate", "/nonexistent/x.json"]);
+    assert_eq!(code, 1);
+    let _ = err;
+}
+
+#[test]
+fn cli_schema_and_help() {
+    let (code, out, _) = windloom(&["schema"]);
+    assert_eq!(code, 0);
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    assert_eq!(v, doc::schema());
+    let (code, out, _) = windloom(&["--help"]);
+    assert_eq!(code, 0);
+    for cmd in [
+        "validate",
+        "schema",
+        "Examples:",
+        "windloom validate layouts/*.json",
+    ] {
+        assert!(out.contains(cmd), "--help lacks {cmd}:\n{out}");
+    }
+    let (_, out, _) = windloom(&["validate", "--help"]);
+    assert!(out.contains("Example: windloom validate"), "{out}");
+}
+
+#[test]
+fn cli_fmt_canonicalises_and_refuses_invalid_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("x.json");
+    let compact =
+        serde_json::to_string(&serde_json::from_str::<serde_json::Value>(&small_text()).unwrap())
+            .unwrap();
+    std::fs::write(&p, &compact).unwrap();
+    let (code, _, err) = windloom(&["fmt", p.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), small_text());
+    let broken = "{ \"format\": ";
+    std::fs::write(&p, broken).unwrap();
+    let (code, _, err) = windloom(&["fmt", p.to_str().unwrap()]);
+    assert_eq!(code, 1);
+    assert!(err.contains(&format!("{}:1:", p.display())), "{err}");
+    assert_eq!(std::fs::read_to_string(&p).unwrap(), broken);
+}
