@@ -1,159 +1,781 @@
-//! The editor window (eframe). For now a read-only view of the layout: the map with its
-//! obstacles and arrow trees, and a summary panel. Authoring arrives with the editor issue.
+//! The editor (eframe/egui): AGC arrow-tree authoring over a top-down map, with the wind live.
+//!
+//! The app owns the document and its [`History`]; every change goes through an [`Edit`]. The
+//! simulation runs on a worker thread ([`live::LiveSim`]) and never blocks the UI.
 
-use crate::doc::{Layout, Shape};
-use eframe::egui::{self, Color32, Pos2, Rect, Stroke, Vec2};
-use std::path::PathBuf;
+pub mod live;
+mod map;
+mod panels;
+pub mod view;
+
+use crate::doc::{self, Edit, History, Layout};
+use eframe::egui::{self, Pos2, Rect};
+use live::LiveSim;
+use std::path::{Path, PathBuf};
+use view::{Camera, Streaks, WindView};
+
+/// What the pointer does on the map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum Tool {
+    /// Click to select, drag to move, drag on empty map to box-select.
+    Select,
+    /// Click to place the root of a new tree.
+    AddRoot,
+    /// Drag from any node to place a child end point.
+    AddArrow,
+    /// Drag from the centre outwards to place a circular obstacle.
+    Circle,
+    /// Click points; click the first point (or press Enter) to close.
+    Polygon,
+}
+
+impl Tool {
+    pub const ALL: [Tool; 5] = [
+        Tool::Select,
+        Tool::AddRoot,
+        Tool::AddArrow,
+        Tool::Circle,
+        Tool::Polygon,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Select => "Select",
+            Self::AddRoot => "Add root",
+            Self::AddArrow => "Add arrow",
+            Self::Circle => "Circle",
+            Self::Polygon => "Polygon",
+        }
+    }
+
+    pub fn key(self) -> egui::Key {
+        match self {
+            Self::Select => egui::Key::S,
+            Self::AddRoot => egui::Key::R,
+            Self::AddArrow => egui::Key::A,
+            Self::Circle => egui::Key::C,
+            Self::Polygon => egui::Key::P,
+        }
+    }
+
+    pub fn hint(self) -> &'static str {
+        match self {
+            Self::Select => {
+                "Click to select (Shift adds), drag to move, drag on empty map to box-select"
+            }
+            Self::AddRoot => "Click on the map to place the root of a new wind tree",
+            Self::AddArrow => {
+                "Drag from any point to place an arrow end point; several from one point branch"
+            }
+            Self::Circle => "Drag from the centre outwards to place a round obstacle",
+            Self::Polygon => {
+                "Click corners; click the first corner or press Enter to close, Esc to cancel"
+            }
+        }
+    }
+}
+
+/// Something selectable.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Sel {
+    Node(u32),
+    Tree(u32),
+    Obstacle(u32),
+    Ambient(u32),
+}
+
+/// Settings that persist between runs.
+#[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Settings {
+    pub recent: Vec<PathBuf>,
+    pub wind_view: WindView,
+    pub snap: bool,
+    pub snap_step: f32,
+    pub streak_count: usize,
+    pub show_grid: bool,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Self {
+            recent: Vec::new(),
+            wind_view: WindView::Streaks,
+            snap: false,
+            snap_step: 1.0,
+            streak_count: 1500,
+            show_grid: true,
+        }
+    }
+}
+
+const SETTINGS_KEY: &str = "windloom-settings";
+const AUTOSAVE_SECONDS: f64 = 20.0;
+
+/// A modal question or message.
+pub enum Dialog {
+    Error {
+        title: String,
+        text: String,
+    },
+    /// Unsaved changes would be lost by `then`.
+    Discard {
+        then: Pending,
+    },
+    ConfirmDelete {
+        count: usize,
+        sel: Vec<Sel>,
+    },
+    Recover {
+        path: PathBuf,
+    },
+    Shortcuts,
+}
+
+/// An action waiting for the user to confirm discarding changes.
+#[derive(Clone)]
+pub enum Pending {
+    New,
+    Open(Option<PathBuf>),
+    Quit,
+}
 
 /// The editor application state.
 pub struct EditorApp {
     pub doc: Layout,
+    pub history: History,
     pub path: Option<PathBuf>,
+    saved_json: String,
+    pub dirty: bool,
+    pub selection: Vec<Sel>,
+    pub tool: Tool,
+    pub camera: Option<Camera>,
+    /// The map's screen rectangle in the last frame.
+    pub map_rect: Rect,
+    /// The status bar's rectangle in the last frame (tests mask it: it shows timings).
+    pub status_rect: Rect,
+    pub settings: Settings,
+    pub live: LiveSim,
+    streaks: Streaks,
+    field_texture: Option<(u64, WindView, egui::TextureHandle, f32)>,
+    backdrop: Option<(PathBuf, Option<egui::TextureHandle>)>,
+    gesture: Option<map::Gesture>,
+    polygon: Vec<doc::Vec2>,
+    pub dialog: Option<Dialog>,
+    /// A short message shown in the status bar (why an edit was refused, what was saved).
+    pub message: Option<(String, f64)>,
+    doc_changed: bool,
+    last_autosave: f64,
+    recovery_path: Option<PathBuf>,
+    pub adapter: String,
+    frame_ms: f32,
+    pub cursor_world: Option<doc::Vec2>,
+    allow_close: bool,
 }
 
 impl EditorApp {
-    pub fn new(doc: Layout, path: Option<PathBuf>) -> Self {
-        Self { doc, path }
+    /// An editor on `doc` (read from `path`, if any), with the simulation running.
+    pub fn new(doc: Layout, path: Option<PathBuf>, ctx: &egui::Context) -> Self {
+        let repaint_ctx = ctx.clone();
+        let live = LiveSim::start(&doc, move || repaint_ctx.request_repaint());
+        let saved_json = doc::to_json(&doc);
+        Self {
+            doc,
+            history: History::new(),
+            path,
+            saved_json,
+            dirty: false,
+            selection: Vec::new(),
+            tool: Tool::Select,
+            camera: None,
+            map_rect: Rect::NOTHING,
+            status_rect: Rect::NOTHING,
+            settings: Settings::default(),
+            live,
+            streaks: Streaks::new(),
+            field_texture: None,
+            backdrop: None,
+            gesture: None,
+            polygon: Vec::new(),
+            dialog: None,
+            message: None,
+            doc_changed: false,
+            last_autosave: 0.0,
+            recovery_path: None,
+            adapter: "no GPU adapter".into(),
+            frame_ms: 0.0,
+            cursor_world: None,
+            allow_close: false,
+        }
+    }
+
+    /// The editor as eframe creates it: settings and window state restored, the adapter
+    /// named, and an offer to restore unsaved work if the last session did not end cleanly.
+    pub fn from_creation_context(
+        cc: &eframe::CreationContext<'_>,
+        doc: Layout,
+        path: Option<PathBuf>,
+    ) -> Self {
+        let mut app = Self::new(doc, path, &cc.egui_ctx);
+        if let Some(storage) = cc.storage {
+            if let Some(s) = eframe::get_value::<Settings>(storage, SETTINGS_KEY) {
+                app.settings = s;
+            }
+        }
+        if let Some(rs) = &cc.wgpu_render_state {
+            let info = rs.adapter.get_info();
+            app.adapter = format!("{} ({:?})", info.name, info.backend);
+        }
+        app.recovery_path = eframe::storage_dir("windloom").map(|d| d.join("recovery.json"));
+        if let Some(p) = &app.recovery_path {
+            if p.exists() {
+                app.dialog = Some(Dialog::Recover { path: p.clone() });
+            }
+        }
+        app
+    }
+
+    /// Screen position of a world point in the map view (as of the last frame).
+    pub fn screen_pos(&self, world: doc::Vec2) -> Pos2 {
+        self.camera.map_or(self.map_rect.center(), |c| {
+            c.to_screen(self.map_rect, world)
+        })
     }
 
     fn title(&self) -> String {
         let file = self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
-            || "default layout".to_string(),
+            || "untitled".to_string(),
             |f| f.to_string_lossy().into_owned(),
         );
-        format!("{file} — windloom")
+        format!("{}{file} — windloom", if self.dirty { "● " } else { "" })
+    }
+
+    fn say(&mut self, ctx: &egui::Context, text: impl Into<String>) {
+        self.message = Some((text.into(), ctx.input(|i| i.time)));
+    }
+
+    /// Applies an edit as one undo step.
+    pub fn edit(&mut self, ctx: &egui::Context, e: Edit) -> bool {
+        match self.history.apply(&mut self.doc, e) {
+            Ok(()) => {
+                self.doc_changed = true;
+                true
+            }
+            Err(err) => {
+                self.say(ctx, err.to_string());
+                false
+            }
+        }
+    }
+
+    /// Applies an edit that continues a gesture (a drag, a slider): one undo step in all.
+    pub fn edit_merged(&mut self, ctx: &egui::Context, e: Edit, key: impl std::hash::Hash) -> bool {
+        let key = gesture_key(key);
+        match self.history.apply_merged(&mut self.doc, e, key) {
+            Ok(()) => {
+                self.doc_changed = true;
+                true
+            }
+            Err(err) => {
+                self.say(ctx, err.to_string());
+                false
+            }
+        }
+    }
+
+    pub fn undo(&mut self) {
+        if self.history.undo(&mut self.doc) {
+            self.doc_changed = true;
+            self.prune_selection();
+        }
+    }
+
+    pub fn redo(&mut self) {
+        if self.history.redo(&mut self.doc) {
+            self.doc_changed = true;
+            self.prune_selection();
+        }
+    }
+
+    fn prune_selection(&mut self) {
+        let doc = &self.doc;
+        self.selection.retain(|s| match *s {
+            Sel::Node(id) => doc.nodes().any(|(_, n)| n.id == id),
+            Sel::Tree(id) => doc.trees.iter().any(|t| t.id == id),
+            Sel::Obstacle(id) => doc.obstacles.iter().any(|o| o.id == id),
+            Sel::Ambient(id) => doc.ambient.iter().any(|a| a.id == id),
+        });
+    }
+
+    /// Replaces the whole document (New, Open, Restore).
+    fn replace_document(&mut self, doc: Layout, path: Option<PathBuf>, saved: bool) {
+        self.saved_json = if saved {
+            doc::to_json(&doc)
+        } else {
+            String::new()
+        };
+        self.doc = doc;
+        self.path = path;
+        self.history.clear();
+        self.selection.clear();
+        self.camera = None;
+        self.backdrop = None;
+        self.polygon.clear();
+        self.gesture = None;
+        self.doc_changed = true;
+        self.live.reset();
+    }
+
+    /// Loads a layout file; on error shows every problem and keeps the current document.
+    pub fn open_path(&mut self, path: &Path) {
+        match crate::io::load(path) {
+            Ok(doc) => {
+                self.replace_document(doc, Some(path.to_path_buf()), true);
+                self.remember_recent(path);
+            }
+            Err(e) => {
+                self.dialog = Some(Dialog::Error {
+                    title: format!("Could not open {}", path.display()),
+                    text: e.to_string(),
+                });
+            }
+        }
+    }
+
+    fn remember_recent(&mut self, path: &Path) {
+        let p = path.canonicalize().unwrap_or_else(|_| path.to_path_buf());
+        self.settings.recent.retain(|r| r != &p);
+        self.settings.recent.insert(0, p);
+        self.settings.recent.truncate(10);
+    }
+
+    /// Saves to `path` atomically; returns whether it worked (errors go to a dialog).
+    pub fn save_to(&mut self, ctx: &egui::Context, path: &Path) -> bool {
+        match crate::io::save(path, &self.doc) {
+            Ok(()) => {
+                self.saved_json = doc::to_json(&self.doc);
+                self.path = Some(path.to_path_buf());
+                self.dirty = false;
+                self.remember_recent(path);
+                self.remove_recovery();
+                self.say(ctx, format!("Saved {}", path.display()));
+                true
+            }
+            Err(e) => {
+                self.dialog = Some(Dialog::Error {
+                    title: "Could not save".into(),
+                    text: format!("{}: {e}", path.display()),
+                });
+                false
+            }
+        }
+    }
+
+    pub fn save(&mut self, ctx: &egui::Context) -> bool {
+        match self.path.clone() {
+            Some(p) => self.save_to(ctx, &p),
+            None => self.save_as(ctx),
+        }
+    }
+
+    pub fn save_as(&mut self, ctx: &egui::Context) -> bool {
+        let mut dialog = rfd::FileDialog::new()
+            .add_filter("windloom layout", &["json"])
+            .set_file_name(format!(
+                "{}.json",
+                self.doc.name.to_lowercase().replace(' ', "-")
+            ));
+        if let Some(dir) = self.path.as_ref().and_then(|p| p.parent()) {
+            dialog = dialog.set_directory(dir);
+        }
+        match dialog.save_file() {
+            Some(p) => self.save_to(ctx, &p),
+            None => false,
+        }
+    }
+
+    /// Runs `p` now, or asks first when it would discard unsaved changes.
+    fn request(&mut self, ctx: &egui::Context, p: Pending) {
+        if self.dirty {
+            self.dialog = Some(Dialog::Discard { then: p });
+        } else {
+            self.run_pending(ctx, p);
+        }
+    }
+
+    fn run_pending(&mut self, ctx: &egui::Context, p: Pending) {
+        match p {
+            Pending::New => {
+                let doc = Layout::new("Untitled", [100.0, 100.0], [200, 200]);
+                self.replace_document(doc, None, true);
+            }
+            Pending::Open(Some(path)) => self.open_path(&path),
+            Pending::Open(None) => {
+                if let Some(path) = rfd::FileDialog::new()
+                    .add_filter("windloom layout", &["json"])
+                    .pick_file()
+                {
+                    self.open_path(&path);
+                }
+            }
+            Pending::Quit => {
+                self.remove_recovery();
+                self.allow_close = true;
+                ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+            }
+        }
+    }
+
+    fn remove_recovery(&mut self) {
+        if let Some(p) = &self.recovery_path {
+            let _ = std::fs::remove_file(p);
+        }
+    }
+
+    fn autosave(&mut self, now: f64) {
+        if !self.dirty || now - self.last_autosave < AUTOSAVE_SECONDS {
+            return;
+        }
+        self.last_autosave = now;
+        self.write_recovery();
+    }
+
+    /// Where unsaved work is autosaved (the eframe storage folder when run normally).
+    pub fn set_recovery_path(&mut self, path: Option<PathBuf>) {
+        self.recovery_path = path;
+    }
+
+    /// Writes the document to the recovery file now (atomically); autosave calls this.
+    pub fn write_recovery(&mut self) {
+        if let Some(p) = &self.recovery_path {
+            if let Some(dir) = p.parent() {
+                let _ = std::fs::create_dir_all(dir);
+            }
+            let _ = crate::io::save(p, &self.doc);
+        }
+    }
+
+    /// Deletes the selection (nodes with their subtrees, whole trees for roots, obstacles,
+    /// ambient layers) as one undo step; asks first when it would remove many points.
+    pub fn delete_selection(&mut self, ctx: &egui::Context, confirmed: bool) {
+        let sel = self.selection.clone();
+        let mut count = 0;
+        let mut edits = Vec::new();
+        let roots: Vec<u32> = self.doc.trees.iter().map(|t| t.root.id).collect();
+        for s in &sel {
+            match *s {
+                Sel::Node(id) => {
+                    // Skip nodes inside a subtree that is deleted anyway.
+                    if sel.iter().any(|o| match *o {
+                        Sel::Node(a) if a != id => self
+                            .doc
+                            .trees
+                            .iter()
+                            .filter_map(|t| t.root.find(a))
+                            .any(|n| n.find(id).is_some()),
+                        Sel::Tree(t) => self
+                            .doc
+                            .trees
+                            .iter()
+                            .any(|tr| tr.id == t && tr.root.find(id).is_some()),
+                        _ => false,
+                    }) {
+                        continue;
+                    }
+                    if roots.contains(&id) {
+                        if let Some(t) = self.doc.trees.iter().find(|t| t.root.id == id) {
+                            count += t.root.count();
+                            edits.push(Edit::RemoveTree { id: t.id });
+                        }
+                    } else if let Some(n) = self.doc.trees.iter().find_map(|t| t.root.find(id)) {
+                        count += n.count();
+                        edits.push(Edit::RemoveNode { id });
+                    }
+                }
+                Sel::Tree(id) => {
+                    if let Some(t) = self.doc.trees.iter().find(|t| t.id == id) {
+                        if !sel.contains(&Sel::Node(t.root.id)) {
+                            count += t.root.count();
+                            edits.push(Edit::RemoveTree { id });
+                        }
+                    }
+                }
+                Sel::Obstacle(id) => edits.push(Edit::RemoveObstacle { id }),
+                Sel::Ambient(id) => edits.push(Edit::RemoveAmbient { id }),
+            }
+        }
+        if edits.is_empty() {
+            return;
+        }
+        if count > 8 && !confirmed {
+            self.dialog = Some(Dialog::ConfirmDelete { count, sel });
+            return;
+        }
+        if self.edit(ctx, Edit::Batch(edits)) {
+            self.selection.clear();
+        }
+    }
+
+    /// Duplicates the selected subtrees (beside their originals), trees and obstacles.
+    pub fn duplicate_selection(&mut self, ctx: &egui::Context) {
+        let offset = 3.0;
+        let mut next = self.doc.next_id();
+        let mut fresh = |n: &doc::Node| -> doc::Node {
+            fn copy(n: &doc::Node, next: &mut u32, d: f32) -> doc::Node {
+                let id = *next;
+                *next += 1;
+                doc::Node {
+                    id,
+                    pos: [n.pos[0] + d, n.pos[1] + d],
+                    strength: n.strength,
+                    radius: n.radius,
+                    children: n.children.iter().map(|c| copy(c, next, d)).collect(),
+                }
+            }
+            copy(n, &mut next, offset)
+        };
+        let mut edits = Vec::new();
+        let mut new_sel = Vec::new();
+        for s in self.selection.clone() {
+            match s {
+                Sel::Node(id) => {
+                    if let Some(t) = self.doc.trees.iter().find(|t| t.root.id == id) {
+                        let root = fresh(&t.root);
+                        new_sel.push(Sel::Node(root.id));
+                        let mut tree = t.clone();
+                        tree.root = root;
+                        tree.name = format!("{} copy", t.name);
+                        edits.push((Some(tree), None, None));
+                    } else if let Some((parent, _)) =
+                        self.doc.trees.iter().find_map(|t| t.root.parent_of(id))
+                    {
+                        let node = parent.children.iter().find(|c| c.id == id).map(&mut fresh);
+                        if let Some(node) = node {
+                            new_sel.push(Sel::Node(node.id));
+                            edits.push((None, Some((parent.id, node)), None));
+                        }
+                    }
+                }
+                Sel::Obstacle(id) => {
+                    if let Some(o) = self.doc.obstacles.iter().find(|o| o.id == id) {
+                        let mut o = o.clone();
+                        match &mut o.shape {
+                            doc::Shape::Circle { center, .. } => {
+                                center[0] += offset;
+                                center[1] += offset;
+                            }
+                            doc::Shape::Polygon { points } => {
+                                for p in points {
+                                    p[0] += offset;
+                                    p[1] += offset;
+                                }
+                            }
+                        }
+                        edits.push((None, None, Some(o)));
+                    }
+                }
+                _ => {}
+            }
+        }
+        let mut batch = Vec::new();
+        for (tree, node, obstacle) in edits {
+            if let Some(mut t) = tree {
+                t.id = next;
+                next += 1;
+                batch.push(Edit::AddTree {
+                    index: self.doc.trees.len() + batch.len(),
+                    tree: t,
+                });
+            }
+            if let Some((parent, node)) = node {
+                batch.push(Edit::AddNode {
+                    parent,
+                    index: usize::MAX,
+                    node,
+                });
+            }
+            if let Some(mut o) = obstacle {
+                o.id = next;
+                next += 1;
+                new_sel.push(Sel::Obstacle(o.id));
+                batch.push(Edit::AddObstacle {
+                    index: usize::MAX,
+                    obstacle: o,
+                });
+            }
+        }
+        if !batch.is_empty() && self.edit(ctx, Edit::Batch(batch)) {
+            self.selection = new_sel;
+        }
+    }
+
+    fn snap(&self, p: doc::Vec2) -> doc::Vec2 {
+        if !self.settings.snap {
+            return p;
+        }
+        let s = self.settings.snap_step.max(0.01);
+        [(p[0] / s).round() * s, (p[1] / s).round() * s]
+    }
+
+    fn shortcuts(&mut self, ctx: &egui::Context) {
+        use egui::{Key, KeyboardShortcut as KS, Modifiers as M};
+        let typing = ctx.egui_wants_keyboard_input();
+        let pressed = |s: KS| ctx.input_mut(|i| i.consume_shortcut(&s));
+        if pressed(KS::new(M::COMMAND | M::SHIFT, Key::Z)) || pressed(KS::new(M::COMMAND, Key::Y)) {
+            self.redo();
+        }
+        if pressed(KS::new(M::COMMAND, Key::Z)) {
+            self.undo();
+        }
+        if pressed(KS::new(M::COMMAND | M::SHIFT, Key::S)) {
+            self.save_as(ctx);
+        }
+        if pressed(KS::new(M::COMMAND, Key::S)) {
+            self.save(ctx);
+        }
+        if pressed(KS::new(M::COMMAND, Key::O)) {
+            self.request(ctx, Pending::Open(None));
+        }
+        if pressed(KS::new(M::COMMAND, Key::N)) {
+            self.request(ctx, Pending::New);
+        }
+        if pressed(KS::new(M::COMMAND, Key::D)) {
+            self.duplicate_selection(ctx);
+        }
+        if typing {
+            return;
+        }
+        if pressed(KS::new(M::NONE, Key::Delete)) || pressed(KS::new(M::NONE, Key::Backspace)) {
+            self.delete_selection(ctx, false);
+        }
+        if pressed(KS::new(M::NONE, Key::F)) {
+            self.camera = Some(Camera::frame_all(&self.doc, self.map_rect));
+        }
+        if pressed(KS::new(M::NONE, Key::Space)) {
+            let p = !self.live.playing;
+            self.live.set_playing(p);
+        }
+        if pressed(KS::new(M::NONE, Key::Escape)) {
+            if self.polygon.is_empty() {
+                self.selection.clear();
+            } else {
+                self.polygon.clear();
+            }
+        }
+        for t in Tool::ALL {
+            if pressed(KS::new(M::NONE, t.key())) {
+                self.tool = t;
+                self.polygon.clear();
+            }
+        }
+        let pan = 40.0;
+        for (key, d) in [
+            (Key::ArrowLeft, egui::vec2(pan, 0.0)),
+            (Key::ArrowRight, egui::vec2(-pan, 0.0)),
+            (Key::ArrowUp, egui::vec2(0.0, pan)),
+            (Key::ArrowDown, egui::vec2(0.0, -pan)),
+        ] {
+            if ctx.input(|i| i.key_down(key)) {
+                if let Some(c) = &mut self.camera {
+                    c.pan_pixels(d * ctx.input(|i| i.stable_dt).min(0.1) * 10.0);
+                }
+                ctx.request_repaint();
+            }
+        }
     }
 }
 
 impl eframe::App for EditorApp {
-    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
-        ui.ctx()
-            .send_viewport_cmd(egui::ViewportCommand::Title(self.title()));
-        egui::Panel::left("summary")
-            .resizable(true)
-            .default_size(220.0)
-            .show(ui, |ui| summary(ui, &self.doc));
-        egui::CentralPanel::default().show(ui, |ui| map_view(ui, &self.doc));
-    }
-}
+    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+        let ctx = ui.ctx().clone();
+        let _ = frame;
+        let now = ctx.input(|i| i.time);
+        let dt = ctx.input(|i| i.stable_dt);
+        self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;
 
-fn summary(ui: &mut egui::Ui, doc: &Layout) {
-    ui.heading(&doc.name);
-    ui.label(format!(
-        "World {} × {} m, grid {} × {}",
-        doc.world.size[0], doc.world.size[1], doc.world.grid[0], doc.world.grid[1]
-    ));
-    ui.separator();
-    ui.strong("Trees");
-    for t in &doc.trees {
-        ui.label(format!(
-            "{} {} ({} points)",
-            if t.enabled { "●" } else { "○" },
-            t.name,
-            t.root.count()
-        ));
-    }
-    ui.strong("Obstacles");
-    for o in &doc.obstacles {
-        ui.label(&o.name);
-    }
-    ui.strong("Ambient");
-    for a in &doc.ambient {
-        ui.label(format!("{} ({})", a.name, a.kind.type_name()));
-    }
-}
+        // Closing the window with unsaved changes asks first.
+        if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.dirty {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.dialog = Some(Dialog::Discard {
+                then: Pending::Quit,
+            });
+        }
 
-/// World → screen mapping that fits the world rectangle into `rect`, keeping its aspect.
-pub struct MapTransform {
-    pub origin: Pos2,
-    pub scale: f32,
-    pub world_min: [f32; 2],
-}
+        // A gesture (drag, slider) ends when the pointer is released and no field is focused.
+        if !ctx.input(|i| i.pointer.any_down()) && ctx.memory(|m| m.focused().is_none()) {
+            self.history.end_gesture();
+        }
 
-impl MapTransform {
-    pub fn fit(doc: &Layout, rect: Rect) -> Self {
-        let (min, _) = doc.bounds();
-        let size = doc.world.size;
-        let scale = (rect.width() / size[0]).min(rect.height() / size[1]) * 0.95;
-        let used = Vec2::new(size[0] * scale, size[1] * scale);
-        Self {
-            origin: rect.center() - used * 0.5,
-            scale,
-            world_min: min,
+        self.shortcuts(&ctx);
+        panels::menu_bar(self, ui);
+        panels::status_bar(self, ui);
+        panels::layers_panel(self, ui);
+        panels::inspector_panel(self, ui);
+        egui::CentralPanel::default()
+            .frame(egui::Frame::NONE.fill(egui::Color32::from_gray(24)))
+            .show(ui, |ui| map::map_view(self, ui));
+        panels::dialogs(self, &ctx);
+
+        if self.doc_changed {
+            self.doc_changed = false;
+            self.dirty = doc::to_json(&self.doc) != self.saved_json;
+            self.live.set_layout(&self.doc);
+        }
+        ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.title()));
+        self.autosave(now);
+        if self.live.playing {
+            ctx.request_repaint();
         }
     }
 
-    pub fn to_screen(&self, p: [f32; 2]) -> Pos2 {
-        self.origin
-            + Vec2::new(
-                (p[0] - self.world_min[0]) * self.scale,
-                (p[1] - self.world_min[1]) * self.scale,
-            )
+    fn save(&mut self, storage: &mut dyn eframe::Storage) {
+        eframe::set_value(storage, SETTINGS_KEY, &self.settings);
+    }
+
+    fn on_exit(&mut self) {
+        if !self.dirty {
+            self.remove_recovery();
+        }
     }
 }
 
-fn map_view(ui: &mut egui::Ui, doc: &Layout) {
-    let (rect, _) = ui.allocate_exact_size(ui.available_size(), egui::Sense::hover());
-    let painter = ui.painter_at(rect);
-    let t = MapTransform::fit(doc, rect);
-    let (min, max) = doc.bounds();
-    let world = Rect::from_min_max(t.to_screen(min), t.to_screen(max));
-    painter.rect_filled(world, 2.0, Color32::from_rgb(46, 62, 40));
-    // A 10 m grid.
-    let grid = Stroke::new(1.0, Color32::from_white_alpha(18));
-    let mut x = (min[0] / 10.0).ceil() * 10.0;
-    while x <= max[0] {
-        painter.line_segment([t.to_screen([x, min[1]]), t.to_screen([x, max[1]])], grid);
-        x += 10.0;
-    }
-    let mut z = (min[1] / 10.0).ceil() * 10.0;
-    while z <= max[1] {
-        painter.line_segment([t.to_screen([min[0], z]), t.to_screen([max[0], z])], grid);
-        z += 10.0;
-    }
-    let rock = Color32::from_rgb(120, 110, 100);
-    for o in &doc.obstacles {
-        match &o.shape {
-            Shape::Circle { center, radius } => {
-                painter.circle_filled(t.to_screen(*center), radius * t.scale, rock);
-            }
-            Shape::Polygon { points } => {
-                let pts = points.iter().map(|p| t.to_screen(*p)).collect();
-                painter.add(egui::Shape::convex_polygon(pts, rock, Stroke::NONE));
-            }
-        }
-    }
-    let arrow_colour = Color32::from_rgb(90, 170, 255);
-    for tree in &doc.trees {
-        let alpha = if tree.enabled { 255 } else { 90 };
-        let colour = Color32::from_rgba_unmultiplied(90, 170, 255, alpha);
-        for (parent, child, _) in tree.root.arrows() {
-            let a = t.to_screen(parent.pos);
-            let b = t.to_screen(child.pos);
-            let width = (1.0 + child.strength / 15.0).min(6.0);
-            painter.arrow(a, b - a, Stroke::new(width, colour));
-            painter.circle_filled(b, 4.0, arrow_colour);
-        }
-        let r = t.to_screen(tree.root.pos);
-        painter.rect_filled(
-            Rect::from_center_size(r, Vec2::splat(10.0)),
-            1.0,
-            Color32::from_rgb(230, 80, 60),
-        );
-    }
+/// A stable number for a gesture key (slider, drag) so its edits merge into one undo step.
+pub fn gesture_key(key: impl std::hash::Hash) -> u64 {
+    use std::hash::Hasher;
+    let mut h = std::hash::DefaultHasher::new();
+    key.hash(&mut h);
+    h.finish()
 }
 
-/// Opens the editor window on `doc`.
+/// Opens the editor window on `doc`. The wgpu device is created with the features and limits
+/// the simulation passes need, so one device can serve the UI and the wind.
 pub fn run(doc: Layout, path: Option<PathBuf>) -> eframe::Result {
-    let options = eframe::NativeOptions {
+    let mut options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
-            .with_inner_size([1280.0, 800.0])
+            .with_inner_size([1400.0, 860.0])
+            .with_min_inner_size([800.0, 500.0])
             .with_title("windloom"),
+        persist_window: true,
         ..Default::default()
     };
+    if let egui_wgpu::WgpuSetup::CreateNew(create) = &mut options.wgpu_options.wgpu_setup {
+        create.device_descriptor = std::sync::Arc::new(|adapter| {
+            let wanted = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+                | wgpu::Features::FLOAT32_FILTERABLE;
+            wgpu::DeviceDescriptor {
+                label: Some("windloom device"),
+                required_features: adapter.features() & wanted,
+                required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+                ..Default::default()
+            }
+        });
+    }
     eframe::run_native(
         "windloom",
         options,
-        Box::new(move |_cc| Ok(Box::new(EditorApp::new(doc, path)))),
+        Box::new(move |cc| Ok(Box::new(EditorApp::from_creation_context(cc, doc, path)))),
     )
 }
+
+use eframe::egui_wgpu;
+use eframe::wgpu;

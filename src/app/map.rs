@@ -1,0 +1,686 @@
+//! The map view: drawing the world, the wind and the layout, and turning pointer gestures
+//! into edit commands.
+
+use super::view::{self, Camera, WindView};
+use super::{EditorApp, Sel, Tool};
+use crate::doc::{self, Edit, Node, Shape};
+use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke, Vec2};
+
+/// A pointer gesture in progress on the map.
+#[derive(Debug, Clone)]
+pub enum Gesture {
+    /// Moving the selected nodes/obstacles; `last` is the previous pointer world position.
+    Move { last: doc::Vec2, key: u64 },
+    /// Dragging a new arrow out of `parent`.
+    Arrow { parent: u32 },
+    /// Box selection from `start` (screen).
+    Box { start: Pos2, additive: bool },
+    /// A new circle from its centre.
+    Circle { center: doc::Vec2 },
+}
+
+/// Hit radius for points, in screen points.
+const HIT: f32 = 10.0;
+
+pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
+    let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    app.map_rect = rect;
+    let cam = *app
+        .camera
+        .get_or_insert_with(|| Camera::frame_all(&app.doc, rect));
+    let ctx = ui.ctx().clone();
+    let painter = ui.painter_at(rect);
+
+    navigate(app, ui, &response, rect);
+    let cam = app.camera.unwrap_or(cam);
+    let hover = response.hover_pos();
+    app.cursor_world = hover.map(|p| cam.to_world(rect, p));
+
+    // Background: the world rectangle, the backdrop, the wind, the grid.
+    let (min, max) = app.doc.bounds();
+    let world = Rect::from_min_max(cam.to_screen(rect, min), cam.to_screen(rect, max));
+    painter.rect_filled(world, 0.0, Color32::from_rgb(38, 52, 34));
+    draw_backdrop(app, &ctx, &painter, world);
+    let snap = app.live.snapshot();
+    let max_speed = draw_wind(app, &ctx, &painter, &cam, rect, world, &snap);
+    if app.settings.show_grid {
+        draw_grid(&painter, &cam, rect, min, max);
+    }
+    painter.rect_stroke(
+        world,
+        0.0,
+        Stroke::new(1.0, Color32::from_white_alpha(60)),
+        egui::StrokeKind::Outside,
+    );
+
+    // The layout.
+    let selection = app.selection.clone();
+    let is_sel = |id: u32| {
+        selection
+            .iter()
+            .any(|s| matches!(*s, Sel::Node(n) | Sel::Obstacle(n) if n == id))
+    };
+    view::draw_obstacles(&painter, &cam, rect, &app.doc, &is_sel);
+    let hovered_node = hover.and_then(|p| view::hit_node(&app.doc, &cam, rect, p, HIT));
+    for tree in &app.doc.trees {
+        let tree_sel = selection.contains(&Sel::Tree(tree.id));
+        view::draw_tree(
+            &painter,
+            &cam,
+            rect,
+            &tree.root,
+            tree.enabled,
+            &|id| tree_sel || is_sel(id),
+            hovered_node,
+        );
+    }
+
+    interact(app, &ctx, &response, rect, &cam, &painter);
+    draw_legend(&painter, rect, app.settings.wind_view, max_speed);
+
+    // Hint for the current tool.
+    painter.text(
+        rect.left_bottom() + Vec2::new(10.0, -10.0),
+        egui::Align2::LEFT_BOTTOM,
+        app.tool.hint(),
+        egui::FontId::proportional(13.0),
+        Color32::from_white_alpha(170),
+    );
+}
+
+fn navigate(app: &mut EditorApp, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
+    let Some(cam) = app.camera.as_mut() else {
+        return;
+    };
+    // Pan with the middle or right button.
+    if response.dragged_by(egui::PointerButton::Middle)
+        || response.dragged_by(egui::PointerButton::Secondary)
+    {
+        cam.pan_pixels(response.drag_delta());
+    }
+    // Zoom about the cursor with the wheel.
+    if let Some(p) = response.hover_pos() {
+        let scroll = ui.input(|i| i.smooth_scroll_delta.y + i.zoom_delta().ln() * 200.0);
+        if scroll != 0.0 {
+            cam.zoom_about(rect, p, (scroll / 300.0).exp());
+        }
+    }
+}
+
+fn draw_backdrop(app: &mut EditorApp, ctx: &egui::Context, painter: &egui::Painter, world: Rect) {
+    let Some(map) = app.doc.world.map.clone() else {
+        app.backdrop = None;
+        return;
+    };
+    let base = app
+        .path
+        .as_ref()
+        .and_then(|p| p.parent())
+        .map(|d| d.to_path_buf())
+        .unwrap_or_default();
+    let file = base.join(&map.image);
+    let stale = app.backdrop.as_ref().is_none_or(|(p, _)| p != &file);
+    if stale {
+        let texture = image::open(&file).ok().map(|img| {
+            let img = img.to_rgba8();
+            let size = [img.width() as usize, img.height() as usize];
+            let ci = egui::ColorImage::from_rgba_unmultiplied(size, img.as_raw());
+            ctx.load_texture("backdrop", ci, egui::TextureOptions::LINEAR)
+        });
+        if texture.is_none() {
+            app.say(
+                ctx,
+                format!("could not read the map image {}", file.display()),
+            );
+        }
+        app.backdrop = Some((file, texture));
+    }
+    if let Some((_, Some(t))) = &app.backdrop {
+        painter.image(
+            t.id(),
+            world,
+            Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+            Color32::from_white_alpha((map.opacity * 255.0) as u8),
+        );
+    }
+}
+
+/// Draws the chosen wind visualisation; returns the speed at the top of the colour scale.
+fn draw_wind(
+    app: &mut EditorApp,
+    ctx: &egui::Context,
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+    world: Rect,
+    snap: &super::live::Snapshot,
+) -> f32 {
+    let mode = app.settings.wind_view;
+    if mode == WindView::Off || snap.nx == 0 {
+        return 0.0;
+    }
+    let stale = app
+        .field_texture
+        .as_ref()
+        .is_none_or(|(serial, m, _, _)| *serial != snap.serial || *m != mode);
+    if stale {
+        if let Some((img, scale)) = view::field_image(snap, mode) {
+            match &mut app.field_texture {
+                Some((serial, m, tex, s)) => {
+                    tex.set(img, egui::TextureOptions::LINEAR);
+                    *serial = snap.serial;
+                    *m = mode;
+                    *s = scale;
+                }
+                None => {
+                    let tex = ctx.load_texture("wind", img, egui::TextureOptions::LINEAR);
+                    app.field_texture = Some((snap.serial, mode, tex, scale));
+                }
+            }
+        }
+    }
+    let Some((_, _, tex, scale)) = &app.field_texture else {
+        return 0.0;
+    };
+    let scale = *scale;
+    painter.image(
+        tex.id(),
+        world,
+        Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+        Color32::WHITE,
+    );
+    match mode {
+        WindView::Streaks => {
+            if app.live.playing {
+                let dt = ctx.input(|i| i.stable_dt).min(0.1) * app.live.speed;
+                app.streaks
+                    .advance(&app.doc, snap, dt, app.settings.streak_count);
+            }
+            app.streaks.draw(painter, cam, rect, snap, scale);
+        }
+        WindView::Glyphs => view::draw_glyphs(painter, cam, rect, &app.doc, snap, scale),
+        _ => {}
+    }
+    scale
+}
+
+fn draw_grid(painter: &egui::Painter, cam: &Camera, rect: Rect, min: doc::Vec2, max: doc::Vec2) {
+    // The smallest 1-2-5 spacing that keeps lines at least 40 px apart.
+    let mut decade = 0.1f32;
+    let step = 'found: loop {
+        for m in [1.0, 2.0, 5.0] {
+            if decade * m * cam.zoom >= 40.0 {
+                break 'found decade * m;
+            }
+        }
+        decade *= 10.0;
+    };
+    let stroke = Stroke::new(1.0, Color32::from_white_alpha(16));
+    let mut x = (min[0] / step).ceil() * step;
+    while x <= max[0] {
+        painter.line_segment(
+            [
+                cam.to_screen(rect, [x, min[1]]),
+                cam.to_screen(rect, [x, max[1]]),
+            ],
+            stroke,
+        );
+        x += step;
+    }
+    let mut z = (min[1] / step).ceil() * step;
+    while z <= max[1] {
+        painter.line_segment(
+            [
+                cam.to_screen(rect, [min[0], z]),
+                cam.to_screen(rect, [max[0], z]),
+            ],
+            stroke,
+        );
+        z += step;
+    }
+}
+
+fn draw_legend(painter: &egui::Painter, rect: Rect, mode: WindView, scale: f32) {
+    if mode == WindView::Off || scale <= 0.0 {
+        return;
+    }
+    let w = 180.0;
+    let origin = rect.right_top() + Vec2::new(-w - 16.0, 14.0);
+    let bar = Rect::from_min_size(origin + Vec2::new(0.0, 18.0), Vec2::new(w, 10.0));
+    painter.rect_filled(
+        bar.expand(22.0).translate(Vec2::new(0.0, 6.0)),
+        4.0,
+        Color32::from_black_alpha(150),
+    );
+    let n = 32;
+    for k in 0..n {
+        let t = k as f32 / (n - 1) as f32;
+        let c = match mode {
+            WindView::Curl | WindView::Pressure => view::signed_colour(t * 2.0 - 1.0),
+            _ => view::speed_colour(t),
+        };
+        let x0 = bar.left() + w * k as f32 / n as f32;
+        painter.rect_filled(
+            Rect::from_min_size(
+                Pos2::new(x0, bar.top()),
+                Vec2::new(w / n as f32 + 0.5, bar.height()),
+            ),
+            0.0,
+            c,
+        );
+    }
+    let (title, lo, hi) = match mode {
+        WindView::Curl => (
+            "curl (1/s)",
+            format!("{:.2}", -scale),
+            format!("{scale:.2}"),
+        ),
+        WindView::Pressure => ("pressure", format!("{:.2}", -scale), format!("{scale:.2}")),
+        _ => ("wind speed (m/s)", "0".to_string(), format!("{scale:.1}")),
+    };
+    let font = egui::FontId::proportional(12.0);
+    painter.text(
+        origin,
+        egui::Align2::LEFT_TOP,
+        title,
+        font.clone(),
+        Color32::WHITE,
+    );
+    painter.text(
+        bar.left_bottom() + Vec2::new(0.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        lo,
+        font.clone(),
+        Color32::WHITE,
+    );
+    painter.text(
+        bar.right_bottom() + Vec2::new(0.0, 2.0),
+        egui::Align2::RIGHT_TOP,
+        hi,
+        font,
+        Color32::WHITE,
+    );
+}
+
+/// Pointer handling for the current tool.
+fn interact(
+    app: &mut EditorApp,
+    ctx: &egui::Context,
+    response: &egui::Response,
+    rect: Rect,
+    cam: &Camera,
+    painter: &egui::Painter,
+) {
+    let primary_pressed = response.drag_started_by(egui::PointerButton::Primary)
+        || response.clicked_by(egui::PointerButton::Primary);
+    let pointer = response.interact_pointer_pos().or(response.hover_pos());
+    let shift = ctx.input(|i| i.modifiers.shift);
+
+    match app.tool {
+        Tool::Select => select_tool(app, ctx, response, rect, cam, painter, shift),
+        Tool::AddRoot => {
+            if response.clicked_by(egui::PointerButton::Primary) {
+                if let Some(p) = pointer {
+                    let pos = app.snap(cam.to_world(rect, p));
+                    let id = app.doc.next_id();
+                    let tree = doc::Tree {
+                        id,
+                        name: format!("Wind {}", app.doc.trees.len() + 1),
+                        enabled: true,
+                        window: doc::TimeWindow::Always,
+                        emission: doc::Emission::Continuous,
+                        propagation_speed: 20.0,
+                        root: Node::new(id + 1, pos, 8.0, 5.0),
+                    };
+                    if app.edit(
+                        ctx,
+                        Edit::AddTree {
+                            index: app.doc.trees.len(),
+                            tree,
+                        },
+                    ) {
+                        app.selection = vec![Sel::Node(id + 1)];
+                        // Next: drag arrows out of it.
+                        app.tool = Tool::AddArrow;
+                    }
+                }
+            }
+        }
+        Tool::AddArrow => {
+            if response.drag_started_by(egui::PointerButton::Primary) {
+                let start = response
+                    .interact_pointer_pos()
+                    .map(|p| p - response.drag_delta());
+                let parent = start
+                    .and_then(|p| view::hit_node(&app.doc, cam, rect, p, HIT))
+                    .or_else(|| match app.selection.as_slice() {
+                        [Sel::Node(id)] if start.is_none() => Some(*id),
+                        _ => None,
+                    });
+                if let Some(parent) = parent {
+                    app.gesture = Some(Gesture::Arrow { parent });
+                }
+            }
+            if let Some(super::map::Gesture::Arrow { parent }) = app.gesture.clone() {
+                let from = app
+                    .doc
+                    .trees
+                    .iter()
+                    .find_map(|t| t.root.find(parent))
+                    .map(|n| (n.pos, n.strength, n.radius));
+                if let (Some((from, strength, radius)), Some(p)) = (from, pointer) {
+                    let to = app.snap(cam.to_world(rect, p));
+                    let a = cam.to_screen(rect, from);
+                    let b = cam.to_screen(rect, to);
+                    view::draw_arrow(
+                        painter,
+                        a,
+                        b,
+                        view::arrow_width(strength),
+                        view::ARROW_COLOUR.gamma_multiply(0.7),
+                    );
+                    if response.drag_stopped() {
+                        app.gesture = None;
+                        if a.distance(b) > 6.0 {
+                            let id = app.doc.next_id();
+                            let node = Node::new(id, to, strength.max(1.0), radius);
+                            if app.edit(
+                                ctx,
+                                Edit::AddNode {
+                                    parent,
+                                    index: usize::MAX,
+                                    node,
+                                },
+                            ) {
+                                app.selection = vec![Sel::Node(id)];
+                            }
+                        }
+                    }
+                } else if response.drag_stopped() {
+                    app.gesture = None;
+                }
+            }
+        }
+        Tool::Circle => {
+            if response.drag_started_by(egui::PointerButton::Primary) {
+                if let Some(p) = response.interact_pointer_pos() {
+                    let start = p - response.drag_delta();
+                    app.gesture = Some(Gesture::Circle {
+                        center: app.snap(cam.to_world(rect, start)),
+                    });
+                }
+            }
+            if let (Some(Gesture::Circle { center }), Some(p)) = (app.gesture.clone(), pointer) {
+                let w = cam.to_world(rect, p);
+                let r = (w[0] - center[0]).hypot(w[1] - center[1]);
+                painter.circle(
+                    cam.to_screen(rect, center),
+                    r * cam.zoom,
+                    view::OBSTACLE_COLOUR.gamma_multiply(0.6),
+                    Stroke::new(1.0, Color32::WHITE),
+                );
+                if response.drag_stopped() {
+                    app.gesture = None;
+                    if r * cam.zoom > 3.0 {
+                        let id = app.doc.next_id();
+                        let obstacle = doc::Obstacle {
+                            id,
+                            name: format!("Rock {}", app.doc.obstacles.len() + 1),
+                            shape: Shape::Circle { center, radius: r },
+                        };
+                        if app.edit(
+                            ctx,
+                            Edit::AddObstacle {
+                                index: usize::MAX,
+                                obstacle,
+                            },
+                        ) {
+                            app.selection = vec![Sel::Obstacle(id)];
+                        }
+                    }
+                }
+            }
+        }
+        Tool::Polygon => {
+            if let Some(p) = pointer {
+                let w = app.snap(cam.to_world(rect, p));
+                // Preview.
+                let pts: Vec<Pos2> = app
+                    .polygon
+                    .iter()
+                    .map(|q| cam.to_screen(rect, *q))
+                    .collect();
+                if !pts.is_empty() {
+                    let mut line = pts.clone();
+                    line.push(cam.to_screen(rect, w));
+                    painter.add(egui::Shape::line(line, Stroke::new(1.5, Color32::WHITE)));
+                    painter.circle_stroke(pts[0], HIT * 0.8, Stroke::new(1.0, Color32::WHITE));
+                }
+                if response.clicked_by(egui::PointerButton::Primary) {
+                    let closes = app.polygon.len() >= 3
+                        && cam.to_screen(rect, app.polygon[0]).distance(p) <= HIT;
+                    if closes {
+                        close_polygon(app, ctx);
+                    } else {
+                        app.polygon.push(w);
+                    }
+                }
+            }
+            if ctx.input(|i| i.key_pressed(egui::Key::Enter)) && app.polygon.len() >= 3 {
+                close_polygon(app, ctx);
+            }
+        }
+    }
+    let _ = primary_pressed;
+}
+
+fn close_polygon(app: &mut EditorApp, ctx: &egui::Context) {
+    let points = std::mem::take(&mut app.polygon);
+    let id = app.doc.next_id();
+    let obstacle = doc::Obstacle {
+        id,
+        name: format!("Wall {}", app.doc.obstacles.len() + 1),
+        shape: Shape::Polygon { points },
+    };
+    if app.edit(
+        ctx,
+        Edit::AddObstacle {
+            index: usize::MAX,
+            obstacle,
+        },
+    ) {
+        app.selection = vec![Sel::Obstacle(id)];
+    }
+}
+
+fn select_tool(
+    app: &mut EditorApp,
+    ctx: &egui::Context,
+    response: &egui::Response,
+    rect: Rect,
+    cam: &Camera,
+    painter: &egui::Painter,
+    shift: bool,
+) {
+    let hit_at = |app: &EditorApp, p: Pos2| -> Option<Sel> {
+        view::hit_node(&app.doc, cam, rect, p, HIT)
+            .map(Sel::Node)
+            .or_else(|| view::hit_obstacle(&app.doc, cam, rect, p).map(Sel::Obstacle))
+    };
+    if response.clicked_by(egui::PointerButton::Primary) {
+        if let Some(p) = response.interact_pointer_pos() {
+            match hit_at(app, p) {
+                Some(s) if shift => {
+                    if let Some(k) = app.selection.iter().position(|x| *x == s) {
+                        app.selection.remove(k);
+                    } else {
+                        app.selection.push(s);
+                    }
+                }
+                Some(s) => app.selection = vec![s],
+                None if !shift => app.selection.clear(),
+                None => {}
+            }
+        }
+    }
+    if response.drag_started_by(egui::PointerButton::Primary) {
+        if let Some(p) = response.interact_pointer_pos() {
+            let start = p - response.drag_delta();
+            match hit_at(app, start) {
+                Some(s) => {
+                    if !app.selection.contains(&s) {
+                        if shift {
+                            app.selection.push(s);
+                        } else {
+                            app.selection = vec![s];
+                        }
+                    }
+                    let key = super::gesture_key(("move", ctx.input(|i| i.time).to_bits()));
+                    app.gesture = Some(Gesture::Move {
+                        last: cam.to_world(rect, start),
+                        key,
+                    });
+                }
+                None => {
+                    app.gesture = Some(Gesture::Box {
+                        start,
+                        additive: shift,
+                    })
+                }
+            }
+        }
+    }
+    match app.gesture.clone() {
+        Some(Gesture::Move { last, key }) => {
+            if let Some(p) = response.interact_pointer_pos() {
+                let w = cam.to_world(rect, p);
+                let d = [w[0] - last[0], w[1] - last[1]];
+                if d != [0.0, 0.0] {
+                    move_selection(app, ctx, d, key);
+                    app.gesture = Some(Gesture::Move { last: w, key });
+                }
+            }
+            if response.drag_stopped() {
+                app.gesture = None;
+                if app.settings.snap {
+                    snap_selection(app, ctx, key);
+                }
+                app.history.end_gesture();
+            }
+        }
+        Some(Gesture::Box { start, additive }) => {
+            if let Some(p) = response.interact_pointer_pos() {
+                let r = Rect::from_two_pos(start, p);
+                painter.rect(
+                    r,
+                    0.0,
+                    Color32::from_rgba_unmultiplied(255, 200, 40, 25),
+                    Stroke::new(1.0, view::SELECT_COLOUR),
+                    egui::StrokeKind::Inside,
+                );
+                if response.drag_stopped() {
+                    app.gesture = None;
+                    if !additive {
+                        app.selection.clear();
+                    }
+                    let picked: Vec<Sel> = app
+                        .doc
+                        .nodes()
+                        .filter(|(_, n)| r.contains(cam.to_screen(rect, n.pos)))
+                        .map(|(_, n)| Sel::Node(n.id))
+                        .chain(
+                            app.doc
+                                .obstacles
+                                .iter()
+                                .filter(|o| {
+                                    r.contains(cam.to_screen(rect, obstacle_centre(&o.shape)))
+                                })
+                                .map(|o| Sel::Obstacle(o.id)),
+                        )
+                        .collect();
+                    for s in picked {
+                        if !app.selection.contains(&s) {
+                            app.selection.push(s);
+                        }
+                    }
+                }
+            }
+        }
+        _ => {}
+    }
+}
+
+pub fn obstacle_centre(shape: &Shape) -> doc::Vec2 {
+    match shape {
+        Shape::Circle { center, .. } => *center,
+        Shape::Polygon { points } => {
+            let n = points.len().max(1) as f32;
+            let s = points
+                .iter()
+                .fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
+            [s[0] / n, s[1] / n]
+        }
+    }
+}
+
+fn moved_obstacle(o: &doc::Obstacle, d: doc::Vec2) -> doc::Obstacle {
+    let mut o = o.clone();
+    match &mut o.shape {
+        Shape::Circle { center, .. } => {
+            center[0] += d[0];
+            center[1] += d[1];
+        }
+        Shape::Polygon { points } => {
+            for p in points {
+                p[0] += d[0];
+                p[1] += d[1];
+            }
+        }
+    }
+    o
+}
+
+/// Moves every selected node and obstacle by `d` metres as part of gesture `key`.
+fn move_selection(app: &mut EditorApp, ctx: &egui::Context, d: doc::Vec2, key: u64) {
+    let mut edits = Vec::new();
+    for s in &app.selection {
+        match *s {
+            Sel::Node(id) => {
+                if let Some(n) = app.doc.trees.iter().find_map(|t| t.root.find(id)) {
+                    edits.push(Edit::MoveNode {
+                        id,
+                        pos: [n.pos[0] + d[0], n.pos[1] + d[1]],
+                    });
+                }
+            }
+            Sel::Obstacle(id) => {
+                if let Some(o) = app.doc.obstacles.iter().find(|o| o.id == id) {
+                    edits.push(Edit::SetObstacle {
+                        obstacle: moved_obstacle(o, d),
+                    });
+                }
+            }
+            _ => {}
+        }
+    }
+    if !edits.is_empty() {
+        app.edit_merged(ctx, Edit::Batch(edits), key);
+    }
+}
+
+fn snap_selection(app: &mut EditorApp, ctx: &egui::Context, key: u64) {
+    let mut edits = Vec::new();
+    for s in &app.selection {
+        if let Sel::Node(id) = *s {
+            if let Some(n) = app.doc.trees.iter().find_map(|t| t.root.find(id)) {
+                edits.push(Edit::MoveNode {
+                    id,
+                    pos: app.snap(n.pos),
+                });
+            }
+        }
+    }
+    if !edits.is_empty() {
+        app.edit_merged(ctx, Edit::Batch(edits), key);
+    }
+}

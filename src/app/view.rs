@@ -1,0 +1,509 @@
+//! The map view: world ↔ screen transform (pan, zoom), drawing and hit-testing.
+
+use super::live::Snapshot;
+use crate::doc::{Layout, Node, Shape, Vec2 as W2};
+use eframe::egui::{self, Color32, Pos2, Rect, Stroke, Vec2};
+
+/// How the wind is shown on the map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum WindView {
+    Speed,
+    Glyphs,
+    Streaks,
+    Curl,
+    Pressure,
+    Off,
+}
+
+impl WindView {
+    pub const ALL: [WindView; 6] = [
+        WindView::Streaks,
+        WindView::Speed,
+        WindView::Glyphs,
+        WindView::Curl,
+        WindView::Pressure,
+        WindView::Off,
+    ];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Self::Speed => "Speed colour map",
+            Self::Glyphs => "Arrow glyphs",
+            Self::Streaks => "Streaks",
+            Self::Curl => "Curl",
+            Self::Pressure => "Pressure",
+            Self::Off => "Off",
+        }
+    }
+}
+
+/// Pan and zoom of the map: screen = `center_screen + (world − center_world) × zoom`.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct Camera {
+    /// World point shown at the centre of the view.
+    pub center: [f32; 2],
+    /// Pixels per metre.
+    pub zoom: f32,
+}
+
+impl Camera {
+    /// Frames the whole world in `rect` with a margin.
+    pub fn frame_all(doc: &Layout, rect: Rect) -> Self {
+        let (min, max) = doc.bounds();
+        let size = doc.world.size;
+        let zoom = (rect.width() / size[0]).min(rect.height() / size[1]) * 0.92;
+        Self {
+            center: [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
+            zoom: zoom.max(1e-3),
+        }
+    }
+
+    pub fn to_screen(&self, rect: Rect, p: W2) -> Pos2 {
+        rect.center()
+            + Vec2::new(
+                (p[0] - self.center[0]) * self.zoom,
+                (p[1] - self.center[1]) * self.zoom,
+            )
+    }
+
+    pub fn to_world(&self, rect: Rect, s: Pos2) -> W2 {
+        let d = s - rect.center();
+        [
+            self.center[0] + d.x / self.zoom,
+            self.center[1] + d.y / self.zoom,
+        ]
+    }
+
+    /// Zooms by `factor` keeping the world point under `anchor` fixed.
+    pub fn zoom_about(&mut self, rect: Rect, anchor: Pos2, factor: f32) {
+        let before = self.to_world(rect, anchor);
+        self.zoom = (self.zoom * factor).clamp(0.05, 2000.0);
+        let after = self.to_world(rect, anchor);
+        self.center[0] += before[0] - after[0];
+        self.center[1] += before[1] - after[1];
+    }
+
+    pub fn pan_pixels(&mut self, delta: Vec2) {
+        self.center[0] -= delta.x / self.zoom;
+        self.center[1] -= delta.y / self.zoom;
+    }
+}
+
+/// Colours of the editor's marks.
+pub const ROOT_COLOUR: Color32 = Color32::from_rgb(235, 90, 60);
+pub const END_COLOUR: Color32 = Color32::from_rgb(250, 250, 250);
+pub const ARROW_COLOUR: Color32 = Color32::from_rgb(70, 160, 255);
+pub const SELECT_COLOUR: Color32 = Color32::from_rgb(255, 200, 40);
+pub const OBSTACLE_COLOUR: Color32 = Color32::from_rgb(128, 118, 106);
+
+/// Arrow line width in points for a strength in m/s.
+pub fn arrow_width(strength: f32) -> f32 {
+    (1.5 + strength * 0.35).clamp(1.5, 9.0)
+}
+
+/// Colour for a speed relative to the view's maximum, from a perceptual colour map.
+pub fn speed_colour(t: f32) -> Color32 {
+    let c = colorous::TURBO.eval_continuous(f64::from(t.clamp(0.0, 1.0)) * 0.9 + 0.05);
+    Color32::from_rgb(c.r, c.g, c.b)
+}
+
+/// Diverging colour for a signed value in [-1, 1].
+pub fn signed_colour(t: f32) -> Color32 {
+    let c = colorous::RED_BLUE.eval_continuous(f64::from(0.5 - 0.5 * t.clamp(-1.0, 1.0)));
+    Color32::from_rgb(c.r, c.g, c.b)
+}
+
+/// The field as an image for the colour-map views (one pixel per cell), and the value that
+/// maps to the top of the scale.
+pub fn field_image(snap: &Snapshot, mode: WindView) -> Option<(egui::ColorImage, f32)> {
+    if snap.nx == 0 {
+        return None;
+    }
+    let (pixels, scale): (Vec<Color32>, f32) = match mode {
+        WindView::Speed | WindView::Streaks | WindView::Glyphs => {
+            let speeds: Vec<f32> = snap
+                .velocity
+                .iter()
+                .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
+                .collect();
+            let max = speeds.iter().copied().fold(1.0f32, f32::max);
+            let dim = if mode == WindView::Speed { 230 } else { 120 };
+            (
+                speeds
+                    .iter()
+                    .map(|s| speed_colour(s / max).gamma_multiply(dim as f32 / 255.0))
+                    .map(|c| Color32::from_rgba_unmultiplied(c.r(), c.g(), c.b(), dim))
+                    .collect(),
+                max,
+            )
+        }
+        WindView::Curl | WindView::Pressure => {
+            let data = if mode == WindView::Curl {
+                &snap.curl
+            } else {
+                &snap.pressure
+            };
+            let max = data.iter().fold(1e-6f32, |m, x| m.max(x.abs()));
+            (data.iter().map(|x| signed_colour(x / max)).collect(), max)
+        }
+        WindView::Off => return None,
+    };
+    Some((egui::ColorImage::new([snap.nx, snap.ny], pixels), scale))
+}
+
+/// Draws an arrow tree: arrows (width by strength), end points and the root.
+pub fn draw_tree(
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+    root: &Node,
+    enabled: bool,
+    is_selected: &dyn Fn(u32) -> bool,
+    hovered: Option<u32>,
+) {
+    let alpha = if enabled { 255 } else { 90 };
+    let arrow = ARROW_COLOUR.gamma_multiply(alpha as f32 / 255.0);
+    for (parent, child, _) in root.arrows() {
+        let a = cam.to_screen(rect, parent.pos);
+        let b = cam.to_screen(rect, child.pos);
+        let w = arrow_width(child.strength);
+        draw_arrow(painter, a, b, w, arrow);
+    }
+    for n in root.iter() {
+        let p = cam.to_screen(rect, n.pos);
+        let sel = is_selected(n.id);
+        if sel || hovered == Some(n.id) {
+            let r = n.radius * cam.zoom;
+            painter.circle_stroke(
+                p,
+                r,
+                Stroke::new(1.0, Color32::from_white_alpha(if sel { 160 } else { 90 })),
+            );
+        }
+        let outline = if sel { SELECT_COLOUR } else { Color32::BLACK };
+        if n.id == root.id {
+            painter.rect(
+                Rect::from_center_size(p, Vec2::splat(12.0)),
+                2.0,
+                ROOT_COLOUR,
+                Stroke::new(if sel { 2.5 } else { 1.0 }, outline),
+                egui::StrokeKind::Outside,
+            );
+        } else {
+            painter.circle(
+                p,
+                5.5,
+                END_COLOUR,
+                Stroke::new(if sel { 2.5 } else { 1.0 }, outline),
+            );
+        }
+    }
+}
+
+/// A filled arrow from `a` to `b`: a shaft and a head sized by the width.
+pub fn draw_arrow(painter: &egui::Painter, a: Pos2, b: Pos2, width: f32, colour: Color32) {
+    let d = b - a;
+    let len = d.length();
+    if len < 1.0 {
+        return;
+    }
+    let dir = d / len;
+    let head = (width * 2.8 + 6.0).min(len * 0.6);
+    let base = b - dir * head;
+    painter.line_segment([a, base], Stroke::new(width, colour));
+    let n = dir.rot90() * (head * 0.55);
+    painter.add(egui::Shape::convex_polygon(
+        vec![b, base + n, base - n],
+        colour,
+        Stroke::NONE,
+    ));
+}
+
+/// Draws the obstacles.
+pub fn draw_obstacles(
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+    doc: &Layout,
+    is_selected: &dyn Fn(u32) -> bool,
+) {
+    for o in &doc.obstacles {
+        let sel = is_selected(o.id);
+        let stroke = Stroke::new(
+            if sel { 2.5 } else { 1.0 },
+            if sel {
+                SELECT_COLOUR
+            } else {
+                Color32::from_black_alpha(160)
+            },
+        );
+        match &o.shape {
+            Shape::Circle { center, radius } => {
+                painter.circle(
+                    cam.to_screen(rect, *center),
+                    radius * cam.zoom,
+                    OBSTACLE_COLOUR,
+                    stroke,
+                );
+            }
+            Shape::Polygon { points } => {
+                let pts: Vec<Pos2> = points.iter().map(|p| cam.to_screen(rect, *p)).collect();
+                // Triangulate as a fan for the fill (fine for the simple shapes users draw);
+                // the outline shows the true shape.
+                let mut mesh = egui::Mesh::default();
+                for p in &pts {
+                    mesh.colored_vertex(*p, OBSTACLE_COLOUR);
+                }
+                for_each_ear(points, |a, b, c| {
+                    mesh.add_triangle(a as u32, b as u32, c as u32)
+                });
+                painter.add(mesh);
+                painter.add(egui::Shape::closed_line(pts, stroke));
+            }
+        }
+    }
+}
+
+/// Ear-clipping triangulation of a simple polygon; calls `tri` with vertex indices.
+pub fn for_each_ear(points: &[W2], mut tri: impl FnMut(usize, usize, usize)) {
+    let n = points.len();
+    if n < 3 {
+        return;
+    }
+    let ccw = crate::doc::polygon_area(points) > 0.0;
+    let mut idx: Vec<usize> = (0..n).collect();
+    let cross = |a: W2, b: W2, c: W2| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let mut guard = 0;
+    while idx.len() > 3 && guard < n * n {
+        guard += 1;
+        let m = idx.len();
+        let mut clipped = false;
+        for k in 0..m {
+            let (ia, ib, ic) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
+            let (a, b, c) = (points[ia], points[ib], points[ic]);
+            let convex = if ccw {
+                cross(a, b, c) > 0.0
+            } else {
+                cross(a, b, c) < 0.0
+            };
+            if !convex {
+                continue;
+            }
+            let inside = idx.iter().any(|&q| {
+                if q == ia || q == ib || q == ic {
+                    return false;
+                }
+                let p = points[q];
+                let (d1, d2, d3) = (cross(a, b, p), cross(b, c, p), cross(c, a, p));
+                if ccw {
+                    d1 > 0.0 && d2 > 0.0 && d3 > 0.0
+                } else {
+                    d1 < 0.0 && d2 < 0.0 && d3 < 0.0
+                }
+            });
+            if inside {
+                continue;
+            }
+            tri(ia, ib, ic);
+            idx.remove(k);
+            clipped = true;
+            break;
+        }
+        if !clipped {
+            break;
+        }
+    }
+    if idx.len() == 3 {
+        tri(idx[0], idx[1], idx[2]);
+    }
+}
+
+/// The node nearest to screen point `s` within `radius` points.
+pub fn hit_node(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2, radius: f32) -> Option<u32> {
+    doc.nodes()
+        .map(|(_, n)| (n.id, cam.to_screen(rect, n.pos).distance(s)))
+        .filter(|(_, d)| *d <= radius)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(id, _)| id)
+}
+
+/// The obstacle under screen point `s`.
+pub fn hit_obstacle(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2) -> Option<u32> {
+    let w = cam.to_world(rect, s);
+    doc.obstacles
+        .iter()
+        .rev()
+        .find(|o| match &o.shape {
+            Shape::Circle { center, radius } => {
+                (w[0] - center[0]).hypot(w[1] - center[1]) <= *radius
+            }
+            Shape::Polygon { points } => point_in_polygon(w, points),
+        })
+        .map(|o| o.id)
+}
+
+pub fn point_in_polygon(p: W2, poly: &[W2]) -> bool {
+    let mut inside = false;
+    let n = poly.len();
+    for i in 0..n {
+        let a = poly[i];
+        let b = poly[(i + n - 1) % n];
+        if (a[1] > p[1]) != (b[1] > p[1])
+            && p[0] < (b[0] - a[0]) * (p[1] - a[1]) / (b[1] - a[1]) + a[0]
+        {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// Streak particles advected through the field, each with a short fading trail.
+pub struct Streaks {
+    particles: Vec<Particle>,
+    seed: u32,
+}
+
+struct Particle {
+    trail: Vec<W2>,
+    age: f32,
+    life: f32,
+}
+
+const TRAIL: usize = 14;
+
+impl Streaks {
+    pub fn new() -> Self {
+        Self {
+            particles: Vec::new(),
+            seed: 1,
+        }
+    }
+
+    fn random(&mut self) -> f32 {
+        self.seed ^= self.seed << 13;
+        self.seed ^= self.seed >> 17;
+        self.seed ^= self.seed << 5;
+        (self.seed >> 8) as f32 / 16_777_216.0
+    }
+
+    fn spawn(&mut self, doc: &Layout) -> Particle {
+        let (min, _) = doc.bounds();
+        let p = [
+            min[0] + self.random() * doc.world.size[0],
+            min[1] + self.random() * doc.world.size[1],
+        ];
+        let life = 1.5 + self.random() * 2.5;
+        Particle {
+            trail: vec![p],
+            age: 0.0,
+            life,
+        }
+    }
+
+    /// Moves the particles by `dt` seconds of simulated wind.
+    pub fn advance(&mut self, doc: &Layout, snap: &Snapshot, dt: f32, count: usize) {
+        while self.particles.len() < count {
+            let mut p = self.spawn(doc);
+            p.age = self.random() * p.life;
+            self.particles.push(p);
+        }
+        self.particles.truncate(count);
+        let (min, max) = doc.bounds();
+        for k in 0..self.particles.len() {
+            let dead = {
+                let p = &mut self.particles[k];
+                let head = *p.trail.last().unwrap_or(&[0.0, 0.0]);
+                let v = snap.sample(head);
+                let next = [head[0] + v[0] * dt, head[1] + v[1] * dt];
+                p.trail.push(next);
+                if p.trail.len() > TRAIL {
+                    p.trail.remove(0);
+                }
+                p.age += dt;
+                let out =
+                    next[0] < min[0] || next[1] < min[1] || next[0] > max[0] || next[1] > max[1];
+                p.age > p.life || out || (v[0] == 0.0 && v[1] == 0.0 && p.age > 0.5)
+            };
+            if dead {
+                self.particles[k] = self.spawn(doc);
+            }
+        }
+    }
+
+    pub fn draw(
+        &self,
+        painter: &egui::Painter,
+        cam: &Camera,
+        rect: Rect,
+        snap: &Snapshot,
+        max_speed: f32,
+    ) {
+        for p in &self.particles {
+            if p.trail.len() < 2 {
+                continue;
+            }
+            let fade = (1.0 - (2.0 * p.age / p.life - 1.0).abs()).clamp(0.0, 1.0);
+            let head = *p.trail.last().unwrap();
+            let v = snap.sample(head);
+            let colour = speed_colour((v[0].hypot(v[1]) / max_speed.max(1e-3)).sqrt());
+            let n = p.trail.len();
+            for k in 1..n {
+                let a = cam.to_screen(rect, p.trail[k - 1]);
+                let b = cam.to_screen(rect, p.trail[k]);
+                let t = k as f32 / n as f32;
+                let alpha = (t * fade * 230.0) as u8;
+                painter.line_segment(
+                    [a, b],
+                    Stroke::new(
+                        1.6,
+                        Color32::from_rgba_unmultiplied(colour.r(), colour.g(), colour.b(), alpha),
+                    ),
+                );
+            }
+        }
+    }
+}
+
+impl Default for Streaks {
+    fn default() -> Self {
+        Self::new()
+    }
+}
+
+/// Arrow glyphs on a regular screen-space lattice, length by speed.
+pub fn draw_glyphs(
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+    doc: &Layout,
+    snap: &Snapshot,
+    max_speed: f32,
+) {
+    let spacing = 26.0;
+    let (min, max) = doc.bounds();
+    let a = cam.to_screen(rect, min).max(rect.min);
+    let b = cam.to_screen(rect, max).min(rect.max);
+    let mut y = a.y + spacing * 0.5;
+    while y < b.y {
+        let mut x = a.x + spacing * 0.5;
+        while x < b.x {
+            let w = cam.to_world(rect, Pos2::new(x, y));
+            let v = snap.sample(w);
+            let s = v[0].hypot(v[1]);
+            if s > max_speed * 0.02 {
+                let len = spacing * 0.9 * (s / max_speed).sqrt();
+                let d = Vec2::new(v[0], v[1]) / s * len;
+                let c = Pos2::new(x, y);
+                draw_arrow(
+                    painter,
+                    c - d * 0.5,
+                    c + d * 0.5,
+                    1.5,
+                    speed_colour(s / max_speed),
+                );
+            }
+            x += spacing;
+        }
+        y += spacing;
+    }
+}

@@ -1,0 +1,330 @@
+//! The editor, driven like a user would: egui_kittest on the software (lavapipe) adapter, and
+//! the real window under Xvfb.
+//!
+//! Without a GPU adapter these tests skip with a loud message, unless `CI` is set: CI must run
+//! them for real, so there a missing adapter is a failure.
+
+use eframe::egui::{self, Event, Modifiers, PointerButton, Pos2};
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
+use std::path::Path;
+use std::time::{Duration, Instant};
+use windloom::app::{EditorApp, Sel, Tool};
+use windloom::doc::{self, Layout};
+
+fn in_ci() -> bool {
+    std::env::var_os("CI").is_some()
+}
+
+/// Whether a wgpu adapter exists (lavapipe counts). In CI its absence fails the test.
+fn gpu_available() -> bool {
+    let instance =
+        eframe::wgpu::Instance::new(eframe::wgpu::InstanceDescriptor::new_without_display_handle());
+    let ok = pollster::block_on(instance.request_adapter(&Default::default())).is_ok();
+    if !ok {
+        assert!(
+            !in_ci(),
+            "CI must run the GPU tests: no wgpu adapter found (is mesa-vulkan-drivers installed?)"
+        );
+        eprintln!(
+            "\n!!!!! SKIPPING: no wgpu adapter (install mesa-vulkan-drivers for lavapipe) !!!!!\n"
+        );
+    }
+    ok
+}
+
+fn example(name: &str) -> Layout {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("layouts")
+        .join(name);
+    windloom::io::load(&p).unwrap()
+}
+
+fn harness(doc: Layout) -> Harness<'static, EditorApp> {
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .with_max_steps(16)
+        .wgpu()
+        .build_eframe(move |cc| {
+            let mut app = EditorApp::new(doc, None, &cc.egui_ctx);
+            app.live.set_playing(false);
+            app
+        });
+    h.run_steps(3);
+    h
+}
+
+fn click(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
+    h.event(Event::PointerMoved(pos));
+    h.run_steps(1);
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Primary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    h.run_steps(1);
+}
+
+fn drag(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
+    h.event(Event::PointerMoved(from));
+    h.run_steps(1);
+    h.event(Event::PointerButton {
+        pos: from,
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(1);
+    for k in 1..=8 {
+        let p = from + (to - from) * (k as f32 / 8.0);
+        h.event(Event::PointerMoved(p));
+        h.run_steps(1);
+    }
+    h.event(Event::PointerButton {
+        pos: to,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(2);
+}
+
+/// World distance that one screen point covers, for position tolerances.
+fn metres_per_point(h: &Harness<'_, EditorApp>) -> f32 {
+    1.0 / h.state().camera.expect("the map has been drawn").zoom
+}
+
+#[test]
+fn authoring_a_tree_with_the_mouse_then_inspector_and_undo() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(Layout::new("blank", [100.0, 80.0], [50, 40]));
+    let tol = 1.5 * metres_per_point(&h);
+
+    // Root tool: click on the map → a tree whose root is where we clicked.
+    h.get_by_label("Add root").click();
+    h.run_steps(2);
+    assert_eq!(h.state().tool, Tool::AddRoot);
+    let at = h.state().screen_pos([30.0, 40.0]);
+    click(&mut h, at);
+    let doc = &h.state().doc;
+    assert_eq!(doc.trees.len(), 1, "a click with the root tool adds a tree");
+    let root = doc.trees[0].root.clone();
+    assert!(
+        (root.pos[0] - 30.0).abs() < tol && (root.pos[1] - 40.0).abs() < tol,
+        "root at {:?}",
+        root.pos
+    );
+
+    // Drag out of the root (the tool switched to Add arrow) → a child, the arrow pointing east.
+    assert_eq!(h.state().tool, Tool::AddArrow);
+    let from = h.state().screen_pos(root.pos);
+    let to = h.state().screen_pos([60.0, 40.0]);
+    drag(&mut h, from, to);
+    let root = h.state().doc.trees[0].root.clone();
+    assert_eq!(
+        root.children.len(),
+        1,
+        "dragging from the root adds an end point"
+    );
+    let child = &root.children[0];
+    assert!(
+        (child.pos[0] - 60.0).abs() < tol && (child.pos[1] - 40.0).abs() < tol,
+        "child at {:?}",
+        child.pos
+    );
+    assert!(child.pos[0] - root.pos[0] > 25.0, "the arrow points east");
+    assert_eq!(h.state().selection, vec![Sel::Node(child.id)]);
+
+    // A second drag from the same root branches.
+    let to2 = h.state().screen_pos([55.0, 20.0]);
+    drag(&mut h, from, to2);
+    assert_eq!(
+        h.state().doc.trees[0].root.children.len(),
+        2,
+        "a second arrow branches"
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.trees[0].root.children.len(), 1);
+    h.state_mut().selection = vec![Sel::Node(child.id)];
+    h.run_steps(2);
+
+    // Inspector: the strength slider changes the node.
+    let before = child.strength;
+    let inspector_left = h.state().map_rect.right();
+    let slider = h
+        .get_all_by_role(egui::accesskit::Role::Slider)
+        .find(|s| s.rect().left() > inspector_left)
+        .expect("the inspector shows the strength slider");
+    let r = slider.rect();
+    let target = Pos2::new(r.left() + r.width() * 0.9, r.center().y);
+    click(&mut h, target);
+    let after = h.state().doc.trees[0].root.children[0].strength;
+    assert!(after > before + 10.0, "strength {before} -> {after}");
+
+    // Undo restores it, then the arrow, then the tree; redo brings the arrow back.
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.trees[0].root.children[0].strength, before);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert!(h.state().doc.trees[0].root.children.is_empty());
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert!(h.state().doc.trees.is_empty());
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, egui::Key::Z);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Y);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.trees[0].root.children.len(), 1);
+    assert!(h.state().dirty, "an edited document is marked dirty");
+}
+
+#[test]
+fn dragging_a_node_moves_it_in_one_undo_step() {
+    if !gpu_available() {
+        return;
+    }
+    let doc = example("meadow.json");
+    let node = doc.trees[0].root.children[0].clone();
+    let mut h = harness(doc);
+    let tol = 1.5 * metres_per_point(&h);
+    let from = h.state().screen_pos(node.pos);
+    let to = h
+        .state()
+        .screen_pos([node.pos[0] + 10.0, node.pos[1] + 5.0]);
+    drag(&mut h, from, to);
+    let moved = h.state().doc.trees[0].root.children[0].pos;
+    assert!(
+        (moved[0] - node.pos[0] - 10.0).abs() < tol && (moved[1] - node.pos[1] - 5.0).abs() < tol,
+        "{moved:?}"
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(
+        h.state().doc.trees[0].root.children[0].pos,
+        node.pos,
+        "one undo undoes the whole drag"
+    );
+}
+
+#[test]
+fn a_bad_file_shows_the_errors_and_keeps_the_document() {
+    let dir = tempfile::tempdir().unwrap();
+    let bad = dir.path().join("bad.json");
+    std::fs::write(
+        &bad,
+        doc::to_json(&example("meadow.json")).replace("\"radius\": 7.0", "\"radius\": -7.0"),
+    )
+    .unwrap();
+    let ctx = egui::Context::default();
+    let mut app = EditorApp::new(example("branching.json"), None, &ctx);
+    let before = doc::to_json(&app.doc);
+    app.open_path(&bad);
+    assert_eq!(doc::to_json(&app.doc), before);
+    match &app.dialog {
+        Some(windloom::app::Dialog::Error { text, .. }) => {
+            assert!(text.contains("radius: must be > 0, got -7"), "{text}");
+            assert!(text.contains("bad.json:"), "{text}");
+        }
+        _ => panic!("expected an error dialog"),
+    }
+}
+
+#[test]
+fn unsaved_work_is_autosaved_and_a_save_clears_the_recovery_copy() {
+    let dir = tempfile::tempdir().unwrap();
+    let recovery = dir.path().join("recovery.json");
+    let ctx = egui::Context::default();
+    let mut app = EditorApp::new(example("meadow.json"), None, &ctx);
+    app.set_recovery_path(Some(recovery.clone()));
+    let id = app.doc.trees[0].root.children[0].id;
+    assert!(app.edit(
+        &ctx,
+        doc::Edit::MoveNode {
+            id,
+            pos: [1.0, 2.0]
+        }
+    ));
+    app.write_recovery();
+    let restored = windloom::io::load(&recovery).unwrap();
+    assert_eq!(
+        restored, app.doc,
+        "the recovery copy holds the unsaved edit"
+    );
+    let target = dir.path().join("level.json");
+    assert!(app.save_to(&ctx, &target));
+    assert!(!recovery.exists(), "saving removes the recovery copy");
+    assert!(!app.dirty);
+    assert_eq!(app.path.as_deref(), Some(target.as_path()));
+}
+
+#[test]
+fn editor_window_snapshot() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("obstacles.json"));
+    h.state_mut().settings.wind_view = windloom::app::view::WindView::Glyphs;
+    // Two simulated seconds, stepped on the paused worker, so the picture is deterministic.
+    let dt = h.state().doc.sim.dt;
+    for _ in 0..120 {
+        h.state().live.step_once();
+    }
+    let deadline = Instant::now() + Duration::from_secs(120);
+    while h.state().live.snapshot().time < 120.0 * dt - 1e-3 {
+        assert!(Instant::now() < deadline, "the simulation thread stalled");
+        std::thread::sleep(Duration::from_millis(50));
+    }
+    h.run_steps(3);
+    // The status bar shows timings and frame rate, which differ from run to run.
+    let status = h.state().status_rect;
+    h.mask(status);
+    h.snapshot("editor_obstacles");
+}
+
+#[test]
+fn the_window_opens_under_xvfb() {
+    let have_xvfb = std::process::Command::new("xvfb-run")
+        .arg("--help")
+        .output()
+        .is_ok();
+    if !have_xvfb {
+        assert!(!in_ci(), "CI must run the window test: xvfb-run not found");
+        eprintln!("\n!!!!! SKIPPING: xvfb-run not installed (apt-get install xvfb) !!!!!\n");
+        return;
+    }
+    let runtime = tempfile::tempdir().unwrap();
+    let mut child = std::process::Command::new("xvfb-run")
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 1280x800x24",
+            env!("CARGO_BIN_EXE_windloom"),
+        ])
+        .env("XDG_RUNTIME_DIR", runtime.path())
+        .env("HOME", runtime.path())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    std::thread::sleep(Duration::from_secs(8));
+    let status = child.try_wait().unwrap();
+    if status.is_none() {
+        // Still running: the window is up. Stop it (and Xvfb with it).
+        let _ = std::process::Command::new("pkill")
+            .args(["-f", env!("CARGO_BIN_EXE_windloom")])
+            .status();
+    }
+    let out = child.wait_with_output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        status.is_none(),
+        "the editor exited early: {status:?}\n{stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
