@@ -320,6 +320,7 @@ impl Solver {
         self.curl
             .par_chunks_mut(nx)
             .enumerate()
+            .with_min_len(rows_per_job(nx))
             .for_each(|(j, row)| {
                 let (jb, jt) = neighbours(j, ny, periodic);
                 for (i, w) in row.iter_mut().enumerate() {
@@ -353,6 +354,7 @@ impl Solver {
             .par_chunks_mut(nx)
             .zip(self.div.par_chunks_mut(nx))
             .enumerate()
+            .with_min_len(rows_per_job(nx))
             .for_each(|(j, (fx_row, fz_row))| {
                 let (jb, jt) = neighbours(j, ny, periodic);
                 for i in 0..nx {
@@ -371,6 +373,7 @@ impl Solver {
         self.u
             .par_chunks_mut(nx + 1)
             .enumerate()
+            .with_min_len(rows_per_job(nx + 1))
             .for_each(|(j, row)| {
                 for (i, u) in row.iter_mut().enumerate() {
                     if self.u_free[j * (nx + 1) + i] == 0 {
@@ -391,24 +394,28 @@ impl Solver {
                     *u = clamp_speed(*u + dt * 0.5 * (a + b));
                 }
             });
-        self.v.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            for (i, v) in row.iter_mut().enumerate() {
-                if self.v_free[j * nx + i] == 0 {
-                    continue;
+        self.v
+            .par_chunks_mut(nx)
+            .enumerate()
+            .with_min_len(rows_per_job(nx))
+            .for_each(|(j, row)| {
+                for (i, v) in row.iter_mut().enumerate() {
+                    if self.v_free[j * nx + i] == 0 {
+                        continue;
+                    }
+                    let jb = if j == 0 {
+                        if periodic { ny - 1 } else { 0 }
+                    } else {
+                        j - 1
+                    };
+                    let jt = if j == ny {
+                        if periodic { 0 } else { ny - 1 }
+                    } else {
+                        j
+                    };
+                    *v = clamp_speed(*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]));
                 }
-                let jb = if j == 0 {
-                    if periodic { ny - 1 } else { 0 }
-                } else {
-                    j - 1
-                };
-                let jt = if j == ny {
-                    if periodic { 0 } else { ny - 1 }
-                } else {
-                    j
-                };
-                *v = clamp_speed(*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]));
-            }
-        });
+            });
         self.sync_periodic();
     }
 
@@ -419,6 +426,7 @@ impl Solver {
         self.div
             .par_chunks_mut(nx)
             .enumerate()
+            .with_min_len(rows_per_job(nx))
             .for_each(|(j, row)| {
                 divergence_row(row, j, nx, hx, hz, u, v, solid);
             });
@@ -444,6 +452,7 @@ impl Solver {
         self.p_tmp
             .par_chunks_mut(nx)
             .enumerate()
+            .with_min_len(rows_per_job(nx))
             .for_each(|(j, out)| {
                 let jb = if j == 0 { ny - 1 } else { j - 1 };
                 let jt = if j + 1 == ny { 0 } else { j + 1 };
@@ -456,34 +465,36 @@ impl Solver {
                     let fl = f[i];
                     let il = if i == 0 { nx - 1 } else { i - 1 };
                     let ir = if i + 1 == nx { 0 } else { i + 1 };
-                    let mut sum = 0.0;
-                    let mut ws = 0.0;
-                    for (bit, w, val) in [
-                        (L, wx, row[il]),
-                        (R, wx, row[ir]),
-                        (B, wz, below[i]),
-                        (T, wz, above[i]),
-                    ] {
-                        if fl & bit != 0 {
-                            sum += w * val;
-                            ws += w;
-                        } else if fl & (bit << EDGE) != 0 {
-                            ws += w;
-                        }
-                    }
+                    // Branch-free: 1.0 where a neighbour takes part with its value (fluid) or
+                    // with p = 0 (open edge), 0.0 where it is dropped (solid, closed wall).
+                    let fluid = |b: u8| f32::from(u8::from(fl & b != 0));
+                    let edge = |b: u8| f32::from(u8::from(fl & (b << EDGE) != 0));
+                    let sum = wx * (fluid(L) * row[il] + fluid(R) * row[ir])
+                        + wz * (fluid(B) * below[i] + fluid(T) * above[i]);
+                    let ws = wx * (fluid(L) + fluid(R) + edge(L) + edge(R))
+                        + wz * (fluid(B) + fluid(T) + edge(B) + edge(T));
                     if ws > 0.0 { (sum - d[i]) / ws } else { 0.0 }
                 };
                 if regular[j] && nx > 2 {
                     out[0] = general(0);
-                    for i in 1..nx - 1 {
-                        out[i] = (wx * (row[i - 1] + row[i + 1]) + wz * (below[i] + above[i])
-                            - d[i])
-                            * inv_regular;
+                    let inner = out[1..nx - 1]
+                        .iter_mut()
+                        .zip(row.windows(3))
+                        .zip(&below[1..])
+                        .zip(&above[1..])
+                        .zip(&d[1..]);
+                    for ((((o, lr), b), a), dd) in inner {
+                        *o = (wx * (lr[0] + lr[2]) + wz * (b + a) - dd) * inv_regular;
                     }
                     out[nx - 1] = general(nx - 1);
                 } else {
                     for (i, o) in out.iter_mut().enumerate() {
-                        *o = general(i);
+                        *o = if f[i] == ALL_FLUID && i > 0 && i + 1 < nx {
+                            (wx * (row[i - 1] + row[i + 1]) + wz * (below[i] + above[i]) - d[i])
+                                * inv_regular
+                        } else {
+                            general(i)
+                        };
                     }
                 }
             });
@@ -510,6 +521,7 @@ impl Solver {
         self.u
             .par_chunks_mut(nx + 1)
             .enumerate()
+            .with_min_len(rows_per_job(nx + 1))
             .for_each(|(j, row)| {
                 for (i, u) in row.iter_mut().enumerate() {
                     if u_free[j * (nx + 1) + i] == 0 {
@@ -529,16 +541,20 @@ impl Solver {
                 p[j as usize * nx + i]
             }
         };
-        self.v.par_chunks_mut(nx).enumerate().for_each(|(j, row)| {
-            for (i, v) in row.iter_mut().enumerate() {
-                if v_free[j * nx + i] == 0 {
-                    *v = 0.0;
-                    continue;
+        self.v
+            .par_chunks_mut(nx)
+            .enumerate()
+            .with_min_len(rows_per_job(nx))
+            .for_each(|(j, row)| {
+                for (i, v) in row.iter_mut().enumerate() {
+                    if v_free[j * nx + i] == 0 {
+                        *v = 0.0;
+                        continue;
+                    }
+                    let j = j as isize;
+                    *v -= (pz(i, j) - pz(i, j - 1)) / hz;
                 }
-                let j = j as isize;
-                *v -= (pz(i, j) - pz(i, j - 1)) / hz;
-            }
-        });
+            });
         self.sync_periodic();
     }
 
@@ -750,6 +766,12 @@ fn divergence_row(
     }
 }
 
+/// Rows per rayon job for a row of `width` cells: enough work (~8k cells) that scheduling
+/// overhead stays small, while still splitting a grid over all threads.
+fn rows_per_job(width: usize) -> usize {
+    (8_192 / width.max(1)).max(1)
+}
+
 /// Neighbour indices `(lower, upper)` of `i` on an axis of `n` cells: wrapped or clamped.
 #[inline]
 fn neighbours(i: usize, n: usize, periodic: bool) -> (usize, usize) {
@@ -792,6 +814,7 @@ impl Forcing<'_> {
         let w = if is_v { g.nx } else { g.nx + 1 };
         inc.par_chunks_mut(w)
             .enumerate()
+            .with_min_len(rows_per_job(w))
             .map(|(j, row)| {
                 // Face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j) for v.
                 let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
@@ -806,27 +829,32 @@ impl Forcing<'_> {
                 if active.is_empty() && self.coupling == 0.0 {
                     return false;
                 }
-                for (i, out) in row.iter_mut().enumerate() {
-                    *out = 0.0;
-                    if free[j * w + i] == 0 {
-                        continue;
+                row.fill(0.0);
+                let c = usize::from(is_v);
+                let x_of = |i: usize| self.origin[0] + (i as f32 + ox) * g.hx;
+                // Each splat only visits the faces inside its x-extent; per face the splats
+                // still add up in the same order.
+                for s in &active {
+                    let (lo, hi) = s.bounds();
+                    let first = (((lo[0] - self.origin[0]) / g.hx - ox).floor().max(0.0)) as usize;
+                    let last = (((hi[0] - self.origin[0]) / g.hx - ox).ceil().max(0.0) as usize)
+                        .min(w - 1);
+                    for i in first..=last {
+                        if free[j * w + i] == 0 {
+                            continue;
+                        }
+                        let vel = face_velocity(g, u, v, i, j, is_v);
+                        row[i] += s.impulse([x_of(i), z_world], vel, self.response, self.dt)[c];
                     }
-                    let (x, z) = (i as f32 + ox, j as f32 + oz);
-                    let vel = if is_v {
-                        [sample_u(g, u, x, z).0, v[j * w + i]]
-                    } else {
-                        [u[j * w + i], sample_v(g, v, x, z).0]
-                    };
-                    let p = [self.origin[0] + x * g.hx, z_world];
-                    let c = usize::from(is_v);
-                    let mut d = 0.0;
-                    for s in &active {
-                        d += s.impulse(p, vel, self.response, self.dt)[c];
+                }
+                if self.coupling > 0.0 {
+                    for (i, out) in row.iter_mut().enumerate() {
+                        if free[j * w + i] == 0 {
+                            continue;
+                        }
+                        let vel = face_velocity(g, u, v, i, j, is_v);
+                        *out += (self.ambient.wind([x_of(i), z_world])[c] - vel[c]) * self.coupling;
                     }
-                    if self.coupling > 0.0 {
-                        d += (self.ambient.wind(p)[c] - vel[c]) * self.coupling;
-                    }
-                    *out = d;
                 }
                 true
             })
@@ -840,6 +868,7 @@ fn add_rows(field: &mut [f32], inc: &[f32], rows: &[bool], w: usize) -> usize {
         .par_chunks_mut(w)
         .zip(inc.par_chunks(w))
         .zip(rows.par_iter())
+        .with_min_len(rows_per_job(w))
         .map(|((f, d), &on)| {
             if !on {
                 return 0;
@@ -910,8 +939,35 @@ fn sample_v(g: &Geometry, v: &[f32], x: f32, z: f32) -> (f32, f32, f32) {
     bilinear(g, v, g.nx, g.ny + 1, x - 0.5, z)
 }
 
-/// Backtraced departure point of the u face `(i, j)` (or the v face, with `is_v`).
-#[inline]
+/// Velocity `[x, z]` at face `(i, j)` (a v face with `is_v`): the face's own component and the
+/// mean of the four nearest faces of the other component (exactly the bilinear sample there).
+#[inline(always)]
+fn face_velocity(g: &Geometry, u: &[f32], v: &[f32], i: usize, j: usize, is_v: bool) -> [f32; 2] {
+    let (nx, ny) = (g.nx, g.ny);
+    if is_v {
+        // u faces at columns i, i+1 and rows j-1, j (wrapped or clamped into the grid).
+        let (jb, jt) = if g.periodic {
+            ((j + ny - 1) % ny, j % ny)
+        } else {
+            (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
+        };
+        let w = nx + 1;
+        let ux = 0.25 * (u[jb * w + i] + u[jb * w + i + 1] + u[jt * w + i] + u[jt * w + i + 1]);
+        [ux, v[j * nx + i]]
+    } else {
+        let (il, ir) = if g.periodic {
+            ((i + nx - 1) % nx, i % nx)
+        } else {
+            (i.saturating_sub(1).min(nx - 1), i.min(nx - 1))
+        };
+        let vz =
+            0.25 * (v[j * nx + il] + v[j * nx + ir] + v[(j + 1) * nx + il] + v[(j + 1) * nx + ir]);
+        [u[j * (nx + 1) + i], vz]
+    }
+}
+
+/// Backtraced departure point (grid units) of face `(i, j)`.
+#[inline(always)]
 fn departure(
     g: &Geometry,
     u: &[f32],
@@ -926,9 +982,28 @@ fn departure(
     } else {
         (i as f32, j as f32 + 0.5)
     };
-    let vx = sample_u(g, u, x, z).0;
-    let vz = sample_v(g, v, x, z).0;
-    (x - vx * dt / g.hx, z - vz * dt / g.hz)
+    let vel = face_velocity(g, u, v, i, j, is_v);
+    (x - vel[0] * dt / g.hx, z - vel[1] * dt / g.hz)
+}
+
+/// Bilinear sample of a `w × h` face field at fractional sample coordinates: the generic
+/// sampler for periodic grids, a clamp-only fast path otherwise (same arithmetic, same bits).
+#[inline(always)]
+fn bilerp(g: &Geometry, f: &[f32], w: usize, h: usize, x: f32, z: f32) -> f32 {
+    if g.periodic {
+        return bilinear(g, f, w, h, x, z).0;
+    }
+    let x = x.clamp(0.0, (w - 1) as f32);
+    let z = z.clamp(0.0, (h - 1) as f32);
+    let i0 = (x as usize).min(w - 2);
+    let j0 = (z as usize).min(h - 2);
+    let fx = x - i0 as f32;
+    let fz = z - j0 as f32;
+    let k = j0 * w + i0;
+    let (a, b, c, d) = (f[k], f[k + 1], f[k + w], f[k + w + 1]);
+    let top = a + (b - a) * fx;
+    let bottom = c + (d - c) * fx;
+    top + (bottom - top) * fz
 }
 
 /// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
@@ -945,21 +1020,24 @@ fn advect_faces(
     is_v: bool,
 ) {
     let w = if is_v { g.nx } else { g.nx + 1 };
-    dst.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-        for (i, out) in row.iter_mut().enumerate() {
-            *out = if free[j * w + i] == 0 {
-                0.0
-            } else {
-                let (x, z) = departure(g, u, v, i, j, is_v, dt);
-                let s = if is_v {
-                    sample_v(g, src, x, z)
+    dst.par_chunks_mut(w)
+        .enumerate()
+        .with_min_len(rows_per_job(w))
+        .for_each(|(j, row)| {
+            for (i, out) in row.iter_mut().enumerate() {
+                *out = if free[j * w + i] == 0 {
+                    0.0
                 } else {
-                    sample_u(g, src, x, z)
+                    let (x, z) = departure(g, u, v, i, j, is_v, dt);
+                    let s = if is_v {
+                        bilerp(g, src, g.nx, g.ny + 1, x - 0.5, z)
+                    } else {
+                        bilerp(g, src, g.nx + 1, g.ny, x, z - 0.5)
+                    };
+                    s * keep
                 };
-                s.0 * keep
-            };
-        }
-    });
+            }
+        });
 }
 
 /// MacCormack correction: `back` holds φ̌ on entry and the limited result on exit.
@@ -977,20 +1055,23 @@ fn maccormack(
 ) {
     let w = if is_v { g.nx } else { g.nx + 1 };
     let orig = if is_v { v } else { u };
-    back.par_chunks_mut(w).enumerate().for_each(|(j, row)| {
-        for (i, out) in row.iter_mut().enumerate() {
-            let k = j * w + i;
-            if free[k] == 0 {
-                *out = 0.0;
-                continue;
+    back.par_chunks_mut(w)
+        .enumerate()
+        .with_min_len(rows_per_job(w))
+        .for_each(|(j, row)| {
+            for (i, out) in row.iter_mut().enumerate() {
+                let k = j * w + i;
+                if free[k] == 0 {
+                    *out = 0.0;
+                    continue;
+                }
+                let (x, z) = departure(g, u, v, i, j, is_v, dt);
+                let (_, lo, hi) = if is_v {
+                    sample_v(g, orig, x, z)
+                } else {
+                    sample_u(g, orig, x, z)
+                };
+                *out = (fwd[k] + 0.5 * (orig[k] - *out)).clamp(lo, hi) * keep;
             }
-            let (x, z) = departure(g, u, v, i, j, is_v, dt);
-            let (_, lo, hi) = if is_v {
-                sample_v(g, orig, x, z)
-            } else {
-                sample_u(g, orig, x, z)
-            };
-            *out = (fwd[k] + 0.5 * (orig[k] - *out)).clamp(lo, hi) * keep;
-        }
-    });
+        });
 }
