@@ -3,6 +3,9 @@
 //! Dependency direction (see `docs/ARCHITECTURE.md`): `doc` ← `sim` ← {`io`, `app`, CLI}.
 
 pub mod app;
+pub mod bake;
+pub mod colour;
 pub mod doc;
 pub mod io;
+pub mod render;
 pub mod sim;

@@ -2,9 +2,12 @@
 
 use anyhow::Context;
 use clap::{Parser, Subcommand};
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
-use windloom::{doc, io};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
+use windloom::{bake, doc, io};
 
 const AFTER_HELP: &str = "\
 Examples:
@@ -13,6 +16,9 @@ Examples:
   windloom validate layouts/*.json       check layout files, print every error
   windloom schema > layout.schema.json   the JSON Schema of the layout format
   windloom fmt my-level.json             rewrite a layout in canonical form
+  windloom bake layouts/meadow.json --out bake/ --format exr --format fga
+  windloom bake layouts/obstacles.json --out bake/ --frames 48 --fps 24 --loop
+  windloom render layouts/obstacles.json -o obstacles.png --size 1600x1200 --time 8
   windloom bench --backend cpu --grid 1000 --iterations 20 --steps 30 --json";
 
 /// Author wind over a top-down map of a level, simulate it, and export it for game engines.
@@ -46,6 +52,59 @@ enum Command {
     Fmt {
         #[arg(required = true)]
         files: Vec<PathBuf>,
+    },
+    /// Simulate a layout headless and export the wind for game engines, with a manifest.json.
+    ///
+    /// Formats (repeat --format; default all): exr (float RGB), png8 / png16 (flowmaps, RG
+    /// centred on 0.5), fga (Unreal vector field, ≤128 per axis, area-averaged), vf (Unity
+    /// VF_V), raw (f32 + manifest), atlas (all frames in one 16-bit PNG flipbook). Files appear
+    /// only when the whole bake succeeded; Ctrl-C leaves nothing behind.
+    ///
+    /// Example: windloom bake layouts/obstacles.json --out bake/ --frames 48 --fps 24 --loop
+    Bake {
+        layout: PathBuf,
+        /// Output folder (created if missing).
+        #[arg(long, short)]
+        out: PathBuf,
+        /// Formats to write (repeatable).
+        #[arg(long = "format", value_enum)]
+        formats: Vec<FormatArg>,
+        /// Seconds simulated before the first frame.
+        #[arg(long, default_value_t = 5.0)]
+        warmup: f32,
+        /// Frames to capture (1: one steady frame).
+        #[arg(long, default_value_t = 1)]
+        frames: usize,
+        /// Frames per second of the sequence.
+        #[arg(long, default_value_t = 30.0)]
+        fps: f32,
+        /// Make the sequence loop seamlessly (cross-fade of two simulated runs).
+        #[arg(long = "loop")]
+        looped: bool,
+        /// Override the layout's grid, e.g. 256x256.
+        #[arg(long, value_parser = parse_grid)]
+        grid: Option<[u32; 2]>,
+        /// EXR as 16-bit half floats.
+        #[arg(long)]
+        half: bool,
+        /// Solver to run.
+        #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+        backend: Backend,
+    },
+    /// Draw a top-down picture of a layout and its simulated wind (PNG, tiny-skia).
+    ///
+    /// Example: windloom render layouts/obstacles.json -o obstacles.png --size 1600x1200 --time 8
+    Render {
+        layout: PathBuf,
+        /// The PNG to write.
+        #[arg(short, long)]
+        output: PathBuf,
+        /// Picture size in pixels, WxH.
+        #[arg(long, default_value = "1600x1000", value_parser = parse_grid)]
+        size: [u32; 2],
+        /// Simulated seconds before the picture is taken.
+        #[arg(long, default_value_t = 6.0)]
+        time: f32,
     },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
@@ -86,6 +145,44 @@ enum Command {
 enum Backend {
     Cpu,
     Gpu,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum FormatArg {
+    Exr,
+    Png8,
+    Png16,
+    Fga,
+    Vf,
+    Raw,
+    Atlas,
+}
+
+impl From<FormatArg> for bake::Format {
+    fn from(f: FormatArg) -> Self {
+        match f {
+            FormatArg::Exr => Self::Exr,
+            FormatArg::Png8 => Self::Png8,
+            FormatArg::Png16 => Self::Png16,
+            FormatArg::Fga => Self::Fga,
+            FormatArg::Vf => Self::Vf,
+            FormatArg::Raw => Self::Raw,
+            FormatArg::Atlas => Self::Atlas,
+        }
+    }
+}
+
+/// `NXxNY` → `[nx, ny]`.
+fn parse_grid(s: &str) -> Result<[u32; 2], String> {
+    let (a, b) = s
+        .split_once(['x', 'X'])
+        .ok_or_else(|| format!("expected WIDTHxHEIGHT like 256x128, got {s:?}"))?;
+    let n = |t: &str| {
+        t.trim()
+            .parse::<u32>()
+            .map_err(|_| format!("expected WIDTHxHEIGHT like 256x128, got {s:?}"))
+    };
+    Ok([n(a)?, n(b)?])
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -155,6 +252,93 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             } else {
                 ExitCode::FAILURE
             })
+        }
+        Some(Command::Bake {
+            layout,
+            out,
+            formats,
+            warmup,
+            frames,
+            fps,
+            looped,
+            grid,
+            half,
+            backend,
+        }) => {
+            if backend == Backend::Gpu {
+                anyhow::bail!("the GPU solver is not built yet: use --backend cpu");
+            }
+            let l = io::load(&layout)?;
+            let opts = bake::BakeOptions {
+                formats: if formats.is_empty() {
+                    bake::Format::ALL.to_vec()
+                } else {
+                    formats.into_iter().map(Into::into).collect()
+                },
+                warmup,
+                frames,
+                fps,
+                looped,
+                grid,
+                half,
+            };
+            let cancel = Arc::new(AtomicBool::new(false));
+            let flag = cancel.clone();
+            ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
+                .context("could not install the Ctrl-C handler")?;
+            let bar = if std::io::stderr().is_terminal() {
+                indicatif::ProgressBar::new(1)
+            } else {
+                indicatif::ProgressBar::hidden()
+            };
+            bar.set_style(
+                indicatif::ProgressStyle::with_template("{msg:>12} [{bar:40}] {pos}/{len} {eta}")
+                    .expect("a valid template")
+                    .progress_chars("=> "),
+            );
+            let mut progress = |done: usize, total: usize, what: &str| {
+                bar.set_length(total as u64);
+                bar.set_position(done as u64);
+                bar.set_message(what.to_string());
+            };
+            let result = bake::bake(&l, &out, &opts, &cancel, &mut progress);
+            bar.finish_and_clear();
+            match result {
+                Ok(m) => {
+                    for n in &m.notes {
+                        eprintln!("note: {n}");
+                    }
+                    println!(
+                        "baked {} frame(s) of {}x{} into {} ({} files + {})",
+                        m.frames.count,
+                        m.grid[0],
+                        m.grid[1],
+                        out.display(),
+                        m.files.len(),
+                        bake::MANIFEST
+                    );
+                    Ok(ExitCode::SUCCESS)
+                }
+                Err(bake::BakeError::Cancelled) => {
+                    eprintln!("cancelled: no files were written");
+                    Ok(ExitCode::from(130))
+                }
+                Err(e) => Err(e.into()),
+            }
+        }
+        Some(Command::Render {
+            layout,
+            output,
+            size,
+            time,
+        }) => {
+            let l = io::load(&layout)?;
+            let base = layout.parent().unwrap_or(std::path::Path::new("."));
+            let png = windloom::render::render_png(&l, base, size, time)?;
+            io::write_atomic(&output, &png)
+                .with_context(|| format!("could not write {}", output.display()))?;
+            println!("wrote {}", output.display());
+            Ok(ExitCode::SUCCESS)
         }
         Some(Command::Bench {
             backend,

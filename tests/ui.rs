@@ -328,3 +328,56 @@ fn the_window_opens_under_xvfb() {
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
+
+#[test]
+fn export_dialog_bakes_in_the_background_and_cancel_leaves_nothing() {
+    let ctx = egui::Context::default();
+    let doc = example("meadow.json");
+    let dir = tempfile::tempdir().unwrap();
+
+    let mut dialog = windloom::app::export::ExportDialog::default();
+    dialog.frames = 2;
+    dialog.warmup = 0.5;
+    dialog.use_layout_grid = false;
+    dialog.grid = [32, 24];
+    dialog.out = dir.path().join("ok").display().to_string();
+    dialog.start(&doc, &ctx);
+    dialog.wait();
+    assert!(matches!(&dialog.result, Some(Ok(_))), "{:?}", dialog.result);
+    assert!(dir.path().join("ok/manifest.json").exists());
+    assert!(dir.path().join("ok/wind_0001.exr").exists());
+
+    // A long bake, cancelled at once: no file, not even a staging folder, remains.
+    dialog.out = dir.path().join("cancelled").display().to_string();
+    dialog.frames = 400;
+    dialog.grid = [256, 256];
+    dialog.start(&doc, &ctx);
+    dialog.cancel();
+    dialog.wait();
+    assert!(
+        matches!(&dialog.result, Some(Err(e)) if e.contains("cancelled")),
+        "{:?}",
+        dialog.result
+    );
+    let left: Vec<_> = std::fs::read_dir(dir.path().join("cancelled"))
+        .map(|r| r.collect())
+        .unwrap_or_default();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[test]
+fn export_is_reachable_from_the_file_menu() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.get_by_label("File").click();
+    h.run_steps(2);
+    h.get_by_label("Export/Bake…").click();
+    h.run_steps(2);
+    assert!(h.state().export.open);
+    assert!(
+        h.query_by_label("Bake").is_some(),
+        "the dialog shows a Bake button"
+    );
+}

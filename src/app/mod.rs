@@ -3,6 +3,7 @@
 //! The app owns the document and its [`History`]; every change goes through an [`Edit`]. The
 //! simulation runs on a worker thread ([`live::LiveSim`]) and never blocks the UI.
 
+pub mod export;
 pub mod live;
 mod map;
 mod panels;
@@ -171,6 +172,7 @@ pub struct EditorApp {
     frame_ms: f32,
     pub cursor_world: Option<doc::Vec2>,
     allow_close: bool,
+    pub export: export::ExportDialog,
 }
 
 impl EditorApp {
@@ -206,6 +208,7 @@ impl EditorApp {
             frame_ms: 0.0,
             cursor_world: None,
             allow_close: false,
+            export: export::ExportDialog::default(),
         }
     }
 
@@ -715,6 +718,7 @@ impl eframe::App for EditorApp {
             .frame(egui::Frame::NONE.fill(egui::Color32::from_gray(24)))
             .show(ui, |ui| map::map_view(self, ui));
         panels::dialogs(self, &ctx);
+        self.export.ui(&ctx, &self.doc);
 
         if self.doc_changed {
             self.doc_changed = false;

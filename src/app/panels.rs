@@ -34,8 +34,14 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                     app.save_as(&ctx);
                 }
                 ui.separator();
-                ui.add_enabled(false, egui::Button::new("Export/Bake…"))
-                    .on_disabled_hover_text("Baking for game engines arrives with `windloom bake`");
+                if ui.button("Export/Bake…").clicked() {
+                    app.export.open = true;
+                    if let Some(dir) = app.path.as_ref().and_then(|p| p.parent()) {
+                        if app.export.out == "bake" {
+                            app.export.out = dir.join("bake").display().to_string();
+                        }
+                    }
+                }
                 ui.separator();
                 if ui.button("Quit").clicked() {
                     app.request(&ctx, Pending::Quit);

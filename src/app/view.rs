@@ -103,14 +103,14 @@ pub fn arrow_width(strength: f32) -> f32 {
 
 /// Colour for a speed relative to the view's maximum, from a perceptual colour map.
 pub fn speed_colour(t: f32) -> Color32 {
-    let c = colorous::TURBO.eval_continuous(f64::from(t.clamp(0.0, 1.0)) * 0.9 + 0.05);
-    Color32::from_rgb(c.r, c.g, c.b)
+    let [r, g, b] = crate::colour::speed_rgb(t);
+    Color32::from_rgb(r, g, b)
 }
 
 /// Diverging colour for a signed value in [-1, 1].
 pub fn signed_colour(t: f32) -> Color32 {
-    let c = colorous::RED_BLUE.eval_continuous(f64::from(0.5 - 0.5 * t.clamp(-1.0, 1.0)));
-    Color32::from_rgb(c.r, c.g, c.b)
+    let [r, g, b] = crate::colour::signed_rgb(t);
+    Color32::from_rgb(r, g, b)
 }
 
 /// The field as an image for the colour-map views (one pixel per cell), and the value that

@@ -1,0 +1,238 @@
+//! The Export dialog: the same bake as `windloom bake`, on a background thread, with progress
+//! and cancel. A cancelled or failed bake leaves no files (the bake writes into a staging
+//! folder and moves files into place only on success).
+
+use crate::bake::{self, BakeOptions, Format};
+use crate::doc::Layout;
+use eframe::egui;
+use std::path::PathBuf;
+use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Arc, Mutex};
+
+/// Settings of the dialog (kept between openings).
+pub struct ExportDialog {
+    pub open: bool,
+    pub formats: Vec<(Format, bool)>,
+    pub frames: usize,
+    pub fps: f32,
+    pub warmup: f32,
+    pub looped: bool,
+    pub grid: [u32; 2],
+    pub use_layout_grid: bool,
+    pub out: String,
+    job: Option<Job>,
+    pub result: Option<Result<String, String>>,
+}
+
+struct Job {
+    cancel: Arc<AtomicBool>,
+    progress: Arc<Mutex<(usize, usize, String)>>,
+    done: Arc<Mutex<Option<Result<String, String>>>>,
+}
+
+impl Default for ExportDialog {
+    fn default() -> Self {
+        Self {
+            open: false,
+            formats: Format::ALL
+                .iter()
+                .map(|f| (*f, matches!(f, Format::Exr | Format::Png16 | Format::Raw)))
+                .collect(),
+            frames: 1,
+            fps: 30.0,
+            warmup: 5.0,
+            looped: false,
+            grid: [128, 128],
+            use_layout_grid: true,
+            out: "bake".into(),
+            job: None,
+            result: None,
+        }
+    }
+}
+
+impl ExportDialog {
+    pub fn running(&self) -> bool {
+        self.job.is_some()
+    }
+
+    fn options(&self) -> BakeOptions {
+        BakeOptions {
+            formats: self
+                .formats
+                .iter()
+                .filter(|(_, on)| *on)
+                .map(|(f, _)| *f)
+                .collect(),
+            warmup: self.warmup,
+            frames: self.frames,
+            fps: self.fps,
+            looped: self.looped,
+            grid: (!self.use_layout_grid).then_some(self.grid),
+            half: false,
+        }
+    }
+
+    /// Starts baking `layout` in the background.
+    pub fn start(&mut self, layout: &Layout, ctx: &egui::Context) {
+        let cancel = Arc::new(AtomicBool::new(false));
+        let progress = Arc::new(Mutex::new((0, 1, "starting".to_string())));
+        let done = Arc::new(Mutex::new(None));
+        let (layout, opts, out) = (
+            layout.clone(),
+            self.options(),
+            PathBuf::from(self.out.trim()),
+        );
+        let (c, p, d, ctx) = (cancel.clone(), progress.clone(), done.clone(), ctx.clone());
+        std::thread::spawn(move || {
+            let mut report = |a: usize, b: usize, what: &str| {
+                if let Ok(mut g) = p.lock() {
+                    *g = (a, b, what.to_string());
+                }
+                ctx.request_repaint();
+            };
+            let r = bake::bake(&layout, &out, &opts, &c, &mut report)
+                .map(|m| {
+                    format!(
+                        "Baked {} frame(s), {} files, into {}",
+                        m.frames.count,
+                        m.files.len() + 1,
+                        out.display()
+                    )
+                })
+                .map_err(|e| e.to_string());
+            if let Ok(mut g) = d.lock() {
+                *g = Some(r);
+            }
+            ctx.request_repaint();
+        });
+        self.result = None;
+        self.job = Some(Job {
+            cancel,
+            progress,
+            done,
+        });
+    }
+
+    pub fn cancel(&self) {
+        if let Some(j) = &self.job {
+            j.cancel.store(true, Ordering::SeqCst);
+        }
+    }
+
+    /// Collects a finished job's result.
+    fn poll(&mut self) {
+        let finished = self
+            .job
+            .as_ref()
+            .and_then(|j| j.done.lock().ok().and_then(|mut d| d.take()));
+        if let Some(r) = finished {
+            self.result = Some(r);
+            self.job = None;
+        }
+    }
+
+    pub fn ui(&mut self, ctx: &egui::Context, layout: &Layout) {
+        self.poll();
+        if !self.open {
+            return;
+        }
+        let mut open = self.open;
+        egui::Window::new("Export / Bake")
+            .open(&mut open)
+            .resizable(false)
+            .show(ctx, |ui| {
+                let busy = self.running();
+                ui.add_enabled_ui(!busy, |ui| {
+                    ui.label("Formats");
+                    ui.horizontal_wrapped(|ui| {
+                        for (f, on) in &mut self.formats {
+                            ui.checkbox(on, f.name());
+                        }
+                    });
+                    egui::Grid::new("export").num_columns(2).show(ui, |ui| {
+                        let l = ui.label("Frames");
+                        ui.add(egui::DragValue::new(&mut self.frames).range(1..=10_000))
+                            .labelled_by(l.id);
+                        ui.end_row();
+                        let l = ui.label("Frames per second");
+                        ui.add(egui::DragValue::new(&mut self.fps).range(1.0..=240.0))
+                            .labelled_by(l.id);
+                        ui.end_row();
+                        let l = ui.label("Warm-up");
+                        ui.add(
+                            egui::DragValue::new(&mut self.warmup)
+                                .range(0.0..=600.0)
+                                .suffix(" s"),
+                        )
+                        .labelled_by(l.id);
+                        ui.end_row();
+                        let l = ui.label("Loop");
+                        ui.checkbox(&mut self.looped, "seamless (cross-fade)")
+                            .labelled_by(l.id);
+                        ui.end_row();
+                        let l = ui.label("Grid");
+                        ui.horizontal(|ui| {
+                            ui.checkbox(
+                                &mut self.use_layout_grid,
+                                format!(
+                                    "layout's ({}×{})",
+                                    layout.world.grid[0], layout.world.grid[1]
+                                ),
+                            )
+                            .labelled_by(l.id);
+                            if !self.use_layout_grid {
+                                ui.add(egui::DragValue::new(&mut self.grid[0]).range(8..=4096))
+                                    .labelled_by(l.id);
+                                ui.label("×");
+                                ui.add(egui::DragValue::new(&mut self.grid[1]).range(8..=4096))
+                                    .labelled_by(l.id);
+                            }
+                        });
+                        ui.end_row();
+                        let l = ui.label("Output folder");
+                        ui.horizontal(|ui| {
+                            ui.text_edit_singleline(&mut self.out).labelled_by(l.id);
+                            if ui.button("Choose…").clicked() {
+                                if let Some(dir) = rfd::FileDialog::new().pick_folder() {
+                                    self.out = dir.display().to_string();
+                                }
+                            }
+                        });
+                        ui.end_row();
+                    });
+                });
+                ui.separator();
+                if let Some(j) = &self.job {
+                    let (a, b, what) = j.progress.lock().map(|g| g.clone()).unwrap_or_default();
+                    ui.add(
+                        egui::ProgressBar::new(a as f32 / b.max(1) as f32)
+                            .text(format!("{what} {a}/{b}")),
+                    );
+                    if ui.button("Cancel").clicked() {
+                        self.cancel();
+                    }
+                } else if ui.button("Bake").clicked() {
+                    self.start(layout, ctx);
+                }
+                match &self.result {
+                    Some(Ok(msg)) => {
+                        ui.colored_label(egui::Color32::LIGHT_GREEN, msg);
+                    }
+                    Some(Err(msg)) => {
+                        ui.colored_label(egui::Color32::from_rgb(255, 120, 100), msg);
+                    }
+                    None => {}
+                }
+            });
+        self.open = open;
+    }
+
+    /// Blocks until the running job finishes (tests).
+    pub fn wait(&mut self) {
+        while self.running() {
+            self.poll();
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+    }
+}
