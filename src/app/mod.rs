@@ -259,22 +259,21 @@ impl EditorApp {
 
     /// Applies an edit as one undo step.
     pub fn edit(&mut self, ctx: &egui::Context, e: Edit) -> bool {
-        match self.history.apply(&mut self.doc, e) {
-            Ok(()) => {
-                self.doc_changed = true;
-                true
-            }
-            Err(err) => {
-                self.say(ctx, err.to_string());
-                false
-            }
-        }
+        let r = self.history.apply(&mut self.doc, e);
+        self.edited(ctx, r)
     }
 
     /// Applies an edit that continues a gesture (a drag, a slider): one undo step in all.
     pub fn edit_merged(&mut self, ctx: &egui::Context, e: Edit, key: impl std::hash::Hash) -> bool {
-        let key = gesture_key(key);
-        match self.history.apply_merged(&mut self.doc, e, key) {
+        let r = self
+            .history
+            .apply_merged(&mut self.doc, e, gesture_key(key));
+        self.edited(ctx, r)
+    }
+
+    /// Notes an applied edit, or tells the user why it was refused.
+    fn edited(&mut self, ctx: &egui::Context, r: Result<(), doc::EditError>) -> bool {
+        match r {
             Ok(()) => {
                 self.doc_changed = true;
                 true
