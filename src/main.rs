@@ -143,8 +143,12 @@ enum Command {
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum Backend {
+    /// The CPU reference solver.
     Cpu,
+    /// The GPU solver (not built yet).
     Gpu,
+    /// The GPU when there is one, else the CPU; today always the CPU.
+    Auto,
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]

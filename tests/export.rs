@@ -611,3 +611,49 @@ fn render_draws_the_arrows_and_wind_where_they_are() {
         .count();
     assert!(arrow_pixels > 500, "arrows drawn: {arrow_pixels} pixels");
 }
+
+#[test]
+fn ctrl_c_during_a_cli_bake_leaves_no_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bake");
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/obstacles.json");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bake",
+            layout.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--frames",
+            "5000",
+            "--grid",
+            "256x256",
+            "--backend",
+            "auto",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the bake has started (its staging folder exists), then press Ctrl-C.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while entries(&out).is_empty() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the bake never started"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let status = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no files were written"));
+    assert!(entries(&out).is_empty(), "{:?}", entries(&out));
+}
