@@ -39,7 +39,12 @@ impl ArrowSplat {
     /// response rate `k` (1/s).
     #[inline]
     pub fn impulse(&self, p: [f32; 2], vel: [f32; 2], k: f32, dt: f32) -> [f32; 2] {
-        let g = self.weight(p);
+        self.impulse_weighted(self.weight(p), vel, k, dt)
+    }
+
+    /// [`Self::impulse`] for a point whose weight `g` is already known.
+    #[inline]
+    pub fn impulse_weighted(&self, g: f32, vel: [f32; 2], k: f32, dt: f32) -> [f32; 2] {
         if g == 0.0 {
             return [0.0, 0.0];
         }

@@ -843,8 +843,14 @@ impl Forcing<'_> {
                         if free[j * w + i] == 0 {
                             continue;
                         }
+                        // The weight first: most faces of the bounding box are outside the
+                        // capsule, and need no velocity.
+                        let weight = s.weight([x_of(i), z_world]);
+                        if weight == 0.0 {
+                            continue;
+                        }
                         let vel = face_velocity(g, u, v, i, j, is_v);
-                        row[i] += s.impulse([x_of(i), z_world], vel, self.response, self.dt)[c];
+                        row[i] += s.impulse_weighted(weight, vel, self.response, self.dt)[c];
                     }
                 }
                 if self.coupling > 0.0 {
@@ -983,7 +989,7 @@ fn departure(
         (i as f32, j as f32 + 0.5)
     };
     let vel = face_velocity(g, u, v, i, j, is_v);
-    (x - vel[0] * dt / g.hx, z - vel[1] * dt / g.hz)
+    (x - vel[0] * (dt / g.hx), z - vel[1] * (dt / g.hz))
 }
 
 /// Bilinear sample of a `w × h` face field at fractional sample coordinates: the generic
