@@ -197,6 +197,9 @@ fn worker(
     repaint();
     loop {
         let mut single_steps = 0usize;
+        // Only the newest of several queued layouts matters (a dragged grid size sends one per
+        // frame); rebuilding the solver for each would waste seconds at large grids.
+        let mut newest: Option<Box<Layout>> = None;
         loop {
             let cmd = if playing {
                 match rx.try_recv() {
@@ -213,16 +216,7 @@ fn worker(
                 }
             };
             match cmd {
-                Command::Layout(l) => {
-                    if needs_rebuild(&layout, &l) {
-                        let time = solver.time;
-                        solver = Solver::new(&l);
-                        solver.time = time;
-                    } else {
-                        solver.set_layout(&l);
-                    }
-                    layout = *l;
-                }
+                Command::Layout(l) => newest = Some(l),
                 Command::Play(p) => {
                     playing = p;
                     last = Instant::now();
@@ -230,6 +224,9 @@ fn worker(
                 }
                 Command::Step => single_steps += 1,
                 Command::Reset => {
+                    if let Some(l) = newest.take() {
+                        layout = *l;
+                    }
                     solver = Solver::new(&layout);
                     owed = 0.0;
                     publish(&mut solver, &shared, ms, &mut serial);
@@ -238,6 +235,16 @@ fn worker(
                 Command::Speed(s) => speed = s,
                 Command::Quit => return,
             }
+        }
+        if let Some(l) = newest.take() {
+            if needs_rebuild(&layout, &l) {
+                let time = solver.time;
+                solver = Solver::new(&l);
+                solver.time = time;
+            } else {
+                solver.set_layout(&l);
+            }
+            layout = *l;
         }
         if single_steps > 0 {
             let t = Instant::now();
