@@ -62,6 +62,7 @@ enum Command {
     ///
     /// Example: windloom bake layouts/obstacles.json --out bake/ --frames 48 --fps 24 --loop
     Bake {
+        /// The layout file to bake.
         layout: PathBuf,
         /// Output folder (created if missing).
         #[arg(long, short)]
@@ -95,6 +96,7 @@ enum Command {
     ///
     /// Example: windloom render layouts/obstacles.json -o obstacles.png --size 1600x1200 --time 8
     Render {
+        /// The layout file to draw.
         layout: PathBuf,
         /// The PNG to write.
         #[arg(short, long)]
