@@ -274,7 +274,7 @@ fn draw_streamlines(pix: &mut Pixmap, view: &View, s: &Solver, max_speed: f32, u
         let (i, j) = ((p.0 / cell) as usize, (p.1 / cell) as usize);
         i >= gw || j >= gh || taken[j * gw + i]
     };
-    let (min, _) = (view.min, ());
+    let min = view.min;
     let step_m = 0.6 * s.hx.min(s.hz);
     let speed = |p: [f32; 2]| {
         let v = s.velocity_at(p);

@@ -311,8 +311,6 @@ fn interact(
     cam: &Camera,
     painter: &egui::Painter,
 ) {
-    let primary_pressed = response.drag_started_by(egui::PointerButton::Primary)
-        || response.clicked_by(egui::PointerButton::Primary);
     let pointer = response.interact_pointer_pos().or(response.hover_pos());
     let shift = ctx.input(|i| i.modifiers.shift);
 
@@ -471,7 +469,6 @@ fn interact(
             }
         }
     }
-    let _ = primary_pressed;
 }
 
 fn close_polygon(app: &mut EditorApp, ctx: &egui::Context) {

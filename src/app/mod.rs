@@ -688,9 +688,8 @@ impl EditorApp {
 }
 
 impl eframe::App for EditorApp {
-    fn ui(&mut self, ui: &mut egui::Ui, frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
-        let _ = frame;
         let now = ctx.input(|i| i.time);
         let dt = ctx.input(|i| i.stable_dt);
         self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;

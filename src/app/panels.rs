@@ -241,7 +241,6 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
 fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     let mut action: Option<Edit> = None;
     let mut select = None;
-    let any_solo = false;
     for t in &app.doc.trees {
         ui.horizontal(|ui| {
             let mut enabled = t.enabled;
@@ -283,7 +282,6 @@ fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             }
         });
     }
-    let _ = any_solo;
     if app.doc.trees.is_empty() {
         ui.weak("Use Add root, then Add arrow");
     }
