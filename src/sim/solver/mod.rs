@@ -330,31 +330,40 @@ impl Solver {
         self.sync_periodic();
     }
 
-    /// Step 2: vorticity at cell centres, `∂v/∂x − ∂u/∂z`, central differences.
+    /// Step 2: vorticity at cell centres, `∂v/∂x − ∂u/∂z`, central differences (one-sided at
+    /// non-periodic edges).
     pub fn compute_curl(&mut self) {
         let (nx, ny, hx, hz) = (self.nx, self.ny, self.hx, self.hz);
         let periodic = self.params.boundary == Boundary::Periodic;
-        let (u, v) = (&self.u, &self.v);
-        let uc = |i: usize, j: usize| 0.5 * (u[j * (nx + 1) + i] + u[j * (nx + 1) + i + 1]);
-        let vc = |i: usize, j: usize| 0.5 * (v[j * nx + i] + v[(j + 1) * nx + i]);
-        let solid = &self.solid;
+        let (u, v, solid) = (&self.u, &self.v, &self.solid);
+        let w = nx + 1;
         self.curl
             .par_chunks_mut(nx)
             .enumerate()
             .with_min_len(rows_per_job(nx))
             .for_each(|(j, row)| {
                 let (jb, jt) = neighbours(j, ny, periodic);
-                for (i, w) in row.iter_mut().enumerate() {
-                    if solid[j * nx + i] != 0 {
-                        *w = 0.0;
-                        continue;
-                    }
+                let dz = hz * (jt as f32 - jb as f32).abs().clamp(1.0, 2.0);
+                let (ub, ut) = (&u[jb * w..][..w], &u[jt * w..][..w]);
+                let (v0, v1) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
+                let sd = &solid[j * nx..][..nx];
+                for i in row_ends(nx) {
                     let (il, ir) = neighbours(i, nx, periodic);
-                    let dvdx = (vc(ir, j) - vc(il, j))
-                        / (hx * (ir as f32 - il as f32).abs().clamp(1.0, 2.0));
-                    let dudz = (uc(i, jt) - uc(i, jb))
-                        / (hz * (jt as f32 - jb as f32).abs().clamp(1.0, 2.0));
-                    *w = dvdx - dudz;
+                    let vc = |i: usize| 0.5 * (v0[i] + v1[i]);
+                    let dx = hx * (ir as f32 - il as f32).abs().clamp(1.0, 2.0);
+                    let dvdx = (vc(ir) - vc(il)) / dx;
+                    let dudz = (0.5 * (ut[i] + ut[i + 1]) - 0.5 * (ub[i] + ub[i + 1])) / dz;
+                    row[i] = if sd[i] != 0 { 0.0 } else { dvdx - dudz };
+                }
+                let Some(n) = nx.checked_sub(2) else { return };
+                let dx = hx * 2.0; // |ir − il| = 2 inside the row
+                let (o, sd) = (&mut row[1..=n], &sd[1..=n]);
+                let (v0l, v0r, v1l, v1r) = (&v0[..n], &v0[2..], &v1[..n], &v1[2..]);
+                let (ub0, ub1, ut0, ut1) = (&ub[1..=n], &ub[2..=n + 1], &ut[1..=n], &ut[2..=n + 1]);
+                for k in 0..n {
+                    let dvdx = (0.5 * (v0r[k] + v1r[k]) - 0.5 * (v0l[k] + v1l[k])) / dx;
+                    let dudz = (0.5 * (ut0[k] + ut1[k]) - 0.5 * (ub0[k] + ub1[k])) / dz;
+                    o[k] = if sd[k] != 0 { 0.0 } else { dvdx - dudz };
                 }
             });
     }
@@ -370,49 +379,62 @@ impl Solver {
         let periodic = self.params.boundary == Boundary::Periodic;
         let h = self.hx.min(self.hz);
         let curl = &self.curl;
+        #[inline(always)]
+        fn force(eps_h: (f32, f32), w: f32, l: f32, r: f32, b: f32, t: f32) -> (f32, f32) {
+            let gx = 0.5 * (r.abs() - l.abs());
+            let gz = 0.5 * (t.abs() - b.abs());
+            let len = (gx * gx + gz * gz).sqrt() + 1e-5;
+            let s = eps_h.0 * eps_h.1 * w / len;
+            (s * gz, -s * gx)
+        }
         // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
         self.p_tmp
             .par_chunks_mut(nx)
             .zip(self.div.par_chunks_mut(nx))
             .enumerate()
             .with_min_len(rows_per_job(nx))
-            .for_each(|(j, (fx_row, fz_row))| {
+            .for_each(|(j, (fx, fz))| {
                 let (jb, jt) = neighbours(j, ny, periodic);
-                for i in 0..nx {
+                let c = &curl[j * nx..][..nx];
+                let (cb, ct) = (&curl[jb * nx..][..nx], &curl[jt * nx..][..nx]);
+                for i in row_ends(nx) {
                     let (il, ir) = neighbours(i, nx, periodic);
-                    let w = curl[j * nx + i];
-                    let gx = 0.5 * (curl[j * nx + ir].abs() - curl[j * nx + il].abs());
-                    let gz = 0.5 * (curl[jt * nx + i].abs() - curl[jb * nx + i].abs());
-                    let len = (gx * gx + gz * gz).sqrt() + 1e-5;
-                    let s = eps * h * w / len;
-                    fx_row[i] = s * gz;
-                    fz_row[i] = -s * gx;
+                    (fx[i], fz[i]) = force((eps, h), c[i], c[il], c[ir], cb[i], ct[i]);
+                }
+                let Some(n) = nx.checked_sub(2) else { return };
+                let (fxi, fzi) = (&mut fx[1..=n], &mut fz[1..=n]);
+                let (cl, cc, cr) = (&c[..n], &c[1..=n], &c[2..]);
+                let (cb, ct) = (&cb[1..=n], &ct[1..=n]);
+                for k in 0..n {
+                    (fxi[k], fzi[k]) = force((eps, h), cc[k], cl[k], cr[k], cb[k], ct[k]);
                 }
             });
-        let fx = &self.p_tmp;
-        let fz = &self.div;
+        let (fx, fz) = (&self.p_tmp, &self.div);
+        let (u_free, v_free) = (&self.u_free, &self.v_free);
+        let add = |x: f32, a: f32, b: f32| clamp_speed(x + dt * 0.5 * (a + b));
         self.u
             .par_chunks_mut(nx + 1)
             .enumerate()
             .with_min_len(rows_per_job(nx + 1))
             .for_each(|(j, row)| {
-                for (i, u) in row.iter_mut().enumerate() {
-                    if self.u_free[j * (nx + 1) + i] == 0 {
-                        continue;
-                    }
-                    let a = fx[j * nx
-                        + if i == 0 {
-                            if periodic { nx - 1 } else { 0 }
-                        } else {
-                            i - 1
-                        }];
-                    let b = fx[j * nx
-                        + if i == nx {
-                            if periodic { 0 } else { nx - 1 }
-                        } else {
-                            i
-                        }];
-                    *u = clamp_speed(*u + dt * 0.5 * (a + b));
+                let free = &u_free[j * (nx + 1)..][..nx + 1];
+                let f = &fx[j * nx..][..nx];
+                // End faces: the wrapped cell when periodic, else the one cell beside them.
+                let (first, last) = if periodic { (nx - 1, 0) } else { (0, nx - 1) };
+                if free[0] != 0 {
+                    row[0] = add(row[0], f[first], f[0]);
+                }
+                if free[nx] != 0 {
+                    row[nx] = add(row[nx], f[nx - 1], f[last]);
+                }
+                let (r, fr) = (&mut row[1..nx], &free[1..nx]);
+                let (a, b) = (&f[..nx - 1], &f[1..]);
+                for k in 0..nx - 1 {
+                    r[k] = if fr[k] != 0 {
+                        add(r[k], a[k], b[k])
+                    } else {
+                        r[k]
+                    };
                 }
             });
         self.v
@@ -420,21 +442,24 @@ impl Solver {
             .enumerate()
             .with_min_len(rows_per_job(nx))
             .for_each(|(j, row)| {
-                for (i, v) in row.iter_mut().enumerate() {
-                    if self.v_free[j * nx + i] == 0 {
-                        continue;
-                    }
-                    let jb = if j == 0 {
-                        if periodic { ny - 1 } else { 0 }
+                let jb = match j {
+                    0 if periodic => ny - 1,
+                    0 => 0,
+                    _ => j - 1,
+                };
+                let jt = if j == ny {
+                    if periodic { 0 } else { ny - 1 }
+                } else {
+                    j
+                };
+                let free = &v_free[j * nx..][..nx];
+                let (a, b) = (&fz[jb * nx..][..nx], &fz[jt * nx..][..nx]);
+                for i in 0..nx {
+                    row[i] = if free[i] != 0 {
+                        add(row[i], a[i], b[i])
                     } else {
-                        j - 1
+                        row[i]
                     };
-                    let jt = if j == ny {
-                        if periodic { 0 } else { ny - 1 }
-                    } else {
-                        j
-                    };
-                    *v = clamp_speed(*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]));
                 }
             });
         self.sync_periodic();
@@ -549,58 +574,71 @@ impl Solver {
         std::mem::swap(&mut self.p, &mut self.p_tmp);
     }
 
-    /// Step 6: subtract the pressure gradient from every free face.
+    /// Step 6: subtract the pressure gradient from every free face (others are zeroed).
     pub fn subtract_gradient(&mut self) {
         let (nx, ny, hx, hz) = (self.nx, self.ny, self.hx, self.hz);
         let periodic = self.params.boundary == Boundary::Periodic;
         let p = &self.p;
-        let u_free = &self.u_free;
-        let v_free = &self.v_free;
-        // Outside the domain: periodic wraps, open edges hold p = 0 (closed edges are not free).
-        let px = |i: isize, j: usize| -> f32 {
-            if i < 0 {
-                if periodic { p[j * nx + nx - 1] } else { 0.0 }
-            } else if i as usize >= nx {
-                if periodic { p[j * nx] } else { 0.0 }
-            } else {
-                p[j * nx + i as usize]
-            }
-        };
+        let (u_free, v_free) = (&self.u_free, &self.v_free);
         self.u
             .par_chunks_mut(nx + 1)
             .enumerate()
             .with_min_len(rows_per_job(nx + 1))
             .for_each(|(j, row)| {
-                for (i, u) in row.iter_mut().enumerate() {
-                    if u_free[j * (nx + 1) + i] == 0 {
-                        *u = 0.0;
-                        continue;
-                    }
-                    let i = i as isize;
-                    *u -= (px(i, j) - px(i - 1, j)) / hx;
+                let free = &u_free[j * (nx + 1)..][..nx + 1];
+                let pr = &p[j * nx..][..nx];
+                // Outside the domain: periodic wraps, open edges hold p = 0 (closed edges are
+                // not free).
+                let (outside_l, outside_r) = if periodic {
+                    (pr[nx - 1], pr[0])
+                } else {
+                    (0.0, 0.0)
+                };
+                let grad = |x: f32, pr: f32, pl: f32| x - (pr - pl) / hx;
+                row[0] = if free[0] != 0 {
+                    grad(row[0], pr[0], outside_l)
+                } else {
+                    0.0
+                };
+                row[nx] = if free[nx] != 0 {
+                    grad(row[nx], outside_r, pr[nx - 1])
+                } else {
+                    0.0
+                };
+                let (r, fr) = (&mut row[1..nx], &free[1..nx]);
+                let (pl, pc) = (&pr[..nx - 1], &pr[1..]);
+                for k in 0..nx - 1 {
+                    r[k] = if fr[k] != 0 {
+                        grad(r[k], pc[k], pl[k])
+                    } else {
+                        0.0
+                    };
                 }
             });
-        let pz = |i: usize, j: isize| -> f32 {
-            if j < 0 {
-                if periodic { p[(ny - 1) * nx + i] } else { 0.0 }
-            } else if j as usize >= ny {
-                if periodic { p[i] } else { 0.0 }
-            } else {
-                p[j as usize * nx + i]
-            }
-        };
+        let zero = vec![0.0f32; nx];
         self.v
             .par_chunks_mut(nx)
             .enumerate()
             .with_min_len(rows_per_job(nx))
             .for_each(|(j, row)| {
-                for (i, v) in row.iter_mut().enumerate() {
-                    if v_free[j * nx + i] == 0 {
-                        *v = 0.0;
-                        continue;
-                    }
-                    let j = j as isize;
-                    *v -= (pz(i, j) - pz(i, j - 1)) / hz;
+                let prow = |j: usize| &p[j * nx..][..nx];
+                let below = match j {
+                    0 if periodic => prow(ny - 1),
+                    0 => &zero,
+                    _ => prow(j - 1),
+                };
+                let above = match j {
+                    _ if j < ny => prow(j),
+                    _ if periodic => prow(0),
+                    _ => &zero,
+                };
+                let free = &v_free[j * nx..][..nx];
+                for i in 0..nx {
+                    row[i] = if free[i] != 0 {
+                        row[i] - (above[i] - below[i]) / hz
+                    } else {
+                        0.0
+                    };
                 }
             });
         self.sync_periodic();
@@ -970,6 +1008,12 @@ fn rows_per_job(width: usize) -> usize {
     (8_192 / width.max(1)).max(1)
 }
 
+/// The first and last index of a row of `n` (one index when `n` is 1): the cells whose
+/// neighbours wrap or clamp, handled apart from the interior loops.
+fn row_ends(n: usize) -> impl Iterator<Item = usize> {
+    [0, n - 1].into_iter().take(if n > 1 { 2 } else { 1 })
+}
+
 /// Neighbour indices `(lower, upper)` of `i` on an axis of `n` cells: wrapped or clamped.
 #[inline]
 fn neighbours(i: usize, n: usize, periodic: bool) -> (usize, usize) {
@@ -1210,6 +1254,120 @@ fn bilerp(g: &Geometry, f: &[f32], w: usize, h: usize, x: f32, z: f32) -> f32 {
     top + (bottom - top) * fz
 }
 
+/// Departure points (grid units) of the faces of row `j` (`is_v`: a row of v faces) into
+/// `xs`, `zs`: exactly [`departure`] face by face, but with the row's neighbour rows chosen
+/// once and the interior faces in one vectorisable loop.
+#[allow(clippy::too_many_arguments)]
+fn departures_row(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    j: usize,
+    is_v: bool,
+    dt: f32,
+    xs: &mut [f32],
+    zs: &mut [f32],
+) {
+    let (nx, ny) = (g.nx, g.ny);
+    let (cx, cz) = (dt / g.hx, dt / g.hz);
+    if is_v {
+        // u faces at columns i, i+1 of the rows below and above the v row (wrapped or clamped).
+        let (jb, jt) = if g.periodic {
+            ((j + ny - 1) % ny, j % ny)
+        } else {
+            (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
+        };
+        let w = nx + 1;
+        let (ub, ut) = (&u[jb * w..][..w], &u[jt * w..][..w]);
+        let vr = &v[j * nx..][..nx];
+        let (xs, zs) = (&mut xs[..nx], &mut zs[..nx]);
+        let z = j as f32;
+        for i in 0..nx {
+            let ux = 0.25 * (ub[i] + ub[i + 1] + ut[i] + ut[i + 1]);
+            xs[i] = (i as f32 + 0.5) - ux * cx;
+            zs[i] = z - vr[i] * cz;
+        }
+    } else {
+        let w = nx + 1;
+        let ur = &u[j * w..][..w];
+        let (vb, vt) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
+        let z = j as f32 + 0.5;
+        // The end faces (columns 0 and nx) take their v neighbours wrapped or clamped.
+        for i in [0, nx] {
+            let (x, zz) = departure(g, u, v, i, j, false, dt);
+            xs[i] = x;
+            zs[i] = zz;
+        }
+        let (xs, zs) = (&mut xs[1..nx], &mut zs[1..nx]);
+        let (ui, vbl, vbr, vtl, vtr) =
+            (&ur[1..nx], &vb[..nx - 1], &vb[1..], &vt[..nx - 1], &vt[1..]);
+        for k in 0..nx - 1 {
+            let vz = 0.25 * (vbl[k] + vbr[k] + vtl[k] + vtr[k]);
+            xs[k] = (k + 1) as f32 - ui[k] * cx;
+            zs[k] = z - vz * cz;
+        }
+    }
+}
+
+/// Samples `src` (`is_v`: the v faces) at the departure points `xs`, `zs` of a row of faces;
+/// faces that are not free get 0. `f(value, min, max, k)` shapes each free face's output,
+/// `k` being its index in `src`.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn sample_row(
+    g: &Geometry,
+    src: &[f32],
+    j: usize,
+    is_v: bool,
+    xs: &[f32],
+    zs: &[f32],
+    free: &[u8],
+    out: &mut [f32],
+    shape: impl Fn(f32, f32, f32, usize) -> f32,
+) {
+    let (w, h) = if is_v {
+        (g.nx, g.ny + 1)
+    } else {
+        (g.nx + 1, g.ny)
+    };
+    // Sample coordinates of the field: v sits half a cell right, u half a cell up.
+    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+    let row0 = j * w;
+    let free = &free[row0..][..w];
+    if g.periodic {
+        for i in 0..w {
+            out[i] = if free[i] == 0 {
+                0.0
+            } else {
+                let (s, lo, hi) = bilinear(g, src, w, h, xs[i] - ox, zs[i] - oz);
+                shape(s, lo, hi, row0 + i)
+            };
+        }
+        return;
+    }
+    let (xmax, zmax) = ((w - 1) as f32, (h - 1) as f32);
+    for i in 0..w {
+        if free[i] == 0 {
+            out[i] = 0.0;
+            continue;
+        }
+        let x = (xs[i] - ox).clamp(0.0, xmax);
+        let z = (zs[i] - oz).clamp(0.0, zmax);
+        let i0 = (x as usize).min(w - 2);
+        let j0 = (z as usize).min(h - 2);
+        let fx = x - i0 as f32;
+        let fz = z - j0 as f32;
+        let k = j0 * w + i0;
+        let (a, b) = (src[k], src[k + 1]);
+        let (c, d) = (src[k + w], src[k + w + 1]);
+        let top = a + (b - a) * fx;
+        let bottom = c + (d - c) * fx;
+        let lo = a.min(b).min(c).min(d);
+        let hi = a.max(b).max(c).max(d);
+        out[i] = shape(top + (bottom - top) * fz, lo, hi, row0 + i);
+    }
+}
+
 /// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
 #[allow(clippy::too_many_arguments)]
 fn advect_faces(
@@ -1227,21 +1385,13 @@ fn advect_faces(
     dst.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
-        .for_each(|(j, row)| {
-            for (i, out) in row.iter_mut().enumerate() {
-                *out = if free[j * w + i] == 0 {
-                    0.0
-                } else {
-                    let (x, z) = departure(g, u, v, i, j, is_v, dt);
-                    let s = if is_v {
-                        bilerp(g, src, g.nx, g.ny + 1, x - 0.5, z)
-                    } else {
-                        bilerp(g, src, g.nx + 1, g.ny, x, z - 0.5)
-                    };
-                    s * keep
-                };
-            }
-        });
+        .for_each_init(
+            || (vec![0.0; w], vec![0.0; w]),
+            |(xs, zs), (j, row)| {
+                departures_row(g, u, v, j, is_v, dt, xs, zs);
+                sample_row(g, src, j, is_v, xs, zs, free, row, |s, _, _, _| s * keep);
+            },
+        );
 }
 
 /// MacCormack correction: `back` holds φ̌ on entry and the limited result on exit.
@@ -1262,20 +1412,15 @@ fn maccormack(
     back.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
-        .for_each(|(j, row)| {
-            for (i, out) in row.iter_mut().enumerate() {
-                let k = j * w + i;
-                if free[k] == 0 {
-                    *out = 0.0;
-                    continue;
-                }
-                let (x, z) = departure(g, u, v, i, j, is_v, dt);
-                let (_, lo, hi) = if is_v {
-                    sample_v(g, orig, x, z)
-                } else {
-                    sample_u(g, orig, x, z)
+        .for_each_init(
+            || (vec![0.0; w], vec![0.0; w], vec![0.0; w]),
+            |(xs, zs, checked), (j, row)| {
+                checked.copy_from_slice(row);
+                departures_row(g, u, v, j, is_v, dt, xs, zs);
+                let shape = |_, lo: f32, hi: f32, k: usize| {
+                    (fwd[k] + 0.5 * (orig[k] - checked[k - j * w])).clamp(lo, hi) * keep
                 };
-                *out = (fwd[k] + 0.5 * (orig[k] - *out)).clamp(lo, hi) * keep;
-            }
-        });
+                sample_row(g, orig, j, is_v, xs, zs, free, row, shape);
+            },
+        );
 }
