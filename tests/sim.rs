@@ -511,6 +511,29 @@ fn solver_memory_stays_within_the_validation_budget() {
     }
 }
 
+/// The forces' vectorisable `e^x` stays within 2 ulp of the true value over the range the
+/// Gaussian weights and arrow responses use, is exactly 1 at 0, and bottoms out at e⁻⁸⁷.
+#[test]
+fn exp_neg_is_accurate_to_two_ulp() {
+    let mut worst = 0.0f64;
+    let n = 200_000;
+    for k in 0..=n {
+        let x = -87.0 * k as f32 / n as f32;
+        let got = forces::exp_neg(x);
+        let want = f64::from(x).exp();
+        let ulp = f64::from(f32::EPSILON) * want; // one ulp ≈ ε · value
+        worst = worst.max((f64::from(got) - want).abs() / ulp);
+    }
+    println!("exp_neg: worst error {worst:.2} ulp");
+    assert!(worst <= 2.0, "worst error {worst} ulp");
+    assert_eq!(forces::exp_neg(0.0), 1.0);
+    assert_eq!(forces::exp_neg(5.0), 1.0);
+    for x in [-1000.0, f32::NEG_INFINITY] {
+        let e = forces::exp_neg(x);
+        assert!(e > 0.0 && e < 2e-38, "exp_neg({x}) = {e}");
+    }
+}
+
 #[test]
 fn fft_gusts_tile_and_have_unit_rms() {
     let mut f = forces::FftGusts::new(64, 32.0, 6.0, [1.0, 0.0], 7);

@@ -24,14 +24,14 @@ pub const SPLAT_CUTOFF_RADII: f32 = 3.0;
 
 impl ArrowSplat {
     /// Gaussian weight of the arrow at world point `p` (0 beyond the cutoff).
-    #[inline]
+    #[inline(always)]
     pub fn weight(&self, p: [f32; 2]) -> f32 {
         let d2 = segment_dist2(p, self.a, self.b);
         let r2 = self.radius * self.radius;
         if d2 > r2 * SPLAT_CUTOFF_RADII * SPLAT_CUTOFF_RADII {
             0.0
         } else {
-            (-d2 / r2).exp()
+            exp_neg(-d2 / r2)
         }
     }
 
@@ -43,13 +43,13 @@ impl ArrowSplat {
     }
 
     /// [`Self::impulse`] for a point whose weight `g` is already known.
-    #[inline]
+    #[inline(always)]
     pub fn impulse_weighted(&self, g: f32, vel: [f32; 2], k: f32, dt: f32) -> [f32; 2] {
         if g == 0.0 {
             return [0.0, 0.0];
         }
         let deficit = (self.strength - (vel[0] * self.dir[0] + vel[1] * self.dir[1])).max(0.0);
-        let m = (1.0 - (-k * g * dt).exp()) * deficit;
+        let m = (1.0 - exp_neg(-k * g * dt)) * deficit;
         [self.dir[0] * m, self.dir[1] * m]
     }
 
@@ -63,7 +63,35 @@ impl ArrowSplat {
     }
 }
 
-#[inline]
+/// `e^x` for `x ≤ 0`, within 2 ulp of the true value (0.65 ulp measured, tested), with `x`
+/// clamped to `[−87, 0]` (so never 0, never above 1). Plain arithmetic with no library call,
+/// so loops over faces that evaluate it vectorise: the forces pass takes two per face and
+/// arrow. Cody–Waite range reduction `x = n ln 2 + g` with `|g| ≤ ½ ln 2`, a polynomial for
+/// `e^g`, and `2ⁿ` built in the exponent bits.
+#[inline(always)]
+pub fn exp_neg(x: f32) -> f32 {
+    const LOG2_E: f32 = std::f32::consts::LOG2_E;
+    // ln 2 split so that `n · LN2_HI` is exact for the n that occur.
+    const LN2_HI: f32 = 0.693_359_4;
+    const LN2_LO: f32 = -2.121_944_4e-4;
+    // Adding and subtracting 1.5 · 2²³ rounds to the nearest integer (no SSE4.1 needed).
+    const ROUND: f32 = 12_582_912.0;
+    let x = x.clamp(-87.0, 0.0);
+    let n = (x * LOG2_E + ROUND) - ROUND;
+    let g = (x - n * LN2_HI) - n * LN2_LO;
+    let p = 1.987_569_1e-4_f32;
+    let p = p * g + 1.398_199_9e-3;
+    let p = p * g + 8.333_452e-3;
+    let p = p * g + 4.166_579_6e-2;
+    let p = p * g + 1.666_666_5e-1;
+    let p = p * g + 0.5;
+    let e = p * g * g + g + 1.0;
+    // n ∈ [−126, 0]: 2ⁿ is a normal number.
+    let scale = f32::from_bits(((n as i32 + 127) as u32) << 23);
+    e * scale
+}
+
+#[inline(always)]
 fn segment_dist2(p: [f32; 2], a: [f32; 2], b: [f32; 2]) -> f32 {
     let ab = [b[0] - a[0], b[1] - a[1]];
     let ap = [p[0] - a[0], p[1] - a[1]];

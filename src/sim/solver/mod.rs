@@ -12,6 +12,7 @@
 use super::forces::{Ambient, ArrowSplat, agc_splats};
 use super::obstacles;
 use crate::doc::{Advection, Boundary, Layout, SOLVER_BYTES_PER_CELL, SimParams};
+use multiversion::multiversion;
 use rayon::prelude::*;
 use std::time::Instant;
 
@@ -871,7 +872,7 @@ struct Stencil {
 /// cell's `1 / Σw` (0 for cells outside the solve). Branch-free, so it vectorises; rows whose
 /// cells all have four fluid neighbours skip the flags (the same arithmetic, the same bits).
 #[allow(clippy::too_many_arguments)]
-#[inline]
+#[multiversion(targets = "simd")]
 fn jacobi_row(
     st: &Stencil,
     out: &mut [f32],
@@ -1059,45 +1060,37 @@ impl Forcing<'_> {
             .with_min_len(rows_per_job(w))
             .map(|(j, row)| {
                 // Face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j) for v.
-                let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+                let oz = if is_v { 0.0 } else { 0.5 };
                 let z_world = self.origin[1] + (j as f32 + oz) * g.hz;
-                let active: Vec<&ArrowSplat> = self
+                let mut active = self
                     .splats
                     .iter()
                     .zip(&self.bounds)
                     .filter(|(_, (lo, hi))| z_world >= lo[1] && z_world <= hi[1])
-                    .map(|(s, _)| s)
-                    .collect();
-                if active.is_empty() && self.coupling == 0.0 {
+                    .peekable();
+                if active.peek().is_none() && self.coupling == 0.0 {
                     return false;
                 }
                 row.fill(0.0);
-                let c = usize::from(is_v);
-                let x_of = |i: usize| self.origin[0] + (i as f32 + ox) * g.hx;
+                let free = &free[j * w..][..w];
                 // Each splat only visits the faces inside its x-extent; per face the splats
                 // still add up in the same order.
-                for s in &active {
-                    let (lo, hi) = s.bounds();
+                for (s, (lo, hi)) in active {
+                    let ox = if is_v { 0.5 } else { 0.0 };
                     let first = (((lo[0] - self.origin[0]) / g.hx - ox).floor().max(0.0)) as usize;
                     let last = (((hi[0] - self.origin[0]) / g.hx - ox).ceil().max(0.0) as usize)
                         .min(w - 1);
-                    for i in first..=last {
-                        if free[j * w + i] == 0 {
-                            continue;
-                        }
-                        // The weight first: most faces of the bounding box are outside the
-                        // capsule, and need no velocity.
-                        let weight = s.weight([x_of(i), z_world]);
-                        if weight == 0.0 {
-                            continue;
-                        }
-                        let vel = face_velocity(g, u, v, i, j, is_v);
-                        row[i] += s.impulse_weighted(weight, vel, self.response, self.dt)[c];
+                    if first <= last {
+                        self.splat_span(s, u, v, j, is_v, first..=last, free, row);
                     }
                 }
                 if self.coupling > 0.0 {
+                    let x_of = |i: usize| {
+                        self.origin[0] + (i as f32 + if is_v { 0.5 } else { 0.0 }) * g.hx
+                    };
+                    let c = usize::from(is_v);
                     for (i, out) in row.iter_mut().enumerate() {
-                        if free[j * w + i] == 0 {
+                        if free[i] == 0 {
                             continue;
                         }
                         let vel = face_velocity(g, u, v, i, j, is_v);
@@ -1107,6 +1100,134 @@ impl Forcing<'_> {
                 true
             })
             .collect()
+    }
+
+    /// Adds one splat's push to the free faces `span` of row `j`: the faces whose velocity
+    /// stencil wraps or clamps one at a time, the rest in one branch-free loop (weights,
+    /// face velocities and impulses all vectorise).
+    #[allow(clippy::too_many_arguments)]
+    fn splat_span(
+        &self,
+        s: &ArrowSplat,
+        u: &[f32],
+        v: &[f32],
+        j: usize,
+        is_v: bool,
+        span: std::ops::RangeInclusive<usize>,
+        free: &[u8],
+        row: &mut [f32],
+    ) {
+        let g = &self.g;
+        let (nx, ny) = (g.nx, g.ny);
+        let c = usize::from(is_v);
+        let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+        let z_world = self.origin[1] + (j as f32 + oz) * g.hz;
+        let (origin_x, hx, k, dt) = (self.origin[0], g.hx, self.response, self.dt);
+        #[inline(always)]
+        #[allow(clippy::too_many_arguments)]
+        fn impulse(
+            s: &ArrowSplat,
+            x: f32,
+            z: f32,
+            vel: [f32; 2],
+            k: f32,
+            dt: f32,
+            c: usize,
+        ) -> f32 {
+            s.impulse_weighted(s.weight([x, z]), vel, k, dt)[c]
+        }
+        let x_of = |i: usize| origin_x + (i as f32 + ox) * hx;
+        let push = |i: usize, vel: [f32; 2]| impulse(s, x_of(i), z_world, vel, k, dt, c);
+        // Faces whose stencil needs no wrap or clamp: all v faces, u faces 1..nx-1.
+        let (lo, hi) = if is_v { (0, nx - 1) } else { (1, nx - 1) };
+        for i in span.clone().filter(|i| !(lo..=hi).contains(i)) {
+            if free[i] != 0 {
+                row[i] += push(i, face_velocity(g, u, v, i, j, is_v));
+            }
+        }
+        let (a, b) = (*span.start().max(&lo), *span.end().min(&hi));
+        if a > b {
+            return;
+        }
+        let n = b - a + 1;
+        let (out, fr) = (&mut row[a..=b], &free[a..=b]);
+        if is_v {
+            let w = nx + 1;
+            let (jb, jt) = if g.periodic {
+                ((j + ny - 1) % ny, j % ny)
+            } else {
+                (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
+            };
+            let own = &v[j * nx + a..][..n];
+            let (ub0, ub1) = (&u[jb * w + a..][..n], &u[jb * w + a + 1..][..n]);
+            let (ut0, ut1) = (&u[jt * w + a..][..n], &u[jt * w + a + 1..][..n]);
+            let span = SplatSpan {
+                s,
+                k,
+                dt,
+                first: a,
+                x0: origin_x,
+                ox,
+                hx,
+                z: z_world,
+            };
+            splat_faces(&span, true, own, [ub0, ub1, ut0, ut1], fr, out);
+        } else {
+            let own = &u[j * (nx + 1) + a..][..n];
+            let (vb0, vb1) = (&v[j * nx + a - 1..][..n], &v[j * nx + a..][..n]);
+            let (vt0, vt1) = (&v[(j + 1) * nx + a - 1..][..n], &v[(j + 1) * nx + a..][..n]);
+            let span = SplatSpan {
+                s,
+                k,
+                dt,
+                first: a,
+                x0: origin_x,
+                ox,
+                hx,
+                z: z_world,
+            };
+            splat_faces(&span, false, own, [vb0, vb1, vt0, vt1], fr, out);
+        }
+    }
+}
+
+/// One splat over a run of faces of one row: what [`splat_faces`] needs besides the slices.
+struct SplatSpan<'a> {
+    s: &'a ArrowSplat,
+    k: f32,
+    dt: f32,
+    /// Index of the run's first face in its row.
+    first: usize,
+    /// World x of face `i` is `x0 + (i + ox) · hx`; the row's world z is `z`.
+    x0: f32,
+    ox: f32,
+    hx: f32,
+    z: f32,
+}
+
+/// Adds the splat's push to the free faces of a run whose velocity stencil needs no wrap or
+/// clamp: `own` is the faces' own component, `other` the four faces of the other component
+/// averaged onto each (v faces with `is_v`). Compiled for several SIMD levels, picked at run
+/// time: the weights, face velocities and impulses vectorise.
+#[multiversion(targets = "simd")]
+fn splat_faces(
+    p: &SplatSpan,
+    is_v: bool,
+    own: &[f32],
+    other: [&[f32]; 4],
+    free: &[u8],
+    out: &mut [f32],
+) {
+    let n = out.len();
+    let (own, free) = (&own[..n], &free[..n]);
+    let [o0, o1, o2, o3] = other.map(|o| &o[..n]);
+    let c = usize::from(is_v);
+    for q in 0..n {
+        let avg = 0.25 * (o0[q] + o1[q] + o2[q] + o3[q]);
+        let vel = if is_v { [avg, own[q]] } else { [own[q], avg] };
+        let x = p.x0 + ((p.first + q) as f32 + p.ox) * p.hx;
+        let d = p.s.impulse_weighted(p.s.weight([x, p.z]), vel, p.k, p.dt)[c];
+        out[q] = if free[q] != 0 { out[q] + d } else { out[q] };
     }
 }
 
@@ -1258,6 +1379,7 @@ fn bilerp(g: &Geometry, f: &[f32], w: usize, h: usize, x: f32, z: f32) -> f32 {
 /// `xs`, `zs`: exactly [`departure`] face by face, but with the row's neighbour rows chosen
 /// once and the interior faces in one vectorisable loop.
 #[allow(clippy::too_many_arguments)]
+#[multiversion(targets = "simd")]
 fn departures_row(
     g: &Geometry,
     u: &[f32],
@@ -1368,6 +1490,43 @@ fn sample_row(
     }
 }
 
+/// [`sample_row`] for semi-Lagrangian advection on a non-periodic grid: the bilinear sample of
+/// the `w × h` field `src` at each departure point (offset by `-o` into sample coordinates,
+/// clamped to the field), times `keep`; 0 on faces that are not free. Same arithmetic, same
+/// bits; compiled for several SIMD levels.
+#[allow(clippy::too_many_arguments)]
+#[multiversion(targets = "simd")]
+fn sample_clamped(
+    src: &[f32],
+    [w, h]: [usize; 2],
+    [ox, oz]: [f32; 2],
+    xs: &[f32],
+    zs: &[f32],
+    free: &[u8],
+    keep: f32,
+    out: &mut [f32],
+) {
+    let (xmax, zmax) = ((w - 1) as f32, (h - 1) as f32);
+    let n = out.len();
+    let (xs, zs, free) = (&xs[..n], &zs[..n], &free[..n]);
+    for i in 0..n {
+        let x = (xs[i] - ox).clamp(0.0, xmax);
+        let z = (zs[i] - oz).clamp(0.0, zmax);
+        // In range after the clamp, so the i32 conversion is exact and cheap.
+        let i0 = (x as i32 as usize).min(w - 2);
+        let j0 = (z as i32 as usize).min(h - 2);
+        let fx = x - i0 as f32;
+        let fz = z - j0 as f32;
+        let k = j0 * w + i0;
+        let (a, b) = (src[k], src[k + 1]);
+        let (c, d) = (src[k + w], src[k + w + 1]);
+        let top = a + (b - a) * fx;
+        let bottom = c + (d - c) * fx;
+        let s = top + (bottom - top) * fz;
+        out[i] = if free[i] != 0 { s * keep } else { 0.0 };
+    }
+}
+
 /// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
 #[allow(clippy::too_many_arguments)]
 fn advect_faces(
@@ -1389,7 +1548,18 @@ fn advect_faces(
             || (vec![0.0; w], vec![0.0; w]),
             |(xs, zs), (j, row)| {
                 departures_row(g, u, v, j, is_v, dt, xs, zs);
-                sample_row(g, src, j, is_v, xs, zs, free, row, |s, _, _, _| s * keep);
+                if g.periodic {
+                    sample_row(g, src, j, is_v, xs, zs, free, row, |s, _, _, _| s * keep);
+                } else {
+                    let (w, h) = if is_v {
+                        (g.nx, g.ny + 1)
+                    } else {
+                        (g.nx + 1, g.ny)
+                    };
+                    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+                    let free = &free[j * w..][..w];
+                    sample_clamped(src, [w, h], [ox, oz], xs, zs, free, keep, row);
+                }
             },
         );
 }

@@ -51,8 +51,10 @@ impl Solver {
             self.force_faces = 0;
             return;
         }
-        let rows_u = f.increments(&self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
-        let rows_v = f.increments(&self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
+        let rows_u =
+            increments_reference(&f, &self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
+        let rows_v =
+            increments_reference(&f, &self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
         self.force_faces = add_rows(&mut self.u, &self.u_tmp, &rows_u, self.nx + 1)
             + add_rows(&mut self.v, &self.v_tmp, &rows_v, self.nx);
         self.sync_periodic();
@@ -377,4 +379,71 @@ fn maccormack_reference(
                 *out = (fwd[k] + 0.5 * (orig[k] - *out)).clamp(lo, hi) * keep;
             }
         });
+}
+
+/// The velocity change of every free face of the rows any force reaches, face by face, into
+/// `inc` (u faces, or v faces with `is_v`); returns which rows were written.
+fn increments_reference(
+    f: &Forcing,
+    u: &[f32],
+    v: &[f32],
+    inc: &mut [f32],
+    free: &[u8],
+    is_v: bool,
+) -> Vec<bool> {
+    let g = &f.g;
+    let w = if is_v { g.nx } else { g.nx + 1 };
+    inc.par_chunks_mut(w)
+        .enumerate()
+        .with_min_len(rows_per_job(w))
+        .map(|(j, row)| {
+            // Face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j) for v.
+            let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+            let z_world = f.origin[1] + (j as f32 + oz) * g.hz;
+            let active: Vec<&ArrowSplat> = f
+                .splats
+                .iter()
+                .zip(&f.bounds)
+                .filter(|(_, (lo, hi))| z_world >= lo[1] && z_world <= hi[1])
+                .map(|(s, _)| s)
+                .collect();
+            if active.is_empty() && f.coupling == 0.0 {
+                return false;
+            }
+            row.fill(0.0);
+            let c = usize::from(is_v);
+            let x_of = |i: usize| f.origin[0] + (i as f32 + ox) * g.hx;
+            // Each splat only visits the faces inside its x-extent; per face the splats
+            // still add up in the same order.
+            for s in &active {
+                let (lo, hi) = s.bounds();
+                let first = (((lo[0] - f.origin[0]) / g.hx - ox).floor().max(0.0)) as usize;
+                let last =
+                    (((hi[0] - f.origin[0]) / g.hx - ox).ceil().max(0.0) as usize).min(w - 1);
+                for i in first..=last {
+                    if free[j * w + i] == 0 {
+                        continue;
+                    }
+                    // The weight first: most faces of the bounding box are outside the
+                    // capsule, and need no velocity.
+                    let weight = s.weight([x_of(i), z_world]);
+                    if weight == 0.0 {
+                        continue;
+                    }
+                    let vel = face_velocity(g, u, v, i, j, is_v);
+                    row[i] += s.impulse_weighted(weight, vel, f.response, f.dt)[c];
+                }
+            }
+            if f.coupling > 0.0 {
+                for (i, out) in row.iter_mut().enumerate() {
+                    if free[j * w + i] == 0 {
+                        continue;
+                    }
+                    let vel = face_velocity(g, u, v, i, j, is_v);
+                    *out += (f.ambient.wind([x_of(i), z_world])[c] - vel[c]) * f.coupling;
+                }
+            }
+            true
+        })
+        .collect()
 }
