@@ -644,3 +644,66 @@ proptest! {
         prop_assert!(s.u.iter().chain(&s.v).chain(&s.p).all(|x| x.is_finite()));
     }
 }
+
+/// `windloom bench --json` prints one JSON object with the fields the performance record
+/// needs, and its bound is the byte count over the bandwidth it measured.
+#[test]
+fn bench_prints_one_json_object_with_the_split_and_the_bound() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bench",
+            "--backend",
+            "cpu",
+            "--grid",
+            "64",
+            "--iterations",
+            "4",
+        ])
+        .args(["--steps", "3", "--warmup", "1", "--threads", "2", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let text = String::from_utf8(out.stdout).unwrap();
+    assert_eq!(text.trim().lines().count(), 1, "one line: {text}");
+    let j: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(j["grid"], serde_json::json!([64, 64]));
+    assert_eq!(j["iterations"], 4);
+    assert_eq!(j["steps"], 3);
+    assert_eq!(j["threads"], 2);
+    let passes = [
+        "forces",
+        "curl",
+        "confinement",
+        "divergence",
+        "pressure",
+        "gradient",
+        "advection",
+    ];
+    let mut bytes = 0;
+    for p in passes {
+        let ms = j["passes_ms"][p].as_f64().unwrap();
+        assert!(ms >= 0.0, "{p}: {ms}");
+        bytes += j["passes_bytes"][p].as_u64().unwrap();
+    }
+    assert_eq!(j["bytes_per_step"].as_u64().unwrap(), bytes);
+    // Pressure: 8 bytes/cell warm start + 13 bytes/cell per iteration.
+    assert_eq!(j["passes_bytes"]["pressure"], 64 * 64 * (8 + 13 * 4));
+    let (median, min) = (
+        j["median_ms"].as_f64().unwrap(),
+        j["min_ms"].as_f64().unwrap(),
+    );
+    assert!(min > 0.0 && min <= median, "min {min}, median {median}");
+    let bw = j["bandwidth_gb_s"].as_f64().unwrap();
+    let bound = j["bound_ms"].as_f64().unwrap();
+    assert!(bw > 0.1, "bandwidth {bw} GB/s");
+    let want = bytes as f64 / (bw * 1e9) * 1e3;
+    assert!(
+        (bound - want).abs() <= 1e-9 * want.max(1.0),
+        "bound {bound} vs {want}"
+    );
+    assert!((j["ratio_to_bound"].as_f64().unwrap() - median / bound).abs() < 1e-9 * median / bound);
+}

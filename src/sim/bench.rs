@@ -17,6 +17,9 @@ pub struct BenchReport {
     pub iterations: u32,
     pub steps: usize,
     pub threads: usize,
+    /// The widest SIMD extension the CPU reports; the vectorised kernels are compiled for
+    /// several levels and pick theirs at run time.
+    pub cpu_simd: &'static str,
     pub advection: Advection,
     pub median_ms: f64,
     pub min_ms: f64,
@@ -76,6 +79,31 @@ pub fn measure_bandwidth() -> f64 {
     (2 * n * 4) as f64 / best / 1e9
 }
 
+/// The widest SIMD extension this CPU reports (for the record beside a timing).
+pub fn cpu_simd() -> &'static str {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::arch::is_x86_feature_detected!("avx512f") {
+            return "avx512";
+        }
+        if std::arch::is_x86_feature_detected!("avx2") {
+            return "avx2";
+        }
+        if std::arch::is_x86_feature_detected!("sse4.1") {
+            return "sse4.1";
+        }
+        "sse2"
+    }
+    #[cfg(target_arch = "aarch64")]
+    {
+        "neon"
+    }
+    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
+    {
+        "none"
+    }
+}
+
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
     v[v.len() / 2]
@@ -116,6 +144,7 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         iterations: s.params.pressure_iterations,
         steps: steps.max(1),
         threads: rayon::current_num_threads(),
+        cpu_simd: cpu_simd(),
         advection: s.params.advection,
         median_ms,
         min_ms,

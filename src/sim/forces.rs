@@ -77,7 +77,8 @@ pub fn exp_neg(x: f32) -> f32 {
     // Adding and subtracting 1.5 · 2²³ rounds to the nearest integer (no SSE4.1 needed).
     const ROUND: f32 = 12_582_912.0;
     let x = x.clamp(-87.0, 0.0);
-    let n = (x * LOG2_E + ROUND) - ROUND;
+    let t = x * LOG2_E + ROUND;
+    let n = t - ROUND;
     let g = (x - n * LN2_HI) - n * LN2_LO;
     let p = 1.987_569_1e-4_f32;
     let p = p * g + 1.398_199_9e-3;
@@ -86,8 +87,10 @@ pub fn exp_neg(x: f32) -> f32 {
     let p = p * g + 1.666_666_5e-1;
     let p = p * g + 0.5;
     let e = p * g * g + g + 1.0;
-    // n ∈ [−126, 0]: 2ⁿ is a normal number.
-    let scale = f32::from_bits(((n as i32 + 127) as u32) << 23);
+    // n ∈ [−126, 0], so 2ⁿ is a normal number, and t = 1.5 · 2²³ + n holds n in its low
+    // mantissa bits: t's bits are 0x4B40_0000 + n. Integer arithmetic on them gives 2ⁿ's
+    // exponent field without a float-to-int conversion (which would not vectorise).
+    let scale = f32::from_bits(t.to_bits().wrapping_sub(0x4B40_0000 - 127) << 23);
     e * scale
 }
 
