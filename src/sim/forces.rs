@@ -28,10 +28,13 @@ impl ArrowSplat {
     pub fn weight(&self, p: [f32; 2]) -> f32 {
         let d2 = segment_dist2(p, self.a, self.b);
         let r2 = self.radius * self.radius;
+        // Reciprocals of per-splat constants: hoisted out of loops over faces, where a
+        // division per face would dominate.
+        let inv_r2 = 1.0 / r2;
         if d2 > r2 * SPLAT_CUTOFF_RADII * SPLAT_CUTOFF_RADII {
             0.0
         } else {
-            exp_neg(-d2 / r2)
+            exp_neg(-d2 * inv_r2)
         }
     }
 
@@ -100,7 +103,7 @@ fn segment_dist2(p: [f32; 2], a: [f32; 2], b: [f32; 2]) -> f32 {
     let ap = [p[0] - a[0], p[1] - a[1]];
     let len2 = ab[0] * ab[0] + ab[1] * ab[1];
     let t = if len2 > 0.0 {
-        ((ap[0] * ab[0] + ap[1] * ab[1]) / len2).clamp(0.0, 1.0)
+        ((ap[0] * ab[0] + ap[1] * ab[1]) * (1.0 / len2)).clamp(0.0, 1.0)
     } else {
         0.0
     };
