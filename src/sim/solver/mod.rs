@@ -14,6 +14,7 @@ use super::obstacles;
 use crate::doc::{Advection, Boundary, Layout, SOLVER_BYTES_PER_CELL, SimParams};
 use multiversion::multiversion;
 use rayon::prelude::*;
+use std::ops::{Range, RangeInclusive};
 use std::time::Instant;
 
 mod reference;
@@ -1043,8 +1044,47 @@ struct Forcing<'a> {
 }
 
 impl Forcing<'_> {
-    /// Writes the velocity change of every free face of the rows any force reaches into
-    /// `inc` (u faces, or v faces with `is_v`); returns which rows were written.
+    /// Faces `first..=last` of a row of `w` faces (v faces with `is_v`) inside splat bounds
+    /// `(lo, hi)` along x; `None` when the bounds miss the grid.
+    fn columns(
+        &self,
+        (lo, hi): ([f32; 2], [f32; 2]),
+        w: usize,
+        is_v: bool,
+    ) -> Option<RangeInclusive<usize>> {
+        let ox = if is_v { 0.5 } else { 0.0 };
+        let first = (((lo[0] - self.origin[0]) / self.g.hx - ox).floor().max(0.0)) as usize;
+        let last =
+            (((hi[0] - self.origin[0]) / self.g.hx - ox).ceil().max(0.0) as usize).min(w - 1);
+        (first <= last).then_some(first..=last)
+    }
+
+    /// The faces of row `j` that the forces write: the hull of the active splats' columns, or
+    /// the whole row when ambient layers pull on it. Empty when nothing reaches the row.
+    fn row_reach(&self, j: usize, w: usize, is_v: bool) -> Range<usize> {
+        if self.coupling > 0.0 {
+            return 0..w;
+        }
+        let z = self.row_z(j, is_v);
+        self.bounds
+            .iter()
+            .filter(|(lo, hi)| z >= lo[1] && z <= hi[1])
+            .filter_map(|&b| self.columns(b, w, is_v))
+            .map(|c| *c.start()..*c.end() + 1)
+            .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end))
+            .unwrap_or(0..0)
+    }
+
+    /// World z of row `j` of faces: face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j)
+    /// for v.
+    fn row_z(&self, j: usize, is_v: bool) -> f32 {
+        let oz = if is_v { 0.0 } else { 0.5 };
+        self.origin[1] + (j as f32 + oz) * self.g.hz
+    }
+
+    /// Writes the velocity change of the faces each row's forces reach (see
+    /// [`Self::row_reach`]) into `inc` (u faces, or v faces with `is_v`); returns those
+    /// ranges, row by row.
     fn increments(
         &self,
         u: &[f32],
@@ -1052,36 +1092,28 @@ impl Forcing<'_> {
         inc: &mut [f32],
         free: &[u8],
         is_v: bool,
-    ) -> Vec<bool> {
+    ) -> Vec<Range<usize>> {
         let g = &self.g;
         let w = if is_v { g.nx } else { g.nx + 1 };
         inc.par_chunks_mut(w)
             .enumerate()
             .with_min_len(rows_per_job(w))
             .map(|(j, row)| {
-                // Face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j) for v.
-                let oz = if is_v { 0.0 } else { 0.5 };
-                let z_world = self.origin[1] + (j as f32 + oz) * g.hz;
-                let mut active = self
-                    .splats
-                    .iter()
-                    .zip(&self.bounds)
-                    .filter(|(_, (lo, hi))| z_world >= lo[1] && z_world <= hi[1])
-                    .peekable();
-                if active.peek().is_none() && self.coupling == 0.0 {
-                    return false;
+                let reach = self.row_reach(j, w, is_v);
+                if reach.is_empty() {
+                    return reach;
                 }
-                row.fill(0.0);
+                row[reach.clone()].fill(0.0);
+                let z_world = self.row_z(j, is_v);
                 let free = &free[j * w..][..w];
                 // Each splat only visits the faces inside its x-extent; per face the splats
                 // still add up in the same order.
-                for (s, (lo, hi)) in active {
-                    let ox = if is_v { 0.5 } else { 0.0 };
-                    let first = (((lo[0] - self.origin[0]) / g.hx - ox).floor().max(0.0)) as usize;
-                    let last = (((hi[0] - self.origin[0]) / g.hx - ox).ceil().max(0.0) as usize)
-                        .min(w - 1);
-                    if first <= last {
-                        self.splat_span(s, u, v, j, is_v, first..=last, free, row);
+                for (s, &b) in self.splats.iter().zip(&self.bounds) {
+                    if z_world < b.0[1] || z_world > b.1[1] {
+                        continue;
+                    }
+                    if let Some(span) = self.columns(b, w, is_v) {
+                        self.splat_span(s, u, v, j, is_v, span, free, row);
                     }
                 }
                 if self.coupling > 0.0 {
@@ -1097,7 +1129,7 @@ impl Forcing<'_> {
                         *out += (self.ambient.wind([x_of(i), z_world])[c] - vel[c]) * self.coupling;
                     }
                 }
-                true
+                reach
             })
             .collect()
     }
@@ -1231,21 +1263,18 @@ fn splat_faces(
     }
 }
 
-/// `field += inc` on the rows marked in `rows`; returns the number of faces touched.
-fn add_rows(field: &mut [f32], inc: &[f32], rows: &[bool], w: usize) -> usize {
+/// `field += inc` over each row's range in `reach`; returns the number of faces touched.
+fn add_rows(field: &mut [f32], inc: &[f32], reach: &[Range<usize>], w: usize) -> usize {
     field
         .par_chunks_mut(w)
         .zip(inc.par_chunks(w))
-        .zip(rows.par_iter())
+        .zip(reach.par_iter())
         .with_min_len(rows_per_job(w))
-        .map(|((f, d), &on)| {
-            if !on {
-                return 0;
-            }
-            for (x, dx) in f.iter_mut().zip(d) {
+        .map(|((f, d), r)| {
+            for (x, dx) in f[r.clone()].iter_mut().zip(&d[r.clone()]) {
                 *x = clamp_speed(*x + dx);
             }
-            f.len()
+            r.len()
         })
         .sum()
 }

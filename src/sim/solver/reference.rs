@@ -381,8 +381,8 @@ fn maccormack_reference(
         });
 }
 
-/// The velocity change of every free face of the rows any force reaches, face by face, into
-/// `inc` (u faces, or v faces with `is_v`); returns which rows were written.
+/// The velocity change of the faces each row's forces reach, face by face, into `inc` (u faces,
+/// or v faces with `is_v`); returns those ranges, row by row.
 fn increments_reference(
     f: &Forcing,
     u: &[f32],
@@ -390,42 +390,26 @@ fn increments_reference(
     inc: &mut [f32],
     free: &[u8],
     is_v: bool,
-) -> Vec<bool> {
+) -> Vec<std::ops::Range<usize>> {
     let g = &f.g;
     let w = if is_v { g.nx } else { g.nx + 1 };
     inc.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
         .map(|(j, row)| {
-            // Face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j) for v.
-            let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
-            let z_world = f.origin[1] + (j as f32 + oz) * g.hz;
-            let active: Vec<&ArrowSplat> = f
-                .splats
-                .iter()
-                .zip(&f.bounds)
-                .filter(|(_, (lo, hi))| z_world >= lo[1] && z_world <= hi[1])
-                .map(|(s, _)| s)
-                .collect();
-            if active.is_empty() && f.coupling == 0.0 {
-                return false;
-            }
-            row.fill(0.0);
+            let reach = f.row_reach(j, w, is_v);
+            row[reach.clone()].fill(0.0);
+            let (ox, z_world) = (if is_v { 0.5 } else { 0.0 }, f.row_z(j, is_v));
             let c = usize::from(is_v);
             let x_of = |i: usize| f.origin[0] + (i as f32 + ox) * g.hx;
-            // Each splat only visits the faces inside its x-extent; per face the splats
-            // still add up in the same order.
-            for s in &active {
-                let (lo, hi) = s.bounds();
-                let first = (((lo[0] - f.origin[0]) / g.hx - ox).floor().max(0.0)) as usize;
-                let last =
-                    (((hi[0] - f.origin[0]) / g.hx - ox).ceil().max(0.0) as usize).min(w - 1);
-                for i in first..=last {
+            for (s, &b) in f.splats.iter().zip(&f.bounds) {
+                if z_world < b.0[1] || z_world > b.1[1] {
+                    continue;
+                }
+                for i in f.columns(b, w, is_v).into_iter().flatten() {
                     if free[j * w + i] == 0 {
                         continue;
                     }
-                    // The weight first: most faces of the bounding box are outside the
-                    // capsule, and need no velocity.
                     let weight = s.weight([x_of(i), z_world]);
                     if weight == 0.0 {
                         continue;
@@ -443,7 +427,7 @@ fn increments_reference(
                     *out += (f.ambient.wind([x_of(i), z_world])[c] - vel[c]) * f.coupling;
                 }
             }
-            true
+            reach
         })
         .collect()
 }
