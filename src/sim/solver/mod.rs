@@ -1460,9 +1460,10 @@ fn departures_row(
     }
 }
 
-/// Samples `src` (`is_v`: the v faces) at the departure points `xs`, `zs` of a row of faces;
-/// faces that are not free get 0. `f(value, min, max, k)` shapes each free face's output,
-/// `k` being its index in `src`.
+/// Samples `src` (`is_v`: the v faces) at the departure points `xs`, `zs` of a row of faces
+/// on a periodic grid (wrapping, through [`bilinear`]); faces that are not free get 0.
+/// `shape(value, min, max, k)` shapes each free face's output, `k` being its index in `src`.
+/// Non-periodic grids use the vectorised [`sample_clamped`] and [`correct_clamped`].
 #[allow(clippy::too_many_arguments)]
 #[inline(always)]
 fn sample_row(
@@ -1476,6 +1477,7 @@ fn sample_row(
     out: &mut [f32],
     shape: impl Fn(f32, f32, f32, usize) -> f32,
 ) {
+    debug_assert!(g.periodic);
     let (w, h) = if is_v {
         (g.nx, g.ny + 1)
     } else {
@@ -1485,49 +1487,77 @@ fn sample_row(
     let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
     let row0 = j * w;
     let free = &free[row0..][..w];
-    if g.periodic {
-        for i in 0..w {
-            out[i] = if free[i] == 0 {
-                0.0
-            } else {
-                let (s, lo, hi) = bilinear(g, src, w, h, xs[i] - ox, zs[i] - oz);
-                shape(s, lo, hi, row0 + i)
-            };
-        }
-        return;
-    }
-    let (xmax, zmax) = ((w - 1) as f32, (h - 1) as f32);
     for i in 0..w {
-        if free[i] == 0 {
-            out[i] = 0.0;
-            continue;
+        out[i] = if free[i] == 0 {
+            0.0
+        } else {
+            let (s, lo, hi) = bilinear(g, src, w, h, xs[i] - ox, zs[i] - oz);
+            shape(s, lo, hi, row0 + i)
+        };
+    }
+}
+
+/// The four samples around a departure point of a `w × h` field on a non-periodic grid and
+/// the bilinear weights: the point (sample coordinates `x`, `z`) is clamped to the field, as
+/// [`bilinear`] does. `w, h ≥ 2` and `src.len() ≥ w·h` must hold ([`Clamped::new`] checks).
+struct Clamped<'a> {
+    src: &'a [f32],
+    w: usize,
+    xmax: f32,
+    zmax: f32,
+    imax: i32,
+    jmax: i32,
+}
+
+impl<'a> Clamped<'a> {
+    fn new(src: &'a [f32], w: usize, h: usize) -> Self {
+        assert!(w >= 2 && h >= 2 && src.len() >= w * h && w * h <= i32::MAX as usize);
+        let (xmax, zmax) = ((w - 1) as f32, (h - 1) as f32);
+        let (imax, jmax) = (w as i32 - 2, h as i32 - 2);
+        Self {
+            src,
+            w,
+            xmax,
+            zmax,
+            imax,
+            jmax,
         }
-        let x = (xs[i] - ox).clamp(0.0, xmax);
-        let z = (zs[i] - oz).clamp(0.0, zmax);
-        let i0 = (x as usize).min(w - 2);
-        let j0 = (z as usize).min(h - 2);
-        let fx = x - i0 as f32;
-        let fz = z - j0 as f32;
-        let k = j0 * w + i0;
-        let (a, b) = (src[k], src[k + 1]);
-        let (c, d) = (src[k + w], src[k + w + 1]);
-        let top = a + (b - a) * fx;
-        let bottom = c + (d - c) * fx;
-        let lo = a.min(b).min(c).min(d);
-        let hi = a.max(b).max(c).max(d);
-        out[i] = shape(top + (bottom - top) * fz, lo, hi, row0 + i);
+    }
+
+    /// `(a, b, c, d, fx, fz)`: the samples at `(i0, j0)`, `(i0+1, j0)`, `(i0, j0+1)`,
+    /// `(i0+1, j0+1)` and the fractions.
+    #[inline(always)]
+    fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
+        let x = x.clamp(0.0, self.xmax);
+        let z = z.clamp(0.0, self.zmax);
+        // In range after the clamp, so the i32 conversion is exact and cheap.
+        let i0 = (x as i32).min(self.imax);
+        let j0 = (z as i32).min(self.jmax);
+        let (fx, fz) = (x - i0 as f32, z - j0 as f32);
+        let (k, w) = ((j0 * self.w as i32 + i0) as usize, self.w);
+        // SAFETY: 0 ≤ i0 ≤ w − 2 and 0 ≤ j0 ≤ h − 2 (the clamps above; NaN converts to 0), so
+        // k + w + 1 ≤ (h − 2)·w + w − 2 + w + 1 = h·w − 1 < src.len(), as `new` asserts.
+        // Unchecked loads let the loops over faces vectorise into gathers.
+        let (a, b, c, d) = unsafe {
+            let s = self.src;
+            (
+                *s.get_unchecked(k),
+                *s.get_unchecked(k + 1),
+                *s.get_unchecked(k + w),
+                *s.get_unchecked(k + w + 1),
+            )
+        };
+        (a, b, c, d, fx, fz)
     }
 }
 
 /// [`sample_row`] for semi-Lagrangian advection on a non-periodic grid: the bilinear sample of
-/// the `w × h` field `src` at each departure point (offset by `-o` into sample coordinates,
-/// clamped to the field), times `keep`; 0 on faces that are not free. Same arithmetic, same
-/// bits; compiled for several SIMD levels.
+/// the field at each departure point (offset by `-o` into sample coordinates), times `keep`;
+/// 0 on faces that are not free. Same arithmetic, same bits; compiled for several SIMD levels.
 #[allow(clippy::too_many_arguments)]
 #[multiversion(targets = "simd")]
 fn sample_clamped(
-    src: &[f32],
-    [w, h]: [usize; 2],
+    f: &Clamped,
     [ox, oz]: [f32; 2],
     xs: &[f32],
     zs: &[f32],
@@ -1535,35 +1565,46 @@ fn sample_clamped(
     keep: f32,
     out: &mut [f32],
 ) {
-    let (xmax, zmax) = ((w - 1) as f32, (h - 1) as f32);
     let n = out.len();
     let (xs, zs, free) = (&xs[..n], &zs[..n], &free[..n]);
-    assert!(w >= 2 && h >= 2 && src.len() >= w * h && w * h <= i32::MAX as usize);
-    let (w32, imax, jmax) = (w as i32, w as i32 - 2, h as i32 - 2);
     for i in 0..n {
-        let x = (xs[i] - ox).clamp(0.0, xmax);
-        let z = (zs[i] - oz).clamp(0.0, zmax);
-        // In range after the clamp, so the i32 conversion is exact and cheap.
-        let i0 = (x as i32).min(imax);
-        let j0 = (z as i32).min(jmax);
-        let fx = x - i0 as f32;
-        let fz = z - j0 as f32;
-        let k = (j0 * w32 + i0) as usize;
-        // SAFETY: 0 ≤ i0 ≤ w − 2 and 0 ≤ j0 ≤ h − 2 (the clamps above, and NaN converts to
-        // 0), so k + w + 1 ≤ (h − 2)·w + w − 2 + w + 1 = h·w − 1 < src.len(), as asserted
-        // before the loop. Unchecked loads let the loop vectorise into gathers.
-        let (a, b, c, d) = unsafe {
-            (
-                *src.get_unchecked(k),
-                *src.get_unchecked(k + 1),
-                *src.get_unchecked(k + w),
-                *src.get_unchecked(k + w + 1),
-            )
-        };
+        let (a, b, c, d, fx, fz) = f.corners(xs[i] - ox, zs[i] - oz);
         let top = a + (b - a) * fx;
         let bottom = c + (d - c) * fx;
         let s = top + (bottom - top) * fz;
         out[i] = if free[i] != 0 { s * keep } else { 0.0 };
+    }
+}
+
+/// The MacCormack correction of a row on a non-periodic grid: `back` holds φ̌ on entry and
+/// `(φ̂ + (φ − φ̌)/2)` clamped to the range of the four samples of φ around the departure
+/// point, times `keep`, on exit (0 on faces that are not free). As [`maccormack`] computes it
+/// through [`sample_row`], vectorised.
+#[allow(clippy::too_many_arguments)]
+#[multiversion(targets = "simd")]
+fn correct_clamped(
+    f: &Clamped,
+    [ox, oz]: [f32; 2],
+    xs: &[f32],
+    zs: &[f32],
+    free: &[u8],
+    fwd: &[f32],
+    orig: &[f32],
+    keep: f32,
+    back: &mut [f32],
+) {
+    let n = back.len();
+    let (xs, zs, free, fwd, orig) = (&xs[..n], &zs[..n], &free[..n], &fwd[..n], &orig[..n]);
+    for i in 0..n {
+        let (a, b, c, d, _, _) = f.corners(xs[i] - ox, zs[i] - oz);
+        let lo = a.min(b).min(c).min(d);
+        let hi = a.max(b).max(c).max(d);
+        let x = fwd[i] + 0.5 * (orig[i] - back[i]);
+        // `x.clamp(lo, hi)` without its `lo ≤ hi` assertion, which would keep the loop
+        // scalar (lo ≤ hi always holds here).
+        let x = if x < lo { lo } else { x };
+        let x = if x > hi { hi } else { x };
+        back[i] = if free[i] != 0 { x * keep } else { 0.0 };
     }
 }
 
@@ -1598,7 +1639,7 @@ fn advect_faces(
                     };
                     let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
                     let free = &free[j * w..][..w];
-                    sample_clamped(src, [w, h], [ox, oz], xs, zs, free, keep, row);
+                    sample_clamped(&Clamped::new(src, w, h), [ox, oz], xs, zs, free, keep, row);
                 }
             },
         );
@@ -1619,14 +1660,24 @@ fn maccormack(
 ) {
     let w = if is_v { g.nx } else { g.nx + 1 };
     let orig = if is_v { v } else { u };
+    let h = if is_v { g.ny + 1 } else { g.ny };
+    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
     back.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
         .for_each_init(
             || (vec![0.0; w], vec![0.0; w], vec![0.0; w]),
             |(xs, zs, checked), (j, row)| {
-                checked.copy_from_slice(row);
                 departures_row(g, u, v, j, is_v, dt, xs, zs);
+                let k = j * w;
+                if !g.periodic {
+                    let (free, fwd_row, orig_row) =
+                        (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
+                    let f = Clamped::new(orig, w, h);
+                    correct_clamped(&f, [ox, oz], xs, zs, free, fwd_row, orig_row, keep, row);
+                    return;
+                }
+                checked.copy_from_slice(row);
                 let shape = |_, lo: f32, hi: f32, k: usize| {
                     (fwd[k] + 0.5 * (orig[k] - checked[k - j * w])).clamp(lo, hi) * keep
                 };
