@@ -304,6 +304,13 @@ impl Solver {
     /// Step 1: AGC arrow splats and the pull toward the ambient wind. Both read the velocity
     /// before the pass, so the u and v faces see the same state.
     pub fn apply_forces(&mut self, dt: f32) {
+        self.apply_forces_with(dt, |f, u, v, inc, free, is_v| {
+            f.increments(u, v, inc, free, is_v)
+        });
+    }
+
+    /// Step 1 with the given kernel for one component's increments (fast or reference).
+    fn apply_forces_with(&mut self, dt: f32, increments: Increments) {
         let splats = agc_splats(&self.layout, self.time);
         self.ambient.set_time(self.time);
         let coupling = if self.ambient.is_empty() {
@@ -325,8 +332,8 @@ impl Solver {
             self.force_faces = 0;
             return;
         }
-        let rows_u = f.increments(&self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
-        let rows_v = f.increments(&self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
+        let rows_u = increments(&f, &self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
+        let rows_v = increments(&f, &self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
         self.force_faces = add_rows(&mut self.u, &self.u_tmp, &rows_u, self.nx + 1)
             + add_rows(&mut self.v, &self.v_tmp, &rows_v, self.nx);
         self.sync_periodic();
@@ -649,6 +656,11 @@ impl Solver {
     /// Step 7: advection (semi-Lagrangian or limited MacCormack) with dissipation
     /// `vel / (1 + dissipation × dt)` folded into the same write.
     pub fn advect(&mut self, dt: f32) {
+        self.advect_with(dt, advect_faces, maccormack);
+    }
+
+    /// Advection with the given kernels for one face field (the fast or the reference ones).
+    fn advect_with(&mut self, dt: f32, advect_faces: FaceKernel, maccormack: FaceKernel) {
         let g = self.geometry();
         let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
         match self.params.advection {
@@ -1031,6 +1043,10 @@ fn clamp_speed(x: f32) -> f32 {
     x.clamp(-MAX_SPEED, MAX_SPEED)
 }
 
+/// The velocity changes of one component's faces: `(forcing, u, v, increments, free, is_v)`
+/// → the range of faces written in each row ([`Forcing::increments`] and its reference twin).
+type Increments = fn(&Forcing, &[f32], &[f32], &mut [f32], &[u8], bool) -> Vec<Range<usize>>;
+
 /// Everything the forces pass needs for one substep.
 struct Forcing<'a> {
     g: Geometry,
@@ -1150,7 +1166,7 @@ impl Forcing<'_> {
         row: &mut [f32],
     ) {
         let g = &self.g;
-        let (nx, ny) = (g.nx, g.ny);
+        let nx = g.nx;
         let c = usize::from(is_v);
         let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
         let z_world = self.origin[1] + (j as f32 + oz) * g.hz;
@@ -1183,41 +1199,27 @@ impl Forcing<'_> {
         }
         let n = b - a + 1;
         let (out, fr) = (&mut row[a..=b], &free[a..=b]);
+        let span = SplatSpan {
+            s,
+            k,
+            dt,
+            first: a,
+            x0: origin_x,
+            ox,
+            hx,
+            z: z_world,
+        };
         if is_v {
             let w = nx + 1;
-            let (jb, jt) = if g.periodic {
-                ((j + ny - 1) % ny, j % ny)
-            } else {
-                (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
-            };
+            let (jb, jt) = u_rows_beside(g, j);
             let own = &v[j * nx + a..][..n];
             let (ub0, ub1) = (&u[jb * w + a..][..n], &u[jb * w + a + 1..][..n]);
             let (ut0, ut1) = (&u[jt * w + a..][..n], &u[jt * w + a + 1..][..n]);
-            let span = SplatSpan {
-                s,
-                k,
-                dt,
-                first: a,
-                x0: origin_x,
-                ox,
-                hx,
-                z: z_world,
-            };
             splat_faces(&span, true, own, [ub0, ub1, ut0, ut1], fr, out);
         } else {
             let own = &u[j * (nx + 1) + a..][..n];
             let (vb0, vb1) = (&v[j * nx + a - 1..][..n], &v[j * nx + a..][..n]);
             let (vt0, vt1) = (&v[(j + 1) * nx + a - 1..][..n], &v[(j + 1) * nx + a..][..n]);
-            let span = SplatSpan {
-                s,
-                k,
-                dt,
-                first: a,
-                x0: origin_x,
-                ox,
-                hx,
-                z: z_world,
-            };
             splat_faces(&span, false, own, [vb0, vb1, vt0, vt1], fr, out);
         }
     }
@@ -1279,6 +1281,10 @@ fn add_rows(field: &mut [f32], inc: &[f32], reach: &[Range<usize>], w: usize) ->
         .sum()
 }
 
+/// A pass over one face field: `(geometry, u, v, source, destination, dt, keep, free,
+/// is_v)`, as [`advect_faces`] and [`maccormack`] (and their reference twins) take it.
+type FaceKernel = fn(&Geometry, &[f32], &[f32], &[f32], &mut [f32], f32, f32, &[u8], bool);
+
 #[derive(Clone, Copy)]
 struct Geometry {
     nx: usize,
@@ -1337,18 +1343,26 @@ fn sample_v(g: &Geometry, v: &[f32], x: f32, z: f32) -> (f32, f32, f32) {
     bilinear(g, v, g.nx, g.ny + 1, x - 0.5, z)
 }
 
+/// The rows of u faces below and above the v faces of row `j` (wrapped, or clamped into the
+/// grid at its bottom and top edges).
+#[inline(always)]
+fn u_rows_beside(g: &Geometry, j: usize) -> (usize, usize) {
+    let ny = g.ny;
+    if g.periodic {
+        ((j + ny - 1) % ny, j % ny)
+    } else {
+        (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
+    }
+}
+
 /// Velocity `[x, z]` at face `(i, j)` (a v face with `is_v`): the face's own component and the
 /// mean of the four nearest faces of the other component (exactly the bilinear sample there).
 #[inline(always)]
 fn face_velocity(g: &Geometry, u: &[f32], v: &[f32], i: usize, j: usize, is_v: bool) -> [f32; 2] {
-    let (nx, ny) = (g.nx, g.ny);
+    let nx = g.nx;
     if is_v {
         // u faces at columns i, i+1 and rows j-1, j (wrapped or clamped into the grid).
-        let (jb, jt) = if g.periodic {
-            ((j + ny - 1) % ny, j % ny)
-        } else {
-            (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
-        };
+        let (jb, jt) = u_rows_beside(g, j);
         let w = nx + 1;
         let ux = 0.25 * (u[jb * w + i] + u[jb * w + i + 1] + u[jt * w + i] + u[jt * w + i + 1]);
         [ux, v[j * nx + i]]
@@ -1384,26 +1398,6 @@ fn departure(
     (x - vel[0] * (dt / g.hx), z - vel[1] * (dt / g.hz))
 }
 
-/// Bilinear sample of a `w × h` face field at fractional sample coordinates: the generic
-/// sampler for periodic grids, a clamp-only fast path otherwise (same arithmetic, same bits).
-#[inline(always)]
-fn bilerp(g: &Geometry, f: &[f32], w: usize, h: usize, x: f32, z: f32) -> f32 {
-    if g.periodic {
-        return bilinear(g, f, w, h, x, z).0;
-    }
-    let x = x.clamp(0.0, (w - 1) as f32);
-    let z = z.clamp(0.0, (h - 1) as f32);
-    let i0 = (x as usize).min(w - 2);
-    let j0 = (z as usize).min(h - 2);
-    let fx = x - i0 as f32;
-    let fz = z - j0 as f32;
-    let k = j0 * w + i0;
-    let (a, b, c, d) = (f[k], f[k + 1], f[k + w], f[k + w + 1]);
-    let top = a + (b - a) * fx;
-    let bottom = c + (d - c) * fx;
-    top + (bottom - top) * fz
-}
-
 /// Departure points (grid units) of the faces of row `j` (`is_v`: a row of v faces) into
 /// `xs`, `zs`: exactly [`departure`] face by face, but with the row's neighbour rows chosen
 /// once and the interior faces in one vectorisable loop.
@@ -1419,15 +1413,11 @@ fn departures_row(
     xs: &mut [f32],
     zs: &mut [f32],
 ) {
-    let (nx, ny) = (g.nx, g.ny);
+    let nx = g.nx;
     let (cx, cz) = (dt / g.hx, dt / g.hz);
     if is_v {
         // u faces at columns i, i+1 of the rows below and above the v row (wrapped or clamped).
-        let (jb, jt) = if g.periodic {
-            ((j + ny - 1) % ny, j % ny)
-        } else {
-            (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
-        };
+        let (jb, jt) = u_rows_beside(g, j);
         let w = nx + 1;
         let (ub, ut) = (&u[jb * w..][..w], &u[jt * w..][..w]);
         let vr = &v[j * nx..][..nx];

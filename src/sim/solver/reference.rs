@@ -27,37 +27,9 @@ impl Solver {
         }
     }
 
-    /// Step 1: AGC arrow splats and the pull toward the ambient wind. Both read the velocity
-    /// before the pass, so the u and v faces see the same state.
+    /// Step 1 with the face-by-face increments below.
     fn apply_forces_reference(&mut self, dt: f32) {
-        let splats = agc_splats(&self.layout, self.time);
-        self.ambient.set_time(self.time);
-        let coupling = if self.ambient.is_empty() {
-            0.0
-        } else {
-            1.0 - (-self.params.ambient_coupling * dt).exp()
-        };
-        let f = Forcing {
-            g: self.geometry(),
-            origin: self.origin,
-            splats: &splats,
-            bounds: splats.iter().map(ArrowSplat::bounds).collect(),
-            ambient: &self.ambient,
-            coupling,
-            response: self.params.arrow_response,
-            dt,
-        };
-        if splats.is_empty() && coupling == 0.0 {
-            self.force_faces = 0;
-            return;
-        }
-        let rows_u =
-            increments_reference(&f, &self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
-        let rows_v =
-            increments_reference(&f, &self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
-        self.force_faces = add_rows(&mut self.u, &self.u_tmp, &rows_u, self.nx + 1)
-            + add_rows(&mut self.v, &self.v_tmp, &rows_v, self.nx);
-        self.sync_periodic();
+        self.apply_forces_with(dt, increments_reference);
     }
 
     /// Step 2: vorticity at cell centres, `∂v/∂x − ∂u/∂z`, central differences.
@@ -240,74 +212,9 @@ impl Solver {
         self.sync_periodic();
     }
 
-    /// Step 7: advection (semi-Lagrangian or limited MacCormack) with dissipation
-    /// `vel / (1 + dissipation × dt)` folded into the same write.
+    /// Step 7 with the face-by-face kernels below.
     fn advect_reference(&mut self, dt: f32) {
-        let g = self.geometry();
-        let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
-        match self.params.advection {
-            Advection::SemiLagrangian => {
-                let (u, v) = (&self.u, &self.v);
-                advect_faces_reference(&g, u, v, u, &mut self.u_tmp, dt, keep, &self.u_free, false);
-                advect_faces_reference(&g, u, v, v, &mut self.v_tmp, dt, keep, &self.v_free, true);
-                std::mem::swap(&mut self.u, &mut self.u_tmp);
-                std::mem::swap(&mut self.v, &mut self.v_tmp);
-            }
-            Advection::MacCormack => {
-                // Forward: φ̂ = A(φ); backward: φ̌ = A⁻¹(φ̂); φ' = φ̂ + (φ − φ̌)/2, clamped to
-                // the forward stencil's range so the correction cannot create new extrema.
-                let (u, v) = (&self.u, &self.v);
-                advect_faces_reference(&g, u, v, u, &mut self.u_tmp, dt, 1.0, &self.u_free, false);
-                advect_faces_reference(&g, u, v, v, &mut self.v_tmp, dt, 1.0, &self.v_free, true);
-                advect_faces_reference(
-                    &g,
-                    u,
-                    v,
-                    &self.u_tmp,
-                    &mut self.u_hat,
-                    -dt,
-                    1.0,
-                    &self.u_free,
-                    false,
-                );
-                advect_faces_reference(
-                    &g,
-                    u,
-                    v,
-                    &self.v_tmp,
-                    &mut self.v_hat,
-                    -dt,
-                    1.0,
-                    &self.v_free,
-                    true,
-                );
-                maccormack_reference(
-                    &g,
-                    u,
-                    v,
-                    &self.u_tmp,
-                    &mut self.u_hat,
-                    dt,
-                    keep,
-                    &self.u_free,
-                    false,
-                );
-                maccormack_reference(
-                    &g,
-                    u,
-                    v,
-                    &self.v_tmp,
-                    &mut self.v_hat,
-                    dt,
-                    keep,
-                    &self.v_free,
-                    true,
-                );
-                std::mem::swap(&mut self.u, &mut self.u_hat);
-                std::mem::swap(&mut self.v, &mut self.v_hat);
-            }
-        }
-        self.sync_periodic();
+        self.advect_with(dt, advect_faces_reference, maccormack_reference);
     }
 }
 
@@ -430,4 +337,24 @@ fn increments_reference(
             reach
         })
         .collect()
+}
+
+/// Bilinear sample of a `w × h` face field at fractional sample coordinates: the generic
+/// sampler for periodic grids, a clamp-only fast path otherwise (same arithmetic, same bits).
+#[inline(always)]
+fn bilerp(g: &Geometry, f: &[f32], w: usize, h: usize, x: f32, z: f32) -> f32 {
+    if g.periodic {
+        return bilinear(g, f, w, h, x, z).0;
+    }
+    let x = x.clamp(0.0, (w - 1) as f32);
+    let z = z.clamp(0.0, (h - 1) as f32);
+    let i0 = (x as usize).min(w - 2);
+    let j0 = (z as usize).min(h - 2);
+    let fx = x - i0 as f32;
+    let fz = z - j0 as f32;
+    let k = j0 * w + i0;
+    let (a, b, c, d) = (f[k], f[k + 1], f[k + w], f[k + w + 1]);
+    let top = a + (b - a) * fx;
+    let bottom = c + (d - c) * fx;
+    top + (bottom - top) * fz
 }
