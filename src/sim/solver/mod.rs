@@ -187,17 +187,8 @@ impl Solver {
             layout.world.size[0] / nx as f32,
             layout.world.size[1] / ny as f32,
         );
-        let (wx, wz) = (1.0 / (hx * hx), 1.0 / (hz * hz));
-        let inv_w = flags
-            .iter()
-            .map(|&fl| {
-                let n = |b: u8| {
-                    f32::from(u8::from(fl & b != 0)) + f32::from(u8::from(fl & (b << EDGE) != 0))
-                };
-                let ws = wx * (n(L) + n(R)) + wz * (n(B) + n(T));
-                if ws > 0.0 { 1.0 / ws } else { 0.0 }
-            })
-            .collect();
+        let stencil = Stencil::new(hx, hz);
+        let inv_w = flags.iter().map(|&fl| stencil.inv_weight(fl)).collect();
         let row_regular = (0..ny)
             .map(|j| (1..nx.saturating_sub(1)).all(|i| flags[j * nx + i] == ALL_FLUID))
             .collect();
@@ -538,13 +529,7 @@ impl Solver {
     }
 
     fn stencil(&self) -> Stencil {
-        let wx = 1.0 / (self.hx * self.hx);
-        let wz = 1.0 / (self.hz * self.hz);
-        Stencil {
-            wx,
-            wz,
-            inv_regular: 1.0 / (2.0 * wx + 2.0 * wz),
-        }
+        Stencil::new(self.hx, self.hz)
     }
 
     /// One plain Jacobi sweep over the whole grid: `p ← (Σ w_n p_n − div) / Σ w_n` over the
@@ -877,6 +862,26 @@ struct Stencil {
     wx: f32,
     wz: f32,
     inv_regular: f32,
+}
+
+impl Stencil {
+    fn new(hx: f32, hz: f32) -> Self {
+        let (wx, wz) = (1.0 / (hx * hx), 1.0 / (hz * hz));
+        Self {
+            wx,
+            wz,
+            inv_regular: 1.0 / (2.0 * wx + 2.0 * wz),
+        }
+    }
+
+    /// `1 / Σw` for a cell with pressure flags `fl` (fluid and open-edge neighbours count;
+    /// 0 when none does). For four fluid neighbours this is exactly `inv_regular`.
+    fn inv_weight(&self, fl: u8) -> f32 {
+        let n =
+            |b: u8| f32::from(u8::from(fl & b != 0)) + f32::from(u8::from(fl & (b << EDGE) != 0));
+        let ws = self.wx * (n(L) + n(R)) + self.wz * (n(B) + n(T));
+        if ws > 0.0 { 1.0 / ws } else { 0.0 }
+    }
 }
 
 /// One Jacobi row from the previous iterate's rows `below`, `row`, `above` (rows wrap at the
