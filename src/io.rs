@@ -36,20 +36,90 @@ pub fn save(path: &Path, layout: &Layout) -> std::io::Result<()> {
     write_atomic(path, doc::to_json(layout).as_bytes())
 }
 
-/// Writes `bytes` to `path` so that readers see either the old file or the whole new one:
-/// the data goes to a temporary file in the same folder, is flushed to disk, and is then
-/// renamed over `path`. On any failure `path` is untouched and the temporary file removed.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
-    let dir = match path.parent() {
+/// Symbolic links followed before a path is given up on (Linux's own limit).
+const MAX_LINKS: usize = 40;
+
+/// The file a write to `path` must replace: `path` itself, or, when `path` is a symbolic link
+/// (to a file that may not exist yet), the file it finally points to. Replacing the link with
+/// a plain file would cut it from the file it shared.
+pub fn resolve_links(path: &Path) -> std::io::Result<PathBuf> {
+    let mut p = path.to_path_buf();
+    for _ in 0..MAX_LINKS {
+        match std::fs::symlink_metadata(&p) {
+            Ok(m) if m.file_type().is_symlink() => {
+                let target = std::fs::read_link(&p)?;
+                p = match p.parent() {
+                    Some(dir) => dir.join(target),
+                    None => target,
+                };
+            }
+            _ => return Ok(p),
+        }
+    }
+    Err(std::io::Error::other(format!(
+        "{}: more than {MAX_LINKS} levels of symbolic links",
+        path.display()
+    )))
+}
+
+/// The folder a file lives in (`.` for a bare file name).
+pub fn parent_dir(path: &Path) -> &Path {
+    match path.parent() {
         Some(d) if !d.as_os_str().is_empty() => d,
         _ => Path::new("."),
-    };
-    let mut tmp = tempfile::Builder::new()
-        .prefix(".windloom-")
-        .suffix(".tmp")
-        .tempfile_in(dir)?;
+    }
+}
+
+/// Flushes a folder's entries to disk, so a rename inside it survives a power cut.
+pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
+    #[cfg(unix)]
+    std::fs::File::open(dir)?.sync_all()?;
+    #[cfg(not(unix))]
+    let _ = dir;
+    Ok(())
+}
+
+/// Writes `bytes` to `path` so that readers see either the old file or the whole new one:
+/// the data goes to a temporary file in the same folder, is flushed to disk, and is then
+/// renamed over `path`, and the folder is flushed so the new name is durable. On any failure
+/// `path` is untouched and the temporary file removed.
+///
+/// The new file keeps the old one's permissions (and, where allowed, its owner and group); a
+/// new file gets the user's usual mode (0666 less the umask). A symbolic link is written
+/// through: its target is replaced and the link stays.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let path = resolve_links(path)?;
+    let dir = parent_dir(&path);
+    let old = std::fs::metadata(&path).ok().filter(|m| m.is_file());
+    let mut builder = tempfile::Builder::new();
+    builder.prefix(".windloom-").suffix(".tmp");
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::PermissionsExt;
+        // open(2) takes the umask off this, as it does for any new file.
+        builder.permissions(std::fs::Permissions::from_mode(0o666));
+    }
+    let mut tmp = builder.tempfile_in(dir)?;
+    if let Some(old) = &old {
+        keep_owner_and_mode(tmp.as_file(), old)?;
+    }
     tmp.write_all(bytes)?;
     tmp.as_file().sync_all()?;
-    tmp.persist(path).map_err(|e| e.error)?;
-    Ok(())
+    tmp.persist(&path).map_err(|e| e.error)?;
+    sync_dir(dir)
+}
+
+/// Gives `file` the permissions of `old`, and its owner and group where this user may.
+fn keep_owner_and_mode(file: &std::fs::File, old: &std::fs::Metadata) -> std::io::Result<()> {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let mine = file.metadata()?;
+        if (mine.uid(), mine.gid()) != (old.uid(), old.gid()) {
+            // Only root may give a file away; a member of the group may still keep the group.
+            let _ = std::os::unix::fs::fchown(file, Some(old.uid()), Some(old.gid()))
+                .or_else(|_| std::os::unix::fs::fchown(file, None, Some(old.gid())));
+        }
+    }
+    file.set_permissions(old.permissions())
 }
