@@ -20,6 +20,8 @@ pub enum RenderError {
     Time(f32),
     #[error("encoding the PNG: {0}")]
     Encode(String),
+    #[error("the world ({0} × {1} m) is too thin to draw in a {2}x{3} picture")]
+    Degenerate(f32, f32, u32, u32),
 }
 
 /// World → picture mapping.
@@ -69,17 +71,34 @@ pub fn render_png(
     while solver.time + 1e-6 < time {
         solver.step();
     }
-    let pix = render(layout, base, &solver, w, h);
+    let pix = render(layout, base, &solver, w, h)?;
     pix.encode_png()
         .map_err(|e| RenderError::Encode(e.to_string()))
 }
 
-/// Draws the picture of `solver`'s current field.
-pub fn render(layout: &Layout, base: &Path, solver: &Solver, w: u32, h: u32) -> Pixmap {
-    let mut pix = Pixmap::new(w, h).expect("size checked");
+/// Draws the picture of `solver`'s current field. `w × h` must be 64x64 to 8192x8192 and
+/// the layout valid (its bounds are what keep every coordinate a finite pixel).
+pub fn render(
+    layout: &Layout,
+    base: &Path,
+    solver: &Solver,
+    w: u32,
+    h: u32,
+) -> Result<Pixmap, RenderError> {
+    let degenerate = || RenderError::Degenerate(layout.world.size[0], layout.world.size[1], w, h);
+    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
+        return Err(RenderError::Size(w, h));
+    }
+    let mut pix = Pixmap::new(w, h).ok_or_else(degenerate)?;
     pix.fill(Color::from_rgba8(24, 27, 32, 255));
-    let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT).expect("bundled font");
-    let ui = (h as f32 / 1000.0).max(0.6); // text and line scale
+    let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT)
+        .map_err(|e| RenderError::Encode(format!("the bundled font: {e}")))?;
+    // Text and line scale: grows with the picture, but the title and legend bands (140 units
+    // together) never take more than half the height, nor the side margins half the width.
+    let ui = (h as f32 / 1000.0)
+        .max(0.6)
+        .min(h as f32 * 0.5 / 140.0)
+        .min(w as f32 * 0.5 / 48.0);
 
     // Fit the world between a title band and a legend band.
     let (min, max) = layout.bounds();
@@ -96,7 +115,9 @@ pub fn render(layout: &Layout, base: &Path, solver: &Solver, w: u32, h: u32) -> 
     };
     let (x0, y0) = view.px(min);
     let (x1, y1) = view.px(max);
-    let world = Rect::from_ltrb(x0, y0, x1, y1).expect("positive world");
+    let world = Rect::from_ltrb(x0, y0, x1, y1)
+        .filter(|r| r.width() > 0.0 && r.height() > 0.0)
+        .ok_or_else(degenerate)?;
     pix.fill_rect(
         world,
         &paint(Color::from_rgba8(44, 58, 40, 255)),
@@ -140,8 +161,13 @@ pub fn render(layout: &Layout, base: &Path, solver: &Solver, w: u32, h: u32) -> 
         width: 1.0,
         ..Default::default()
     };
+    // At most a few hundred lines at these scales; the cap guards against a step that a
+    // large coordinate's rounding would swallow.
     let mut gx = (min[0] / step).ceil() * step;
-    while gx <= max[0] {
+    for _ in 0..1000 {
+        if gx > max[0] {
+            break;
+        }
         line(
             &mut pix,
             view.px([gx, min[1]]),
@@ -152,7 +178,10 @@ pub fn render(layout: &Layout, base: &Path, solver: &Solver, w: u32, h: u32) -> 
         gx += step;
     }
     let mut gz = (min[1] / step).ceil() * step;
-    while gz <= max[1] {
+    for _ in 0..1000 {
+        if gz > max[1] {
+            break;
+        }
         line(
             &mut pix,
             view.px([min[0], gz]),
@@ -208,7 +237,7 @@ pub fn render(layout: &Layout, base: &Path, solver: &Solver, w: u32, h: u32) -> 
         ui,
     );
     scale_bar(&mut pix, &font, &view, (x1, y1 + 22.0 * ui), ui);
-    pix
+    Ok(pix)
 }
 
 fn nice_step(metres: f32) -> f32 {
@@ -473,7 +502,11 @@ fn draw_trees(pix: &mut Pixmap, view: &View, layout: &Layout, ui: f32) {
             let black = paint(Color::from_rgba8(0, 0, 0, 255));
             if n.id == tree.root.id {
                 let r = 7.0 * ui;
-                let rect = Rect::from_ltrb(x - r, y - r, x + r, y + r).expect("square");
+                // A point far off the picture (allowed: arrows may start outside the world)
+                // may round to an empty square; it would not be seen anyway.
+                let Some(rect) = Rect::from_ltrb(x - r, y - r, x + r, y + r) else {
+                    continue;
+                };
                 pix.fill_rect(
                     rect,
                     &paint(Color::from_rgba8(235, 90, 60, alpha)),
@@ -546,13 +579,14 @@ fn legend(
     let n = 64;
     for k in 0..n {
         let t = k as f32 / (n - 1) as f32;
-        let r = Rect::from_xywh(
+        let Some(r) = Rect::from_xywh(
             x + w * k as f32 / n as f32,
             y + 18.0 * ui,
             w / n as f32 + 0.6,
             h,
-        )
-        .expect("legend cell");
+        ) else {
+            continue;
+        };
         pix.fill_rect(
             r,
             &paint(rgba(speed_rgb(t.sqrt()), 255)),

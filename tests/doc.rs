@@ -603,3 +603,104 @@ fn cli_fmt_canonicalises_and_refuses_invalid_files() {
     assert!(err.contains(&format!("{}:1:", p.display())), "{err}");
     assert_eq!(std::fs::read_to_string(&p).unwrap(), broken);
 }
+
+#[test]
+fn coordinates_and_sizes_are_bounded_to_what_the_solver_and_renderer_can_represent() {
+    // The three layouts that used to pass validation and then panic or poison the solver.
+    let far = small_text().replacen(" 5.0,\n", " 3e38,\n", 1);
+    has(
+        &errors(&far),
+        "trees[0].root.pos[0]: must be between -1000000 and 1000000, got 3e38",
+    );
+    let tiny = small_text().replacen("\"size\": [\n      50.0", "\"size\": [\n      1e-40", 1);
+    has(
+        &errors(&tiny),
+        "world.size[0]: must be at least 1, got 1e-40",
+    );
+    let thin = small_text().replacen("\"radius\": 3.0", "\"radius\": 1e-30", 1);
+    has(
+        &errors(&thin),
+        "trees[0].root.radius: must be at least 0.001",
+    );
+    let fast = small_text().replacen("\"dt\": 0.016666668", "\"dt\": 1e-9", 1);
+    has(&errors(&fast), "sim.dt: must be at least 0.0001");
+    // The errors carry the file position.
+    let e = errors(&far);
+    assert!(
+        e.iter().any(|e| e.starts_with(&format!(
+            "{}:",
+            far.lines().position(|l| l.contains("3e38")).unwrap() + 1
+        ))),
+        "{e:?}"
+    );
+    // The schema states the same bounds.
+    let schema = doc::schema();
+    let defs = &schema["$defs"];
+    let bound = |v: &serde_json::Value| v.as_f64().unwrap() as f32;
+    let size = &defs["World"]["properties"]["size"]["items"];
+    assert_eq!(bound(&size["minimum"]), doc::WORLD_SIZE_MIN);
+    assert_eq!(bound(&size["maximum"]), doc::WORLD_SIZE_MAX);
+    let node = &defs["Node"]["properties"];
+    assert_eq!(bound(&node["pos"]["items"]["maximum"]), doc::COORD_MAX);
+    assert_eq!(bound(&node["pos"]["items"]["minimum"]), -doc::COORD_MAX);
+    assert_eq!(bound(&node["radius"]["minimum"]), doc::LENGTH_MIN);
+    let dt = &defs["SimParams"]["properties"]["dt"];
+    assert_eq!(bound(&dt["minimum"]), doc::DT_MIN);
+    assert_eq!(bound(&dt["maximum"]), doc::DT_MAX);
+}
+
+#[cfg(unix)]
+#[test]
+fn saving_keeps_the_files_mode_and_writes_through_symlinks() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let layout = example("meadow.json");
+    let mode = |p: &Path| std::fs::metadata(p).unwrap().permissions().mode() & 0o7777;
+    for m in [0o644, 0o640, 0o664, 0o600] {
+        let p = dir.path().join(format!("level-{m:o}.json"));
+        std::fs::write(&p, "{}").unwrap();
+        std::fs::set_permissions(&p, std::fs::Permissions::from_mode(m)).unwrap();
+        windloom::io::save(&p, &layout).unwrap();
+        assert_eq!(mode(&p), m, "save keeps {m:o}");
+        assert_eq!(windloom::io::load(&p).unwrap(), layout);
+    }
+    // A symlinked layout (shared from another folder): the link stays, its target changes.
+    let shared = dir.path().join("shared");
+    std::fs::create_dir(&shared).unwrap();
+    let target = shared.join("level.json");
+    std::fs::write(&target, doc::to_json(&example("obstacles.json"))).unwrap();
+    std::fs::set_permissions(&target, std::fs::Permissions::from_mode(0o644)).unwrap();
+    let link = dir.path().join("link.json");
+    std::os::unix::fs::symlink("shared/level.json", &link).unwrap();
+    windloom::io::save(&link, &layout).unwrap();
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(windloom::io::load(&target).unwrap(), layout);
+    assert_eq!(mode(&target), 0o644);
+    // `windloom fmt` through the link, on a non-canonical file.
+    std::fs::write(&target, doc::to_json(&layout).replace("\n", "\n  ")).unwrap();
+    let (code, _, err) = windloom(&["fmt", link.to_str().unwrap()]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert_eq!(
+        std::fs::read_to_string(&target).unwrap(),
+        doc::to_json(&layout)
+    );
+    assert_eq!(mode(&target), 0o644);
+    // No temporary file is left anywhere.
+    for d in [dir.path(), shared.as_path()] {
+        for e in std::fs::read_dir(d).unwrap() {
+            let n = e.unwrap().file_name().into_string().unwrap();
+            assert!(!n.ends_with(".tmp"), "{n} left behind");
+        }
+    }
+}

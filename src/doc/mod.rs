@@ -10,8 +10,9 @@ pub use edit::{Edit, EditError, History, TreeProps};
 pub use parse::{Diagnostic, Diagnostics, parse, schema, to_json};
 pub use types::*;
 pub use validate::{
-    GRID_AXIS_MAX, GRID_AXIS_MIN, GRID_MEMORY_BUDGET, Issue, RADIUS_MAX, SOLVER_BYTES_PER_CELL,
-    STRENGTH_MAX, grid_memory, polygon_area, validate,
+    COORD_MAX, DT_MAX, DT_MIN, GRID_AXIS_MAX, GRID_AXIS_MIN, GRID_MEMORY_BUDGET, Issue, LENGTH_MIN,
+    RADIUS_MAX, SOLVER_BYTES_PER_CELL, STRENGTH_MAX, WORLD_SIZE_MAX, WORLD_SIZE_MIN, grid_memory,
+    polygon_area, validate,
 };
 
 /// The bundled default layout (`layouts/meadow.json`), embedded in the binary.

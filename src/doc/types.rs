@@ -6,6 +6,9 @@
 //! (or m/s). Angles (`direction_deg`) are measured from `+x` toward `+z`, so on a top-down map
 //! drawn with `+z` pointing down the screen they turn clockwise.
 
+// The schema states the bounds `validate` enforces (as f64 literals where the f32 constant
+// would print with conversion noise); `tests/doc.rs` checks that they agree.
+use super::validate::{COORD_MAX, GRID_AXIS_MAX, GRID_AXIS_MIN, RADIUS_MAX, STRENGTH_MAX};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -47,12 +50,17 @@ pub struct Layout {
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct World {
-    /// World size in metres: `[width (x), depth (z)]`.
+    /// World size in metres: `[width (x), depth (z)]`, each 1 to 100000.
+    #[schemars(inner(range(min = 1.0, max = 100000.0)))]
     pub size: Vec2,
-    /// World position of the rectangle's minimum corner `[x0, z0]` in metres.
+    /// World position of the rectangle's minimum corner `[x0, z0]` in metres, each within
+    /// ±1e6.
     #[serde(default)]
+    #[schemars(inner(range(min = -COORD_MAX, max = COORD_MAX)))]
     pub origin: Vec2,
-    /// Wind grid resolution `[nx, ny]`: columns along `+x`, rows along `+z`.
+    /// Wind grid resolution `[nx, ny]`: columns along `+x`, rows along `+z`, each 8 to 16384
+    /// cells, and at most 2 GiB of solver memory (56 bytes a cell) in all.
+    #[schemars(inner(range(min = GRID_AXIS_MIN, max = GRID_AXIS_MAX)))]
     pub grid: [u32; 2],
     /// Optional top-down picture of the level drawn under the wind.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -112,11 +120,14 @@ fn default_propagation_speed() -> f32 {
 pub struct Node {
     /// Stable id, unique among all nodes of the layout.
     pub id: u32,
-    /// World position `[x, z]` in metres.
+    /// World position `[x, z]` in metres, each within ±1e6; at least 1 mm from its parent.
+    #[schemars(inner(range(min = -COORD_MAX, max = COORD_MAX)))]
     pub pos: Vec2,
-    /// Wind speed (m/s) the arrow ending here drives toward along its centre line.
+    /// Wind speed (m/s) the arrow ending here drives toward along its centre line, 0 to 500.
+    #[schemars(range(min = 0.0, max = STRENGTH_MAX))]
     pub strength: f32,
-    /// Gaussian radius (metres) of the arrow ending here.
+    /// Gaussian radius (metres) of the arrow ending here, 0.001 to 100000.
+    #[schemars(range(min = 0.001, max = RADIUS_MAX))]
     pub radius: f32,
     /// End points of arrows starting here: several branch, a child's children chain.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
@@ -158,11 +169,17 @@ pub struct Obstacle {
 #[serde(tag = "kind", rename_all = "snake_case", deny_unknown_fields)]
 pub enum Shape {
     Circle {
+        /// Centre `[x, z]` in metres, each within ±1e6.
+        #[schemars(inner(range(min = -COORD_MAX, max = COORD_MAX)))]
         center: Vec2,
+        /// Metres, 0.001 to 100000.
+        #[schemars(range(min = 0.001, max = RADIUS_MAX))]
         radius: f32,
     },
     /// A simple polygon, at least three points, implicitly closed.
     Polygon {
+        /// Corners `[x, z]` in metres, each coordinate within ±1e6.
+        #[schemars(length(min = 3), inner(inner(range(min = -COORD_MAX, max = COORD_MAX))))]
         points: Vec<Vec2>,
     },
 }
@@ -243,7 +260,9 @@ impl AmbientKind {
 #[serde(default)]
 #[serde(deny_unknown_fields)]
 pub struct SimParams {
-    /// Seconds per step (≤ 1/30).
+    /// Seconds per step, 0.0001 to 1/30. Bakes may step a little shorter so that frames
+    /// fall exactly on the frame rate.
+    #[schemars(range(min = 0.0001, max = 0.033333335))]
     pub dt: f32,
     /// Solver substeps per step (each of `dt / substeps`).
     pub substeps: u32,

@@ -14,6 +14,20 @@ pub const GRID_AXIS_MIN: u32 = 8;
 pub const GRID_AXIS_MAX: u32 = 16384;
 /// Largest world side in metres.
 pub const WORLD_SIZE_MAX: f32 = 100_000.0;
+/// Smallest world side in metres: with at most [`GRID_AXIS_MAX`] cells a side, cells stay
+/// above 0.06 mm, so the solver's `1/h²` and the renderer's scale stay finite.
+pub const WORLD_SIZE_MIN: f32 = 1.0;
+/// Largest distance (metres) of any position (origin, node, obstacle point) from the world
+/// origin `[0, 0]`. Far beyond any level, and small enough that every position, scaled to
+/// pixels or cells, stays a finite and precise `f32`.
+pub const COORD_MAX: f32 = 1.0e6;
+/// Smallest radius, noise scale, wavelength, tile or arrow length in metres: below it the
+/// Gaussian `1/r²` and friends overflow `f32`.
+pub const LENGTH_MIN: f32 = 1.0e-3;
+/// Smallest and largest solver step in seconds. The largest keeps the solver stable; the
+/// smallest keeps a bake's step count (seconds / dt) finite.
+pub const DT_MIN: f32 = 1.0e-4;
+pub const DT_MAX: f32 = 1.0 / 30.0;
 /// Largest arrow strength (target wind speed, m/s) and radius (m) accepted.
 pub const STRENGTH_MAX: f32 = 500.0;
 pub const RADIUS_MAX: f32 = 100_000.0;
@@ -37,6 +51,16 @@ pub fn grid_memory(grid: [u32; 2]) -> u64 {
     u64::from(grid[0]) * u64::from(grid[1]) * SOLVER_BYTES_PER_CELL
 }
 
+/// A number as a person reads it: `0.5`, `-120`, but `3e38` and `1e-40` rather than forty
+/// digits.
+fn num(v: f32) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e9).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:e}")
+    }
+}
+
 fn mib(bytes: u64) -> String {
     format!("{:.0} MiB", bytes as f64 / (1024.0 * 1024.0))
 }
@@ -56,10 +80,18 @@ impl Checker {
     /// Finite and within `[lo, hi]`.
     fn range(&mut self, path: &str, v: f32, lo: f32, hi: f32) -> bool {
         if !v.is_finite() {
-            self.push(path, format!("must be a finite number, got {v}"));
+            self.push(path, format!("must be a finite number, got {}", num(v)));
             false
         } else if v < lo || v > hi {
-            self.push(path, format!("must be between {lo} and {hi}, got {v}"));
+            self.push(
+                path,
+                format!(
+                    "must be between {} and {}, got {}",
+                    num(lo),
+                    num(hi),
+                    num(v)
+                ),
+            );
             false
         } else {
             true
@@ -68,14 +100,25 @@ impl Checker {
 
     /// Finite and strictly positive, at most `hi`.
     fn positive(&mut self, path: &str, v: f32, hi: f32) -> bool {
+        self.positive_from(path, v, 0.0, hi)
+    }
+
+    /// Finite, strictly positive, at least `lo` and at most `hi`.
+    fn positive_from(&mut self, path: &str, v: f32, lo: f32, hi: f32) -> bool {
         if !v.is_finite() {
-            self.push(path, format!("must be a finite number, got {v}"));
+            self.push(path, format!("must be a finite number, got {}", num(v)));
             false
         } else if v <= 0.0 {
-            self.push(path, format!("must be > 0, got {v}"));
+            self.push(path, format!("must be > 0, got {}", num(v)));
+            false
+        } else if v < lo {
+            self.push(
+                path,
+                format!("must be at least {}, got {}", num(lo), num(v)),
+            );
             false
         } else if v > hi {
-            self.push(path, format!("must be at most {hi}, got {v}"));
+            self.push(path, format!("must be at most {}, got {}", num(hi), num(v)));
             false
         } else {
             true
@@ -86,9 +129,11 @@ impl Checker {
         self.range(path, v, f32::MIN, f32::MAX)
     }
 
-    fn point(&mut self, path: &str, p: Vec2) {
-        self.finite(&format!("{path}[0]"), p[0]);
-        self.finite(&format!("{path}[1]"), p[1]);
+    /// A position: each coordinate within ±[`COORD_MAX`].
+    fn point(&mut self, path: &str, p: Vec2) -> bool {
+        let a = self.range(&format!("{path}[0]"), p[0], -COORD_MAX, COORD_MAX);
+        let b = self.range(&format!("{path}[1]"), p[1], -COORD_MAX, COORD_MAX);
+        a && b
     }
 
     fn min_max(&mut self, path: &str, r: Vec2, hi: f32) {
@@ -133,9 +178,10 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
     for (t, tree) in layout.trees.iter().enumerate() {
         let p = format!("trees[{t}]");
         c.unique_id(&mut tree_ids, "tree", tree.id, &p);
-        c.positive(
+        c.positive_from(
             &format!("{p}.propagation_speed"),
             tree.propagation_speed,
+            LENGTH_MIN,
             1.0e6,
         );
         if let TimeWindow::Between { start, end } = tree.window {
@@ -149,7 +195,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
             }
         }
         if let Emission::Pulsed { period, duty } = tree.emission {
-            c.positive(&format!("{p}.emission.period"), period, 1.0e6);
+            c.positive_from(&format!("{p}.emission.period"), period, LENGTH_MIN, 1.0e6);
             c.positive(&format!("{p}.emission.duty"), duty, 1.0);
         }
         check_node(&mut c, &mut node_ids, &tree.root, &format!("{p}.root"));
@@ -162,7 +208,12 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
         match &obstacle.shape {
             Shape::Circle { center, radius } => {
                 c.point(&format!("{p}.shape.center"), *center);
-                c.positive(&format!("{p}.shape.radius"), *radius, RADIUS_MAX);
+                c.positive_from(
+                    &format!("{p}.shape.radius"),
+                    *radius,
+                    LENGTH_MIN,
+                    RADIUS_MAX,
+                );
             }
             Shape::Polygon { points } => {
                 if points.len() < 3 {
@@ -215,7 +266,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 strength,
             } => {
                 c.finite(&format!("{k}.direction_deg"), *direction_deg);
-                c.positive(&format!("{k}.scale"), *scale, WORLD_SIZE_MAX);
+                c.positive_from(&format!("{k}.scale"), *scale, LENGTH_MIN, WORLD_SIZE_MAX);
                 c.range(&format!("{k}.speed"), *speed, 0.0, 1000.0);
                 c.range(&format!("{k}.strength"), *strength, 0.0, 500.0);
             }
@@ -228,7 +279,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 seed: _,
             } => {
                 c.finite(&format!("{k}.direction_deg"), *direction_deg);
-                c.positive(&format!("{k}.wind_speed"), *wind_speed, 500.0);
+                c.positive_from(&format!("{k}.wind_speed"), *wind_speed, 0.01, 500.0);
                 c.range(&format!("{k}.amplitude"), *amplitude, 0.0, 500.0);
                 if !resolution.is_power_of_two() || !(8..=512).contains(resolution) {
                     c.push(
@@ -236,7 +287,12 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                         format!("must be a power of two from 8 to 512, got {resolution}"),
                     );
                 }
-                c.positive(&format!("{k}.tile_size"), *tile_size, WORLD_SIZE_MAX);
+                c.positive_from(
+                    &format!("{k}.tile_size"),
+                    *tile_size,
+                    LENGTH_MIN,
+                    WORLD_SIZE_MAX,
+                );
             }
             AmbientKind::Sine {
                 direction_deg,
@@ -246,7 +302,12 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
             } => {
                 c.finite(&format!("{k}.direction_deg"), *direction_deg);
                 c.range(&format!("{k}.amplitude"), *amplitude, 0.0, 500.0);
-                c.positive(&format!("{k}.wavelength"), *wavelength, WORLD_SIZE_MAX);
+                c.positive_from(
+                    &format!("{k}.wavelength"),
+                    *wavelength,
+                    LENGTH_MIN,
+                    WORLD_SIZE_MAX,
+                );
                 c.range(&format!("{k}.frequency"), *frequency, -100.0, 100.0);
             }
         }
@@ -258,8 +319,8 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
 }
 
 fn check_world(c: &mut Checker, w: &World) {
-    c.positive("world.size[0]", w.size[0], WORLD_SIZE_MAX);
-    c.positive("world.size[1]", w.size[1], WORLD_SIZE_MAX);
+    c.positive_from("world.size[0]", w.size[0], WORLD_SIZE_MIN, WORLD_SIZE_MAX);
+    c.positive_from("world.size[1]", w.size[1], WORLD_SIZE_MIN, WORLD_SIZE_MAX);
     c.point("world.origin", w.origin);
     let mut axes_ok = true;
     for (i, n) in w.grid.iter().enumerate() {
@@ -294,15 +355,16 @@ fn check_world(c: &mut Checker, w: &World) {
 
 fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &str) {
     c.unique_id(ids, "node", n.id, path);
-    c.point(&format!("{path}.pos"), n.pos);
+    let here = c.point(&format!("{path}.pos"), n.pos);
     c.range(&format!("{path}.strength"), n.strength, 0.0, STRENGTH_MAX);
-    c.positive(&format!("{path}.radius"), n.radius, RADIUS_MAX);
+    c.positive_from(&format!("{path}.radius"), n.radius, LENGTH_MIN, RADIUS_MAX);
     for (i, child) in n.children.iter().enumerate() {
         let cp = format!("{path}.children[{i}]");
-        if child.pos == n.pos {
+        let (dx, dz) = (child.pos[0] - n.pos[0], child.pos[1] - n.pos[1]);
+        if here && dx.is_finite() && dz.is_finite() && dx.hypot(dz) < LENGTH_MIN {
             c.push(
                 &format!("{cp}.pos"),
-                "an arrow end point must differ from its start point",
+                format!("an arrow end point must be at least {LENGTH_MIN} m from its start point"),
             );
         }
         check_node(c, ids, child, &cp);
@@ -310,7 +372,7 @@ fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &
 }
 
 fn check_sim(c: &mut Checker, s: &SimParams) {
-    c.positive("sim.dt", s.dt, 1.0 / 30.0);
+    c.positive_from("sim.dt", s.dt, DT_MIN, DT_MAX);
     if !(1..=16).contains(&s.substeps) {
         c.push(
             "sim.substeps",
