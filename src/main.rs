@@ -57,8 +57,10 @@ enum Command {
     ///
     /// Formats (repeat --format; default all): exr (float RGB), png8 / png16 (flowmaps, RG
     /// centred on 0.5), fga (Unreal vector field, ≤128 per axis, area-averaged), vf (Unity
-    /// VF_V), raw (f32 + manifest), atlas (all frames in one 16-bit PNG flipbook). Files appear
-    /// only when the whole bake succeeded; Ctrl-C leaves nothing behind.
+    /// VF_V), raw (f32 + manifest), atlas (all frames in one 16-bit PNG flipbook). Frame k is
+    /// the wind at exactly warmup + k/fps seconds. The new bake replaces the output folder as a
+    /// whole when everything is written (files you put there stay); Ctrl-C or an error leaves
+    /// the folder as it was.
     ///
     /// Example: windloom bake layouts/obstacles.json --out bake/ --frames 48 --fps 24 --loop
     Bake {
@@ -88,6 +90,10 @@ enum Command {
         /// EXR as 16-bit half floats.
         #[arg(long)]
         half: bool,
+        /// Most disk the bake may take (e.g. 500M, 16G, 2T); checked before it starts against
+        /// an upper bound of what it writes, as is the free space.
+        #[arg(long, default_value = "16G", value_parser = parse_bytes)]
+        max_disk: u64,
         /// Solver to run.
         #[arg(long, value_enum, default_value_t = Backend::Cpu)]
         backend: Backend,
@@ -191,6 +197,34 @@ fn parse_grid(s: &str) -> Result<[u32; 2], String> {
     Ok([n(a)?, n(b)?])
 }
 
+/// `500M`, `16G`, `2T`, `1048576` → bytes (binary units: 1K = 1024).
+fn parse_bytes(s: &str) -> Result<u64, String> {
+    let t = s.trim();
+    let err = || format!("expected a size like 500M, 16G or 2T, got {s:?}");
+    let (num, unit) = match t.find(|c: char| c.is_ascii_alphabetic()) {
+        Some(i) => t.split_at(i),
+        None => (t, ""),
+    };
+    let shift = match unit
+        .to_ascii_uppercase()
+        .trim_end_matches("IB")
+        .trim_end_matches('B')
+    {
+        "" => 0,
+        "K" => 10,
+        "M" => 20,
+        "G" => 30,
+        "T" => 40,
+        _ => return Err(err()),
+    };
+    let v: f64 = num.trim().parse().map_err(|_| err())?;
+    let bytes = v * (1u64 << shift) as f64;
+    if !(v.is_finite() && v > 0.0 && bytes < 2f64.powi(63)) {
+        return Err(err());
+    }
+    Ok(bytes as u64)
+}
+
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum AdvectionArg {
     SemiLagrangian,
@@ -269,6 +303,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             looped,
             grid,
             half,
+            max_disk,
             backend,
         }) => {
             if backend == Backend::Gpu {
@@ -287,6 +322,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 looped,
                 grid,
                 half,
+                max_bytes: max_disk,
             };
             let cancel = Arc::new(AtomicBool::new(false));
             let flag = cancel.clone();

@@ -70,6 +70,7 @@ impl ExportDialog {
             looped: self.looped,
             grid: (!self.use_layout_grid).then_some(self.grid),
             half: false,
+            max_bytes: bake::DEFAULT_MAX_BYTES,
         }
     }
 

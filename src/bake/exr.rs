@@ -1,60 +1,63 @@
 //! OpenEXR: float R = world x velocity, G = world z velocity, B = speed (m/s). Always R, G and
-//! B (TinyEXR-based importers such as Godot's reject a file without B).
+//! B (TinyEXR-based importers such as Godot's reject a file without B), and always a
+//! *scanline* image in increasing-Y order: TinyEXR, which Godot bundles, reads tiled images
+//! with their rows reversed relative to OpenEXR, while both read scanline images the same way.
+//! ZIP compression in blocks of 16 lines: lossless, and read by every EXR loader.
 
-use super::{BakeError, ExportContext, FileEntry, Format, Output};
-use exr::prelude::{Image, SpecificChannels, Vec2, WritableImage, f16};
+use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
+use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage, f16};
 
-pub(crate) fn write(ctx: &ExportContext<'_>) -> Result<Vec<Output>, BakeError> {
-    let mut out = Vec::new();
-    for (k, f) in ctx.frames.iter().enumerate() {
-        let name = ctx.name("wind", k, "exr");
-        let pixel = |p: Vec2<usize>| {
-            let v = f.at(p.x(), p.y());
-            (v[0], v[1], v[0].hypot(v[1]))
-        };
-        let mut bytes = Vec::new();
-        let cursor = std::io::Cursor::new(&mut bytes);
-        let result = if ctx.half {
-            let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
-                let (r, g, b) = pixel(p);
-                (f16::from_f32(r), f16::from_f32(g), f16::from_f32(b))
-            });
-            Image::from_channels((f.nx, f.ny), channels)
-                .write()
-                .to_buffered(cursor)
-        } else {
-            let channels = SpecificChannels::rgb(pixel);
-            Image::from_channels((f.nx, f.ny), channels)
-                .write()
-                .to_buffered(cursor)
-        };
-        result.map_err(|e| BakeError::Encode {
-            name: name.clone(),
-            message: e.to_string(),
-        })?;
-        out.push(Output {
-            entry: FileEntry {
-                name: name.clone(),
-                format: Format::Exr,
-                frame: ctx.frame_index(k),
-                grid: [f.nx, f.ny],
-                resampled_from: None,
-                encoding: serde_json::json!({
-                    "sample_type": if ctx.half { "f16" } else { "f32" },
-                    "R": "world x velocity, m/s",
-                    "G": "world z velocity, m/s",
-                    "B": "speed, m/s",
-                    "scale": 1.0, "offset": 0.0,
-                }),
-                axes: serde_json::json!({
-                    "pixel_x": "+x (east), column 0 at world min x",
-                    "pixel_y": "+z (south), row 0 (top of the image) at world min z",
-                }),
-                bytes: 0,
-            },
-            name,
-            bytes,
+/// The encoding every windloom EXR uses.
+pub(crate) const ENCODING: Encoding = Encoding::SMALL_LOSSLESS;
+
+pub(crate) fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> {
+    let name = ctx.name("wind", k, "exr");
+    let pixel = |p: Vec2<usize>| {
+        let v = f.at(p.x(), p.y());
+        (v[0], v[1], v[0].hypot(v[1]))
+    };
+    let mut bytes = Vec::new();
+    let cursor = std::io::Cursor::new(&mut bytes);
+    let result = if ctx.half {
+        let channels = SpecificChannels::rgb(|p: Vec2<usize>| {
+            let (r, g, b) = pixel(p);
+            (f16::from_f32(r), f16::from_f32(g), f16::from_f32(b))
         });
-    }
-    Ok(out)
+        Image::from_encoded_channels((f.nx, f.ny), ENCODING, channels)
+            .write()
+            .to_buffered(cursor)
+    } else {
+        let channels = SpecificChannels::rgb(pixel);
+        Image::from_encoded_channels((f.nx, f.ny), ENCODING, channels)
+            .write()
+            .to_buffered(cursor)
+    };
+    result.map_err(|e| BakeError::Encode {
+        name: name.clone(),
+        message: e.to_string(),
+    })?;
+    Ok(Output {
+        entry: FileEntry {
+            name: name.clone(),
+            format: Format::Exr,
+            frame: ctx.frame_index(k),
+            grid: [f.nx, f.ny],
+            resampled_from: None,
+            encoding: serde_json::json!({
+                "sample_type": if ctx.half { "f16" } else { "f32" },
+                "R": "world x velocity, m/s",
+                "G": "world z velocity, m/s",
+                "B": "speed, m/s",
+                "scale": 1.0, "offset": 0.0,
+                "storage": "scanline, increasing Y, ZIP (16 lines per block)",
+            }),
+            axes: serde_json::json!({
+                "pixel_x": "+x (east), column 0 at world min x",
+                "pixel_y": "+z (south), row 0 (top of the image) at world min z",
+            }),
+            bytes: 0,
+        },
+        name,
+        bytes,
+    })
 }

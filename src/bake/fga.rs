@@ -1,62 +1,71 @@
-//! Unreal FGA vector fields: `SizeX,SizeY,SizeZ,` then the bounds, then one `x,y,z,` vector per
-//! line, X fastest. At most 128 cells per axis: larger grids are area-averaged down.
+//! Unreal FGA vector fields. Line 1: `SizeX,SizeY,SizeZ,`; line 2: the minimum corner
+//! `MinX,MinY,MinZ,`; line 3: the maximum corner `MaxX,MaxY,MaxZ,`; then one `x,y,z,` vector
+//! per line, X fastest. Unreal's own parser splits on commas and does not mind the lines, but
+//! line-based readers (Blender's FGA add-on and others) take line 2 as the minimum and line 3
+//! as the maximum, as Houdini, VectorayGen and Blender write them. At most 128 cells per axis:
+//! larger grids are area-averaged down.
 
-use super::{ExportContext, FGA_MAX, FileEntry, Format, Output};
+use super::{ExportContext, FGA_MAX, Field, FileEntry, Format, Output};
 use std::fmt::Write;
 
 /// Slab thickness of the 2D field as a volume, in Unreal units (cm).
-pub const FGA_HEIGHT_CM: f32 = 200.0;
+pub(crate) const FGA_HEIGHT_CM: f32 = 200.0;
+const CM: f32 = 100.0;
 
-pub(crate) fn write(ctx: &ExportContext<'_>) -> (Vec<Output>, Option<String>) {
-    let (nx, ny) = (ctx.frames[0].nx, ctx.frames[0].ny);
+/// The FGA grid for an `nx × ny` bake: the same, or scaled down to at most 128 per axis.
+pub(crate) fn dims(nx: usize, ny: usize) -> (usize, usize) {
     let s = (FGA_MAX as f64 / nx.max(ny) as f64).min(1.0);
-    let (fx, fy) = (
+    (
         ((nx as f64 * s).round() as usize).clamp(1, FGA_MAX),
         ((ny as f64 * s).round() as usize).clamp(1, FGA_MAX),
-    );
-    let resampled = (fx, fy) != (nx, ny);
-    let note = resampled.then(|| {
+    )
+}
+
+/// The manifest note when the grid had to be resampled.
+pub(crate) fn note(nx: usize, ny: usize) -> Option<String> {
+    let (fx, fy) = dims(nx, ny);
+    ((fx, fy) != (nx, ny)).then(|| {
         format!("fga: resampled {nx}x{ny} to {fx}x{fy} by area averaging (Unreal accepts at most {FGA_MAX} per axis)")
-    });
-    let cm = 100.0;
-    let mut out = Vec::new();
-    for (k, frame) in ctx.frames.iter().enumerate() {
-        let f = frame.resample(fx, fy);
-        let mut text = String::with_capacity(fx * fy * 24 + 128);
-        let _ = writeln!(text, "{fx},{fy},1,");
-        let _ = writeln!(
-            text,
-            "{},{},{},{},{},{},",
-            ctx.min[0] * cm,
-            ctx.min[1] * cm,
-            0.0,
-            ctx.max[0] * cm,
-            ctx.max[1] * cm,
-            FGA_HEIGHT_CM
-        );
-        for v in &f.data {
-            let _ = writeln!(text, "{},{},0,", v[0] * cm, v[1] * cm);
-        }
-        let name = ctx.name("wind", k, "fga");
-        out.push(Output {
-            entry: FileEntry {
-                name: name.clone(),
-                format: Format::Fga,
-                frame: ctx.frame_index(k),
-                grid: [fx, fy],
-                resampled_from: resampled.then_some([nx, ny]),
-                encoding: serde_json::json!({"units": "cm/s", "scale": 100.0, "offset": 0.0,
-                    "values": "x,y,z per cell, X fastest, then Y, then Z (SizeZ = 1)"}),
-                axes: serde_json::json!({
-                    "unreal": "Z-up, left-handed, centimetres",
-                    "X": "world +x (east)", "Y": "world +z (south)", "Z": "world +y (up)",
-                    "bounds_cm": [ctx.min[0] * cm, ctx.min[1] * cm, 0.0, ctx.max[0] * cm, ctx.max[1] * cm, FGA_HEIGHT_CM],
-                }),
-                bytes: 0,
-            },
-            name,
-            bytes: text.into_bytes(),
-        });
+    })
+}
+
+/// Most bytes one vector line takes: three floats written without exponent (at most 48
+/// characters each, for the smallest subnormal) and their commas, plus the newline.
+pub(crate) const MAX_LINE: u64 = 3 * 49 + 1;
+
+pub(crate) fn frame(ctx: &ExportContext, k: usize, frame: &Field) -> Output {
+    let (nx, ny) = (frame.nx, frame.ny);
+    let (fx, fy) = dims(nx, ny);
+    let resampled = (fx, fy) != (nx, ny);
+    let f = frame.resample(fx, fy);
+    let min = [ctx.min[0] * CM, ctx.min[1] * CM, 0.0];
+    let max = [ctx.max[0] * CM, ctx.max[1] * CM, FGA_HEIGHT_CM];
+    let mut text = String::with_capacity(fx * fy * 24 + 128);
+    let _ = writeln!(text, "{fx},{fy},1,");
+    let _ = writeln!(text, "{},{},{},", min[0], min[1], min[2]);
+    let _ = writeln!(text, "{},{},{},", max[0], max[1], max[2]);
+    for v in &f.data {
+        let _ = writeln!(text, "{},{},0,", v[0] * CM, v[1] * CM);
     }
-    (out, note)
+    let name = ctx.name("wind", k, "fga");
+    Output {
+        entry: FileEntry {
+            name: name.clone(),
+            format: Format::Fga,
+            frame: ctx.frame_index(k),
+            grid: [fx, fy],
+            resampled_from: resampled.then_some([nx, ny]),
+            encoding: serde_json::json!({"units": "cm/s", "scale": 100.0, "offset": 0.0,
+                "lines": "1: SizeX,SizeY,SizeZ  2: MinX,MinY,MinZ  3: MaxX,MaxY,MaxZ  then one x,y,z per line",
+                "values": "x,y,z per cell, X fastest, then Y, then Z (SizeZ = 1)"}),
+            axes: serde_json::json!({
+                "unreal": "Z-up, left-handed, centimetres",
+                "X": "world +x (east)", "Y": "world +z (south)", "Z": "world +y (up)",
+                "bounds_cm": [min[0], min[1], min[2], max[0], max[1], max[2]],
+            }),
+            bytes: 0,
+        },
+        name,
+        bytes: text.into_bytes(),
+    }
 }

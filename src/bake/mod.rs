@@ -1,22 +1,32 @@
 //! Baking: run a layout headless and write the wind in the formats game engines read.
 //!
-//! Every file is first written into a staging folder inside the output folder and renamed
-//! into place only when the whole bake succeeded, the manifest last; an error or a
-//! cancellation removes the staging folder, so no partial file is ever left behind.
+//! Frames sit at exactly `warmup + k / fps` seconds of simulated time (`timing`). They are
+//! streamed to disk as the solver makes them (`frames`), then encoded one at a time, so memory
+//! does not grow with the frame count; the disk a bake can take is checked before it starts.
+//! Everything is written into a staging folder beside the output folder, which then replaces
+//! the output folder as a whole, keeping the user's own files (`folder`). An error or a
+//! cancellation removes the staging folder and leaves the output folder as it was.
 
 mod exr;
 mod fga;
+mod folder;
+mod frames;
 mod png;
 mod raw;
+pub mod timing;
 mod vf;
+
+pub use png::ATLAS_MAX_SIDE;
+pub use timing::FrameTiming;
 
 use crate::doc::{self, Layout};
 use crate::sim::Solver;
+use frames::{FrameReader, FrameWriter};
 use serde::Serialize;
 use sha2::Digest;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
-
 /// A baked frame: cell-centred world velocity `[x, z]` in m/s, row-major (`i` along +x fastest,
 /// row `j` along +z).
 #[derive(Debug, Clone, PartialEq)]
@@ -135,7 +145,7 @@ impl Format {
 #[derive(Debug, Clone, PartialEq)]
 pub struct BakeOptions {
     pub formats: Vec<Format>,
-    /// Seconds simulated before the first captured frame.
+    /// Seconds simulated before the first captured frame (rounded to whole frames).
     pub warmup: f32,
     /// Frames to capture (1: one steady frame).
     pub frames: usize,
@@ -147,7 +157,13 @@ pub struct BakeOptions {
     pub grid: Option<[u32; 2]>,
     /// Write EXR as 16-bit half floats instead of 32-bit.
     pub half: bool,
+    /// Most disk the bake may take, in bytes, counted before it starts (an upper bound of
+    /// what every output and the temporary frame files need).
+    pub max_bytes: u64,
 }
+
+/// The default disk budget of a bake: 16 GiB.
+pub const DEFAULT_MAX_BYTES: u64 = 16 << 30;
 
 impl Default for BakeOptions {
     fn default() -> Self {
@@ -159,7 +175,24 @@ impl Default for BakeOptions {
             looped: false,
             grid: None,
             half: false,
+            max_bytes: DEFAULT_MAX_BYTES,
         }
+    }
+}
+
+/// Bytes as a person reads them: `512 B`, `3.2 MiB`, `1.50 GiB`.
+pub fn human_bytes(bytes: u64) -> String {
+    const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
+    let mut v = bytes as f64;
+    let mut u = 0;
+    while v >= 1024.0 && u + 1 < UNITS.len() {
+        v /= 1024.0;
+        u += 1;
+    }
+    if u == 0 {
+        format!("{bytes} B")
+    } else {
+        format!("{v:.2} {}", UNITS[u])
     }
 }
 
@@ -181,6 +214,16 @@ pub enum BakeError {
     },
     #[error("encoding {name}: {message}")]
     Encode { name: String, message: String },
+    #[error(
+        "this bake needs up to {} of disk, more than {limit}; bake fewer frames, formats or cells{hint}",
+        human_bytes(*need)
+    )]
+    Disk {
+        need: u64,
+        /// What it exceeds, e.g. `the 16.00 GiB budget`.
+        limit: String,
+        hint: &'static str,
+    },
     #[error("cancelled; no files were written")]
     Cancelled,
 }
@@ -247,14 +290,21 @@ pub struct FramesInfo {
     pub looped: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub loop_method: Option<&'static str>,
-    pub warmup_seconds: f32,
+    /// Simulated seconds before frame 0 (the asked warm-up rounded to whole frames). Frame
+    /// `k` is the wind at `warmup_seconds + k / fps` (for loops, see `loop_method`).
+    pub warmup_seconds: f64,
+    /// The solver step used: `1 / (fps · steps_per_frame)`, at most the layout's `sim.dt`.
     pub sim_dt: f32,
     pub steps_per_frame: usize,
+    /// The layout's own `sim.dt`, the longest step the bake may take.
+    pub layout_dt: f32,
 }
 
 pub const MANIFEST: &str = "manifest.json";
 /// Unreal's importer rejects larger axes.
 pub const FGA_MAX: usize = 128;
+/// Longest sequence a bake takes (about an hour at 30 fps); the disk budget usually binds first.
+pub const FRAMES_MAX: usize = 100_000;
 
 /// The content hash the manifest records: sha256 of the canonical layout JSON.
 pub fn layout_hash(layout: &Layout) -> String {
@@ -263,112 +313,51 @@ pub fn layout_hash(layout: &Layout) -> String {
     format!("sha256:{hex}")
 }
 
-/// Simulates `layout` and returns the frames to export (looped if asked).
-pub fn capture(
-    layout: &Layout,
-    opts: &BakeOptions,
-    cancel: &AtomicBool,
-    progress: Progress<'_>,
-) -> Result<(Vec<Field>, FramesInfo), BakeError> {
-    if opts.frames == 0 {
-        return Err(BakeError::Settings("--frames must be at least 1".into()));
+fn check_settings(opts: &BakeOptions) -> Result<(), BakeError> {
+    let bad = |m: String| Err(BakeError::Settings(m));
+    if opts.formats.is_empty() {
+        return bad("no --format given".into());
     }
-    if !(opts.fps.is_finite() && opts.fps > 0.0 && opts.fps <= 1000.0) {
-        return Err(BakeError::Settings(format!(
-            "--fps must be between 0 and 1000, got {}",
-            opts.fps
-        )));
-    }
-    if !(opts.warmup.is_finite() && opts.warmup >= 0.0 && opts.warmup <= 36_000.0) {
-        return Err(BakeError::Settings(format!(
-            "--warmup must be 0 to 36000 seconds, got {}",
-            opts.warmup
-        )));
-    }
-    if opts.looped && opts.frames < 2 {
-        return Err(BakeError::Settings(
-            "--loop needs --frames 2 or more".into(),
+    if !(1..=FRAMES_MAX).contains(&opts.frames) {
+        return bad(format!(
+            "--frames must be 1 to {FRAMES_MAX}, got {}",
+            opts.frames
         ));
     }
-    let dt = layout.sim.dt;
-    let steps_per_frame = ((1.0 / (opts.fps * dt)).round() as usize).max(1);
-    let warmup_steps = (opts.warmup / dt).round() as usize;
-    // A loop cross-fades two runs of the sequence, so it simulates twice as many frames.
-    let simulated = if opts.looped {
-        opts.frames * 2
-    } else {
-        opts.frames
-    };
-    let total = warmup_steps + (simulated - 1) * steps_per_frame;
-    let mut solver = Solver::new(layout);
-    let mut done = 0;
-    let mut step = |solver: &mut Solver, n: usize, done: &mut usize| -> Result<(), BakeError> {
-        for _ in 0..n {
-            if cancel.load(Ordering::Relaxed) {
-                return Err(BakeError::Cancelled);
-            }
-            solver.step();
-            *done += 1;
-            if *done % 8 == 0 || *done == total {
-                progress(*done, total, "simulating");
-            }
-        }
-        Ok(())
-    };
-    step(&mut solver, warmup_steps, &mut done)?;
-    let mut frames = Vec::with_capacity(simulated);
-    for k in 0..simulated {
-        if k > 0 {
-            step(&mut solver, steps_per_frame, &mut done)?;
-        }
-        frames.push(Field {
-            nx: solver.nx,
-            ny: solver.ny,
-            data: solver.velocity_field(),
-        });
+    if !(opts.fps.is_finite() && opts.fps > 0.0 && opts.fps <= 1000.0) {
+        return bad(format!(
+            "--fps must be between 0 and 1000, got {}",
+            opts.fps
+        ));
     }
-    let frames = if opts.looped {
-        crossfade_loop(&frames, opts.frames)
-    } else {
-        frames
-    };
-    Ok((
-        frames,
-        FramesInfo {
-            count: opts.frames,
-            fps: opts.fps,
-            looped: opts.looped,
-            loop_method: opts.looped.then_some(
-                "crossfade: frame k = (1 - k/N)·S[k+N] + (k/N)·S[k] over 2N simulated frames S",
-            ),
-            warmup_seconds: warmup_steps as f32 * dt,
-            sim_dt: dt,
-            steps_per_frame,
-        },
-    ))
+    if !(opts.warmup.is_finite() && opts.warmup >= 0.0 && opts.warmup <= 36_000.0) {
+        return bad(format!(
+            "--warmup must be 0 to 36000 seconds, got {}",
+            opts.warmup
+        ));
+    }
+    if opts.looped && opts.frames < 2 {
+        return bad("--loop needs --frames 2 or more".into());
+    }
+    Ok(())
 }
 
-/// A seamless loop of `n` frames from `2n` simulated ones: frame `k` blends `S[k+n]` (weight
-/// `1 − k/n`) with `S[k]` (weight `k/n`). Frame 0 is `S[n]`; the last frame is almost
-/// `S[n−1]`, whose natural successor is `S[n]`, so playing the last frame then the first is
-/// one ordinary simulation step.
-pub fn crossfade_loop(s: &[Field], n: usize) -> Vec<Field> {
-    (0..n)
-        .map(|k| {
-            let w = k as f32 / n as f32;
-            let (a, b) = (&s[k + n], &s[k]);
-            Field {
-                nx: a.nx,
-                ny: a.ny,
-                data: a
-                    .data
-                    .iter()
-                    .zip(&b.data)
-                    .map(|(p, q)| [p[0] * (1.0 - w) + q[0] * w, p[1] * (1.0 - w) + q[1] * w])
-                    .collect(),
-            }
-        })
-        .collect()
+/// Frame `k` of a seamless loop of `n` frames from `2n` simulated ones `S`: it blends
+/// `S[k+n]` (weight `1 − k/n`) with `S[k]` (weight `k/n`). Frame 0 is `S[n]`; the last frame is
+/// almost `S[n−1]`, whose natural successor is `S[n]`, so playing the last frame then the
+/// first is one ordinary simulation step.
+pub fn crossfade(late: &Field, early: &Field, k: usize, n: usize) -> Field {
+    let w = k as f32 / n as f32;
+    Field {
+        nx: late.nx,
+        ny: late.ny,
+        data: late
+            .data
+            .iter()
+            .zip(&early.data)
+            .map(|(p, q)| [p[0] * (1.0 - w) + q[0] * w, p[1] * (1.0 - w) + q[1] * w])
+            .collect(),
+    }
 }
 
 /// The file name of frame `k` of `count` with extension `ext`.
@@ -380,6 +369,87 @@ fn frame_name(stem: &str, k: usize, count: usize, ext: &str) -> String {
     }
 }
 
+/// Every file a bake of `count` frames in `formats` writes, the manifest last.
+pub fn output_names(formats: &[Format], count: usize) -> Vec<String> {
+    let mut names = Vec::new();
+    for f in formats {
+        let (stem, ext) = match f {
+            Format::Exr => ("wind", "exr"),
+            Format::Png8 => ("flow8", "png"),
+            Format::Png16 => ("flow16", "png"),
+            Format::Fga => ("wind", "fga"),
+            Format::Vf => ("wind", "vf"),
+            Format::Raw => {
+                names.push(raw::NAME.to_string());
+                continue;
+            }
+            Format::Atlas => {
+                names.push(png::ATLAS_NAME.to_string());
+                continue;
+            }
+        };
+        names.extend((0..count).map(|k| frame_name(stem, k, count, ext)));
+    }
+    names.push(MANIFEST.to_string());
+    names
+}
+
+/// An upper bound of the disk a bake takes at its peak: every output, the manifest, and the
+/// temporary frame files (the frame stream when `raw` is not kept, and a loop's `2N` source
+/// frames).
+pub fn disk_need(
+    nx: usize,
+    ny: usize,
+    formats: &[Format],
+    frames: usize,
+    looped: bool,
+    half: bool,
+) -> u64 {
+    let cells = (nx * ny) as u64;
+    let n = frames as u64;
+    let frame_raw = cells * 8;
+    // The frame stream (kept as wind.f32 or deleted at the end), and a loop's source frames.
+    let mut need = frame_raw * n + if looped { frame_raw * 2 * n } else { 0 };
+    let blocks = ny.div_ceil(16) as u64;
+    for f in formats {
+        need += match f {
+            Format::Exr => {
+                let raw = cells * 3 * if half { 2 } else { 4 };
+                n * (raw + raw / 100 + blocks * 16 + 4096)
+            }
+            Format::Png8 => n * png::max_size(nx, ny, 3),
+            Format::Png16 => n * png::max_size(nx, ny, 6),
+            Format::Fga => {
+                let (fx, fy) = fga::dims(nx, ny);
+                n * ((fx * fy) as u64 * fga::MAX_LINE + 512)
+            }
+            Format::Vf => n * vf::size(nx, ny),
+            Format::Raw => 0,
+            Format::Atlas => {
+                let (c, r) = png::atlas_grid(frames);
+                png::max_size(c * nx, r * ny, 6)
+            }
+        };
+    }
+    // The manifest: a few hundred bytes per file.
+    need + 64 * 1024 + 1024 * output_names(formats, frames).len() as u64
+}
+
+/// Bytes free to this user on the file system holding `dir`, where the system says.
+fn free_space(dir: &Path) -> Option<u64> {
+    #[cfg(unix)]
+    {
+        rustix::fs::statvfs(dir)
+            .ok()
+            .map(|s| s.f_bavail.saturating_mul(s.f_frsize))
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        None
+    }
+}
+
 /// What an exporter hands back: file name, bytes, and its manifest entry (minus size).
 pub(crate) struct Output {
     pub name: String,
@@ -387,7 +457,32 @@ pub(crate) struct Output {
     pub entry: FileEntry,
 }
 
-/// Bakes `layout` into `out`. Returns the manifest written.
+/// Writes a file and flushes it to disk before the folder swap can make it visible.
+fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> Result<u64, BakeError> {
+    use std::io::Write;
+    let path = dir.join(name);
+    let err = |source| BakeError::Write {
+        path: path.clone(),
+        source,
+    };
+    let mut f = std::fs::File::create(&path).map_err(err)?;
+    f.write_all(bytes).map_err(err)?;
+    f.sync_all().map_err(err)?;
+    Ok(bytes.len() as u64)
+}
+
+fn sync_file(path: &Path) -> Result<u64, BakeError> {
+    let err = |source| BakeError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let f = std::fs::File::open(path).map_err(err)?;
+    f.sync_all().map_err(err)?;
+    Ok(f.metadata().map_err(err)?.len())
+}
+
+/// Bakes `layout` into the folder `out`, which it replaces as a whole (keeping files the user
+/// put there). Returns the manifest written.
 pub fn bake(
     layout: &Layout,
     out: &Path,
@@ -395,69 +490,168 @@ pub fn bake(
     cancel: &AtomicBool,
     progress: Progress<'_>,
 ) -> Result<Manifest, BakeError> {
-    if opts.formats.is_empty() {
-        return Err(BakeError::Settings("no --format given".into()));
-    }
+    check_settings(opts)?;
     let mut layout = layout.clone();
     if let Some(g) = opts.grid {
         layout.world.grid = g;
     }
-    let issues = doc::validate(&layout);
-    if let Some(i) = issues.first() {
+    if let Some(i) = doc::validate(&layout).first() {
         return Err(BakeError::Layout(i.to_string()));
     }
-    std::fs::create_dir_all(out).map_err(|source| BakeError::Output {
-        path: out.to_path_buf(),
-        source,
-    })?;
-    // Staging inside the output folder, so the final renames stay on one file system.
-    let staging = tempfile::Builder::new()
-        .prefix(".windloom-bake-")
-        .tempdir_in(out)
-        .map_err(|source| BakeError::Output {
-            path: out.to_path_buf(),
-            source,
-        })?;
-
-    let (frames, frames_info) = capture(&layout, opts, cancel, progress)?;
-    let (nx, ny) = (frames[0].nx, frames[0].ny);
-    let max_speed = frames.iter().map(Field::max_speed).fold(0.0, f32::max);
-    let (min, max) = layout.bounds();
-    let mut notes = Vec::new();
-    let mut outputs: Vec<Output> = Vec::new();
+    let timing = FrameTiming::new(opts.fps, layout.sim.dt, opts.warmup);
+    let (nx, ny) = (layout.world.grid[0] as usize, layout.world.grid[1] as usize);
+    let n = opts.frames;
     let mut formats = opts.formats.clone();
     formats.sort();
     formats.dedup();
+    if formats.contains(&Format::Atlas) {
+        let (c, r) = png::atlas_grid(n);
+        if c * nx > ATLAS_MAX_SIDE || r * ny > ATLAS_MAX_SIDE {
+            return Err(BakeError::Settings(format!(
+                "the atlas of {n} frames of {nx}x{ny} would be {}x{} pixels, over the {ATLAS_MAX_SIDE} a GPU texture allows; bake fewer frames or cells, or leave out --format atlas",
+                c * nx,
+                r * ny
+            )));
+        }
+    }
+    let need = disk_need(nx, ny, &formats, n, opts.looped, opts.half);
+    if need > opts.max_bytes {
+        return Err(BakeError::Disk {
+            need,
+            limit: format!("the {} budget", human_bytes(opts.max_bytes)),
+            hint: ", or raise --max-disk",
+        });
+    }
+    let staging = folder::Staging::new(out)?;
+    if let Some(free) = free_space(staging.path())
+        && need > free
+    {
+        return Err(BakeError::Disk {
+            need,
+            limit: format!("the {} free on {}", human_bytes(free), out.display()),
+            hint: "",
+        });
+    }
+    let names = output_names(&formats, n);
+    staging.check_names(names.iter().map(String::as_str))?;
+    let dir = staging.path().to_path_buf();
+
+    // Simulate with the step that fits the frame rate, streaming each frame to disk.
+    let mut sim_layout = layout.clone();
+    sim_layout.sim.dt = timing.dt;
+    let simulated = if opts.looped { 2 * n } else { n };
+    let sim_steps = timing.warmup_steps + (simulated - 1) * timing.steps_per_frame;
+    let total = sim_steps + n;
+    let keep_raw = formats.contains(&Format::Raw);
+    let frames_path = dir.join(if keep_raw { raw::NAME } else { ".frames.f32" });
+    let source_path = if opts.looped {
+        dir.join(".loop-source.f32")
+    } else {
+        frames_path.clone()
+    };
+    let mut solver = Solver::new(&sim_layout);
+    let mut steps = 0;
+    let mut advance = |solver: &mut Solver, count: usize| -> Result<(), BakeError> {
+        for _ in 0..count {
+            if cancel.load(Ordering::Relaxed) {
+                return Err(BakeError::Cancelled);
+            }
+            solver.step();
+            steps += 1;
+            // The clock from the step count, so frame k sits at exactly warmup + k / fps.
+            solver.time = timing.time_after(steps) as f32;
+            if steps % 8 == 0 || steps == sim_steps {
+                progress(steps, total, "simulating");
+            }
+        }
+        Ok(())
+    };
+    let mut writer = FrameWriter::create(&source_path, nx, ny)?;
+    advance(&mut solver, timing.warmup_steps)?;
+    writer.push(&solver.velocity_field())?;
+    for _ in 1..simulated {
+        advance(&mut solver, timing.steps_per_frame)?;
+        writer.push(&solver.velocity_field())?;
+    }
+    drop(solver);
+    let mut max_speed = writer.max_speed;
+    writer.finish()?;
+    if opts.looped {
+        let mut source = FrameReader::open(&source_path, nx, ny)?;
+        let mut looped = FrameWriter::create(&frames_path, nx, ny)?;
+        for k in 0..n {
+            let (late, early) = (source.read(k + n)?, source.read(k)?);
+            looped.push(&crossfade(&late, &early, k, n).data)?;
+        }
+        max_speed = looped.max_speed;
+        looped.finish()?;
+        drop(source);
+        std::fs::remove_file(&source_path).map_err(|source| BakeError::Write {
+            path: source_path.clone(),
+            source,
+        })?;
+    }
+
+    // Encode, one frame at a time.
+    let (min, max) = layout.bounds();
     let ctx = ExportContext {
-        frames: &frames,
+        nx,
+        ny,
+        count: n,
         max_speed,
         min,
         max,
         half: opts.half,
         fps: opts.fps,
     };
-    for (k, f) in formats.iter().enumerate() {
+    let mut files: BTreeMap<Format, Vec<FileEntry>> = BTreeMap::new();
+    let mut atlas = if formats.contains(&Format::Atlas) {
+        Some(png::Atlas::create(&ctx, &dir.join(png::ATLAS_NAME))?)
+    } else {
+        None
+    };
+    let mut reader = FrameReader::open(&frames_path, nx, ny)?;
+    for k in 0..n {
         if cancel.load(Ordering::Relaxed) {
             return Err(BakeError::Cancelled);
         }
-        progress(k, formats.len(), f.name());
-        let files = match f {
-            Format::Exr => exr::write(&ctx)?,
-            Format::Png8 => png::flowmaps(&ctx, false)?,
-            Format::Png16 => png::flowmaps(&ctx, true)?,
-            Format::Atlas => png::atlas(&ctx)?,
-            Format::Fga => {
-                let (files, note) = fga::write(&ctx);
-                notes.extend(note);
-                files
-            }
-            Format::Vf => vf::write(&ctx),
-            Format::Raw => raw::write(&ctx),
-        };
-        outputs.extend(files);
+        let f = reader.read(k)?;
+        for &format in &formats {
+            let output = match format {
+                Format::Exr => exr::frame(&ctx, k, &f)?,
+                Format::Png8 => png::flowmap(&ctx, k, &f, false)?,
+                Format::Png16 => png::flowmap(&ctx, k, &f, true)?,
+                Format::Fga => fga::frame(&ctx, k, &f),
+                Format::Vf => vf::frame(&ctx, k, &f),
+                Format::Raw | Format::Atlas => continue,
+            };
+            let mut entry = output.entry;
+            entry.bytes = write_file(&dir, &output.name, &output.bytes)?;
+            files.entry(format).or_default().push(entry);
+        }
+        if let Some(a) = &mut atlas {
+            a.push(f)?;
+        }
+        progress(sim_steps + k + 1, total, "encoding");
+    }
+    drop(reader);
+    if let Some(a) = atlas {
+        let (path, mut entry) = a.finish()?;
+        entry.bytes = sync_file(&path)?;
+        files.insert(Format::Atlas, vec![entry]);
+    }
+    if keep_raw {
+        let mut entry = raw::entry(&ctx);
+        entry.bytes = sync_file(&frames_path)?;
+        files.insert(Format::Raw, vec![entry]);
+    } else {
+        std::fs::remove_file(&frames_path).map_err(|source| BakeError::Write {
+            path: frames_path.clone(),
+            source,
+        })?;
     }
 
-    let mut manifest = Manifest {
+    let manifest = Manifest {
         format: "windloom-bake",
         version: 1,
         layout: LayoutInfo {
@@ -480,39 +674,42 @@ pub fn bake(
             "grid_j": "+z (south), row 0 at world z = min[1]",
             "velocity": "[x, z] in m/s at cell centres",
         }),
-        frames: frames_info,
+        frames: FramesInfo {
+            count: n,
+            fps: opts.fps,
+            looped: opts.looped,
+            loop_method: opts.looped.then_some(
+                "crossfade: frame k = (1 - k/N)·S[k+N] + (k/N)·S[k] over 2N simulated frames S, S[j] at warmup_seconds + j / fps",
+            ),
+            warmup_seconds: timing.warmup_seconds(),
+            sim_dt: timing.dt,
+            steps_per_frame: timing.steps_per_frame,
+            layout_dt: layout.sim.dt,
+        },
         max_speed,
-        notes,
-        files: Vec::new(),
+        notes: formats
+            .contains(&Format::Fga)
+            .then(|| fga::note(nx, ny))
+            .flatten()
+            .into_iter()
+            .collect(),
+        files: files.into_values().flatten().collect(),
     };
-    // Write everything into staging, then move it into place, the manifest last.
-    for o in &outputs {
-        let path = staging.path().join(&o.name);
-        std::fs::write(&path, &o.bytes).map_err(|source| BakeError::Write { path, source })?;
-        let mut e = o.entry.clone();
-        e.bytes = o.bytes.len() as u64;
-        manifest.files.push(e);
-    }
     let json = serde_json::to_string_pretty(&manifest).expect("a manifest serialises") + "\n";
-    let mpath = staging.path().join(MANIFEST);
-    std::fs::write(&mpath, json).map_err(|source| BakeError::Write {
-        path: mpath,
-        source,
-    })?;
+    write_file(&dir, MANIFEST, json.as_bytes())?;
     if cancel.load(Ordering::Relaxed) {
         return Err(BakeError::Cancelled);
     }
-    for name in outputs.iter().map(|o| o.name.as_str()).chain([MANIFEST]) {
-        let to = out.join(name);
-        std::fs::rename(staging.path().join(name), &to)
-            .map_err(|source| BakeError::Write { path: to, source })?;
-    }
+    staging.commit()?;
     Ok(manifest)
 }
 
 /// Everything an exporter needs.
-pub(crate) struct ExportContext<'a> {
-    pub frames: &'a [Field],
+pub(crate) struct ExportContext {
+    pub nx: usize,
+    pub ny: usize,
+    /// Frames in the bake.
+    pub count: usize,
     pub max_speed: f32,
     pub min: [f32; 2],
     pub max: [f32; 2],
@@ -520,13 +717,13 @@ pub(crate) struct ExportContext<'a> {
     pub fps: f32,
 }
 
-impl ExportContext<'_> {
+impl ExportContext {
     fn name(&self, stem: &str, k: usize, ext: &str) -> String {
-        frame_name(stem, k, self.frames.len(), ext)
+        frame_name(stem, k, self.count, ext)
     }
 
     fn frame_index(&self, k: usize) -> Option<usize> {
-        (self.frames.len() > 1).then_some(k)
+        (self.count > 1).then_some(k)
     }
 
     /// The speed that maps to the ends of the 8/16-bit flowmap range.

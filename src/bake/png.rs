@@ -3,12 +3,17 @@
 
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 use image::{ImageBuffer, ImageEncoder, Rgb};
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+/// Largest atlas side in pixels: what GPUs accept as a texture side.
+pub const ATLAS_MAX_SIDE: usize = 16384;
 
 fn encode(v: f32, scale: f32, levels: f32) -> f32 {
     ((0.5 + 0.5 * v / scale).clamp(0.0, 1.0) * levels).round()
 }
 
-fn flow_encoding(ctx: &ExportContext<'_>, bits: u32) -> serde_json::Value {
+fn flow_encoding(ctx: &ExportContext, bits: u32) -> serde_json::Value {
     serde_json::json!({
         "bits": bits,
         "R": "world x velocity", "G": "world z velocity", "B": "unused (0)",
@@ -27,6 +32,13 @@ fn flow_axes() -> serde_json::Value {
     })
 }
 
+fn encode_error(name: &str, e: impl std::fmt::Display) -> BakeError {
+    BakeError::Encode {
+        name: name.into(),
+        message: e.to_string(),
+    }
+}
+
 fn png_bytes(
     name: &str,
     w: u32,
@@ -37,126 +49,201 @@ fn png_bytes(
     let mut bytes = Vec::new();
     image::codecs::png::PngEncoder::new(&mut bytes)
         .write_image(data, w, h, color)
-        .map_err(|e| BakeError::Encode {
-            name: name.into(),
-            message: e.to_string(),
-        })?;
+        .map_err(|e| encode_error(name, e))?;
     Ok(bytes)
 }
 
-fn rgb16(f: &Field, scale: f32) -> ImageBuffer<Rgb<u16>, Vec<u16>> {
-    ImageBuffer::from_fn(f.nx as u32, f.ny as u32, |x, y| {
-        let v = f.at(x as usize, y as usize);
-        Rgb([
+/// One row of 16-bit RGB samples, big-endian as PNG stores them.
+fn row16(f: &Field, j: usize, scale: f32, out: &mut Vec<u8>) {
+    for i in 0..f.nx {
+        let v = f.at(i, j);
+        for c in [
             encode(v[0], scale, 65535.0) as u16,
             encode(v[1], scale, 65535.0) as u16,
             0,
-        ])
-    })
+        ] {
+            out.extend_from_slice(&c.to_be_bytes());
+        }
+    }
 }
 
-fn rgb16_bytes(name: &str, img: &ImageBuffer<Rgb<u16>, Vec<u16>>) -> Result<Vec<u8>, BakeError> {
-    // PNG stores 16-bit samples big-endian; the encoder takes native-order u16 as bytes.
-    let raw: Vec<u8> = img.as_raw().iter().flat_map(|v| v.to_ne_bytes()).collect();
-    png_bytes(
-        name,
-        img.width(),
-        img.height(),
-        &raw,
-        image::ExtendedColorType::Rgb16,
-    )
+/// Most bytes a PNG of `w × h` pixels of `bytes_per_pixel` takes: the filtered rows, what
+/// deflate adds to incompressible data (5 bytes per 16 KiB block), and the chunks around it.
+pub(crate) fn max_size(w: usize, h: usize, bytes_per_pixel: usize) -> u64 {
+    let raw = ((w * bytes_per_pixel + 1) * h) as u64;
+    raw + raw / 1024 + 4096
 }
 
-pub(crate) fn flowmaps(ctx: &ExportContext<'_>, sixteen: bool) -> Result<Vec<Output>, BakeError> {
+pub(crate) fn flowmap(
+    ctx: &ExportContext,
+    k: usize,
+    f: &Field,
+    sixteen: bool,
+) -> Result<Output, BakeError> {
     let scale = ctx.flow_scale();
     let (stem, format, bits) = if sixteen {
         ("flow16", Format::Png16, 16)
     } else {
         ("flow8", Format::Png8, 8)
     };
-    let mut out = Vec::new();
-    for (k, f) in ctx.frames.iter().enumerate() {
-        let name = ctx.name(stem, k, "png");
-        let bytes = if sixteen {
-            rgb16_bytes(&name, &rgb16(f, scale))?
-        } else {
-            let img: ImageBuffer<Rgb<u8>, Vec<u8>> =
-                ImageBuffer::from_fn(f.nx as u32, f.ny as u32, |x, y| {
-                    let v = f.at(x as usize, y as usize);
-                    Rgb([
-                        encode(v[0], scale, 255.0) as u8,
-                        encode(v[1], scale, 255.0) as u8,
-                        0,
-                    ])
-                });
-            png_bytes(
-                &name,
-                img.width(),
-                img.height(),
-                img.as_raw(),
-                image::ExtendedColorType::Rgb8,
-            )?
-        };
-        out.push(Output {
-            entry: FileEntry {
-                name: name.clone(),
-                format,
-                frame: ctx.frame_index(k),
-                grid: [f.nx, f.ny],
-                resampled_from: None,
-                encoding: flow_encoding(ctx, bits),
-                axes: flow_axes(),
-                bytes: 0,
-            },
-            name,
-            bytes,
-        });
-    }
-    Ok(out)
-}
-
-/// All frames in one 16-bit image: `columns × rows` sub-images, frame `k` at column
-/// `k % columns`, row `k / columns`; unused cells hold zero velocity.
-pub(crate) fn atlas(ctx: &ExportContext<'_>) -> Result<Vec<Output>, BakeError> {
-    let n = ctx.frames.len();
-    let columns = (n as f64).sqrt().ceil() as usize;
-    let rows = n.div_ceil(columns);
-    let (nx, ny) = (ctx.frames[0].nx, ctx.frames[0].ny);
-    let scale = ctx.flow_scale();
-    let mid = encode(0.0, scale, 65535.0) as u16;
-    let mut img: ImageBuffer<Rgb<u16>, Vec<u16>> = ImageBuffer::from_pixel(
-        (columns * nx) as u32,
-        (rows * ny) as u32,
-        Rgb([mid, mid, 0]),
-    );
-    for (k, f) in ctx.frames.iter().enumerate() {
-        let sub = rgb16(f, scale);
-        let (ox, oy) = ((k % columns) * nx, (k / columns) * ny);
-        for (x, y, p) in sub.enumerate_pixels() {
-            img.put_pixel(ox as u32 + x, oy as u32 + y, *p);
+    let name = ctx.name(stem, k, "png");
+    let bytes = if sixteen {
+        let mut raw = Vec::with_capacity(f.nx * f.ny * 6);
+        for j in 0..f.ny {
+            row16(f, j, scale, &mut raw);
         }
-    }
-    let name = "atlas.png".to_string();
-    let bytes = rgb16_bytes(&name, &img)?;
-    let mut encoding = flow_encoding(ctx, 16);
-    encoding["empty_cells"] = serde_json::json!("zero velocity (0.5, 0.5)");
-    Ok(vec![Output {
+        // The encoder takes 16-bit samples in native order.
+        let native: Vec<u8> = raw
+            .chunks_exact(2)
+            .flat_map(|c| u16::from_be_bytes([c[0], c[1]]).to_ne_bytes())
+            .collect();
+        png_bytes(
+            &name,
+            f.nx as u32,
+            f.ny as u32,
+            &native,
+            image::ExtendedColorType::Rgb16,
+        )?
+    } else {
+        let img: ImageBuffer<Rgb<u8>, Vec<u8>> =
+            ImageBuffer::from_fn(f.nx as u32, f.ny as u32, |x, y| {
+                let v = f.at(x as usize, y as usize);
+                Rgb([
+                    encode(v[0], scale, 255.0) as u8,
+                    encode(v[1], scale, 255.0) as u8,
+                    0,
+                ])
+            });
+        png_bytes(
+            &name,
+            img.width(),
+            img.height(),
+            img.as_raw(),
+            image::ExtendedColorType::Rgb8,
+        )?
+    };
+    Ok(Output {
         entry: FileEntry {
             name: name.clone(),
+            format,
+            frame: ctx.frame_index(k),
+            grid: [f.nx, f.ny],
+            resampled_from: None,
+            encoding: flow_encoding(ctx, bits),
+            axes: flow_axes(),
+            bytes: 0,
+        },
+        name,
+        bytes,
+    })
+}
+
+/// The atlas's grid of sub-images for `n` frames: `(columns, rows)`.
+pub(crate) fn atlas_grid(n: usize) -> (usize, usize) {
+    let columns = (n as f64).sqrt().ceil() as usize;
+    (columns, n.div_ceil(columns))
+}
+
+pub(crate) const ATLAS_NAME: &str = "atlas.png";
+
+/// All frames in one 16-bit image, written as the frames arrive: `columns × rows`
+/// sub-images, frame `k` at column `k % columns`, row `k / columns`; unused cells hold zero
+/// velocity. Only one band of sub-images is held in memory.
+pub(crate) struct Atlas {
+    path: PathBuf,
+    writer: ::png::StreamWriter<'static, std::fs::File>,
+    columns: usize,
+    rows: usize,
+    band: Vec<Field>,
+    entry: FileEntry,
+    scale: f32,
+}
+
+impl Atlas {
+    pub(crate) fn create(ctx: &ExportContext, path: &Path) -> Result<Self, BakeError> {
+        let (columns, rows) = atlas_grid(ctx.count);
+        let (w, h) = (columns * ctx.nx, rows * ctx.ny);
+        let io = |e: std::io::Error| BakeError::Write {
+            path: path.to_path_buf(),
+            source: e,
+        };
+        let file = std::fs::File::create(path).map_err(io)?;
+        let mut enc = ::png::Encoder::new(file, w as u32, h as u32);
+        enc.set_color(::png::ColorType::Rgb);
+        enc.set_depth(::png::BitDepth::Sixteen);
+        let writer = enc
+            .write_header()
+            .and_then(|w| w.into_stream_writer_with_size(1 << 20))
+            .map_err(|e| encode_error(ATLAS_NAME, e))?;
+        let mut encoding = flow_encoding(ctx, 16);
+        encoding["empty_cells"] = serde_json::json!("zero velocity (0.5, 0.5)");
+        let entry = FileEntry {
+            name: ATLAS_NAME.to_string(),
             format: Format::Atlas,
             frame: None,
-            grid: [nx, ny],
+            grid: [ctx.nx, ctx.ny],
             resampled_from: None,
             encoding,
             axes: serde_json::json!({
-                "sub_images": {"columns": columns, "rows": rows, "count": n,
+                "sub_images": {"columns": columns, "rows": rows, "count": ctx.count,
                     "order": "frame k at column k % columns, row k / columns (row 0 at the top)",
                     "fps": ctx.fps},
                 "within_a_sub_image": flow_axes(),
             }),
             bytes: 0,
-        },
-        name,
-        bytes,
-    }])
+        };
+        Ok(Self {
+            path: path.to_path_buf(),
+            writer,
+            columns,
+            rows,
+            band: Vec::with_capacity(columns),
+            entry,
+            scale: ctx.flow_scale(),
+        })
+    }
+
+    /// Adds the next frame.
+    pub(crate) fn push(&mut self, f: Field) -> Result<(), BakeError> {
+        self.band.push(f);
+        if self.band.len() == self.columns {
+            self.flush_band()?;
+        }
+        Ok(())
+    }
+
+    fn flush_band(&mut self) -> Result<(), BakeError> {
+        let Some(first) = self.band.first() else {
+            return Ok(());
+        };
+        let (nx, ny) = (first.nx, first.ny);
+        let blank = Field {
+            nx,
+            ny,
+            data: vec![[0.0; 2]; nx * ny],
+        };
+        let mut row = Vec::with_capacity(self.columns * nx * 6);
+        for j in 0..ny {
+            row.clear();
+            for c in 0..self.columns {
+                row16(self.band.get(c).unwrap_or(&blank), j, self.scale, &mut row);
+            }
+            self.writer
+                .write_all(&row)
+                .map_err(|e| encode_error(ATLAS_NAME, e))?;
+        }
+        self.band.clear();
+        self.rows -= 1;
+        Ok(())
+    }
+
+    /// Writes the last band and closes the file (the caller flushes it to disk).
+    pub(crate) fn finish(mut self) -> Result<(PathBuf, FileEntry), BakeError> {
+        self.flush_band()?;
+        debug_assert_eq!(self.rows, 0);
+        self.writer
+            .finish()
+            .map_err(|e| encode_error(ATLAS_NAME, e))?;
+        Ok((self.path, self.entry))
+    }
 }

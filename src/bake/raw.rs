@@ -1,34 +1,24 @@
 //! Raw little-endian f32: all frames in one file, frame-major, then row `j` (+z), then column
-//! `i` (+x), two channels `[x, z]` in m/s.
+//! `i` (+x), two channels `[x, z]` in m/s. The file is the bake's frame stream itself
+//! (`frames.rs`); this names it and describes it.
 
-use super::{ExportContext, FileEntry, Format, Output};
+use super::{ExportContext, FileEntry, Format};
 
-pub(crate) fn write(ctx: &ExportContext<'_>) -> Vec<Output> {
-    let (nx, ny) = (ctx.frames[0].nx, ctx.frames[0].ny);
-    let bytes: Vec<u8> = ctx
-        .frames
-        .iter()
-        .flat_map(|f| f.data.iter())
-        .flat_map(|v| [v[0], v[1]])
-        .flat_map(f32::to_le_bytes)
-        .collect();
-    let name = "wind.f32".to_string();
-    vec![Output {
-        entry: FileEntry {
-            name: name.clone(),
-            format: Format::Raw,
-            frame: None,
-            grid: [nx, ny],
-            resampled_from: None,
-            encoding: serde_json::json!({
-                "type": "f32", "endian": "little", "channels": ["x", "z"], "units": "m/s",
-                "layout": "[frame][row j][column i][channel]", "frames": ctx.frames.len(),
-                "scale": 1.0, "offset": 0.0,
-            }),
-            axes: serde_json::json!({"i": "+x (east)", "j": "+z (south)"}),
-            bytes: 0,
-        },
-        name,
-        bytes,
-    }]
+pub(crate) const NAME: &str = "wind.f32";
+
+pub(crate) fn entry(ctx: &ExportContext) -> FileEntry {
+    FileEntry {
+        name: NAME.to_string(),
+        format: Format::Raw,
+        frame: None,
+        grid: [ctx.nx, ctx.ny],
+        resampled_from: None,
+        encoding: serde_json::json!({
+            "type": "f32", "endian": "little", "channels": ["x", "z"], "units": "m/s",
+            "layout": "[frame][row j][column i][channel]", "frames": ctx.count,
+            "scale": 1.0, "offset": 0.0,
+        }),
+        axes: serde_json::json!({"i": "+x (east)", "j": "+z (south)"}),
+        bytes: 0,
+    }
 }
