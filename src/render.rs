@@ -206,37 +206,49 @@ pub fn render(
         None,
     );
     let white = [235, 235, 235];
-    text(
-        &mut pix,
-        &font,
-        20.0 * ui,
-        (x0, top - 16.0 * ui),
-        &layout.name,
-        white,
-    );
     let sub = format!(
         "{:.0} × {:.0} m, grid {} × {}, t = {:.1} s",
         size[0], size[1], solver.nx, solver.ny, solver.time
     );
+    let tw = text_width(&font, 20.0 * ui, &layout.name);
     let sw = text_width(&font, 14.0 * ui, &sub);
+    let gap = 24.0 * ui;
+    // Title and legend line up with the world, unless it is too narrow to hold them side by
+    // side (a tall world, or a wide short picture): then with the picture's margins.
+    let needs = (tw + sw).max(260.0 * ui + 160.0 * ui) + gap;
+    let (left, right) = if x1 - x0 >= needs {
+        (x0, x1)
+    } else {
+        (margin, w as f32 - margin)
+    };
     text(
         &mut pix,
         &font,
-        14.0 * ui,
-        (x1 - sw, top - 16.0 * ui),
-        &sub,
-        [170, 170, 170],
+        20.0 * ui,
+        (left, top - 16.0 * ui),
+        &layout.name,
+        white,
     );
+    if right - left >= tw + sw + gap {
+        text(
+            &mut pix,
+            &font,
+            14.0 * ui,
+            (right - sw, top - 16.0 * ui),
+            &sub,
+            [170, 170, 170],
+        );
+    }
     legend(
         &mut pix,
         &font,
-        (x0, y1 + 22.0 * ui),
-        260.0 * ui,
+        (left, y1 + 22.0 * ui),
+        (260.0 * ui).min((right - left) * 0.6),
         12.0 * ui,
         max_speed,
         ui,
     );
-    scale_bar(&mut pix, &font, &view, (x1, y1 + 22.0 * ui), ui);
+    scale_bar(&mut pix, &font, &view, (right, y1 + 22.0 * ui), ui);
     Ok(pix)
 }
 
