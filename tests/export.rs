@@ -1291,3 +1291,55 @@ fn render_survives_odd_sizes_and_far_points() {
         assert_eq!((pix.width(), pix.height()), (w, h));
     }
 }
+
+mod render_never_panics {
+    use proptest::prelude::*;
+    use std::path::Path;
+    use windloom::doc::{self, Layout, Node};
+
+    fn coord() -> impl Strategy<Value = f32> {
+        prop_oneof![
+            -1.0e6f32..1.0e6,
+            -200.0f32..200.0,
+            Just(1.0e6),
+            Just(-1.0e6)
+        ]
+    }
+
+    proptest! {
+        #![proptest_config(ProptestConfig { cases: 48, ..ProptestConfig::default() })]
+        /// Anything validation lets through draws at any allowed picture size.
+        #[test]
+        fn on_any_valid_layout_and_size(
+            size in (1.0f32..1.0e5, 1.0f32..1.0e5),
+            origin in (coord(), coord()),
+            grid in (8u32..40, 8u32..40),
+            nodes in proptest::collection::vec((coord(), coord(), 0.0f32..500.0, 0.001f32..1.0e5), 2..5),
+            picture in (64u32..700, 64u32..700),
+        ) {
+            let mut l = Layout::new("p", [size.0, size.1], [grid.0, grid.1]);
+            l.world.origin = [origin.0, origin.1];
+            let mut root = Node::new(1, [nodes[0].0, nodes[0].1], nodes[0].2, nodes[0].3);
+            for (k, n) in nodes.iter().enumerate().skip(1) {
+                root.children.push(Node::new(k as u32 + 1, [n.0, n.1], n.2, n.3));
+            }
+            l.trees.push(doc::Tree {
+                id: 1,
+                name: "t".into(),
+                enabled: true,
+                window: doc::TimeWindow::Always,
+                emission: doc::Emission::Continuous,
+                propagation_speed: 20.0,
+                root,
+            });
+            prop_assume!(doc::validate(&l).is_empty());
+            let mut solver = windloom::sim::Solver::new(&l);
+            solver.step();
+            let pix = windloom::render::render(&l, Path::new("."), &solver, picture.0, picture.1);
+            // A world too thin for the picture is an error, never a panic.
+            if let Ok(p) = pix {
+                prop_assert_eq!((p.width(), p.height()), picture);
+            }
+        }
+    }
+}
