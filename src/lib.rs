@@ -6,6 +6,7 @@ pub mod app;
 pub mod bake;
 pub mod colour;
 pub mod doc;
+pub mod gpu;
 pub mod io;
 pub mod render;
 pub mod sim;

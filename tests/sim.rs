@@ -707,3 +707,205 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
     );
     assert!((j["ratio_to_bound"].as_f64().unwrap() - median / bound).abs() < 1e-9 * median / bound);
 }
+
+// ---- The GPU passes against the CPU ---------------------------------------------------------
+
+mod gpu {
+    use super::example;
+    use windloom::doc::{Advection, Boundary};
+    use windloom::gpu::fluid::{FieldId, GpuFluid, SHADERS, shader_source};
+    use windloom::gpu::{GpuContext, GpuError};
+    use windloom::sim::Solver;
+
+    #[test]
+    fn every_shader_parses_and_validates_with_naga() {
+        let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+        let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|n| n.ends_with(".wgsl") && n != "common.wgsl")
+            .collect();
+        on_disk.sort();
+        let mut listed: Vec<String> = SHADERS.iter().map(|(n, _)| format!("{n}.wgsl")).collect();
+        listed.sort();
+        assert_eq!(
+            on_disk, listed,
+            "every shader file is compiled by the solver"
+        );
+        for (name, _) in SHADERS {
+            let source = shader_source(name).unwrap();
+            let module = naga::front::wgsl::parse_str(&source)
+                .unwrap_or_else(|e| panic!("{name}.wgsl: {}", e.emit_to_string(&source)));
+            naga::valid::Validator::new(
+                naga::valid::ValidationFlags::all(),
+                naga::valid::Capabilities::empty(),
+            )
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}.wgsl: {}", e.emit_to_string(&source)));
+        }
+    }
+
+    /// The software adapter; CI must have it (it installs lavapipe), elsewhere a missing
+    /// adapter skips loudly.
+    fn context() -> Option<GpuContext> {
+        match GpuContext::headless() {
+            Ok(c) => Some(c),
+            Err(e @ GpuError::NoAdapter(_)) if std::env::var_os("CI").is_none() => {
+                eprintln!("\n!!! SKIPPING a GPU test: {e}\n");
+                None
+            }
+            Err(e) => panic!("CI requires a GPU adapter (lavapipe): {e}"),
+        }
+    }
+
+    /// Deterministic pseudo-random values in `[-a, a]`.
+    fn noise(n: usize, seed: u64, a: f32) -> Vec<f32> {
+        let mut s = seed
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * a
+            })
+            .collect()
+    }
+
+    /// The obstacles example on a small grid with non-square cells, in `boundary` mode, with
+    /// a random field (zero on the faces that are not free).
+    fn random_solver(boundary: Boundary, seed: u64) -> Solver {
+        let mut l = example("obstacles.json");
+        l.world.grid = [40, 28];
+        l.sim.boundary = boundary;
+        l.sim.advection = Advection::SemiLagrangian;
+        let mut s = Solver::new(&l);
+        let (nu, nv) = (s.u.len(), s.v.len());
+        let (u, v) = s.faces_mut();
+        u.copy_from_slice(&noise(nu, seed, 6.0));
+        v.copy_from_slice(&noise(nv, seed + 1, 6.0));
+        s.enforce_boundaries();
+        let n = s.p.len();
+        s.p = noise(n, seed + 2, 3.0);
+        s.div = noise(n, seed + 3, 2.0);
+        s.compute_curl();
+        s
+    }
+
+    fn max_err(gpu: &[f32], cpu: &[f32]) -> (f32, f32) {
+        assert_eq!(gpu.len(), cpu.len());
+        let peak = cpu.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+        let err = gpu
+            .iter()
+            .zip(cpu)
+            .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()));
+        (err, peak)
+    }
+
+    fn check(what: &str, gpu: &[f32], cpu: &[f32], rel: f32) {
+        let (err, peak) = max_err(gpu, cpu);
+        println!("{what}: max |GPU − CPU| {err:.2e}, peak {peak:.3}");
+        assert!(peak > 0.0, "{what}: an all-zero field tests nothing");
+        assert!(
+            err <= rel * peak,
+            "{what}: GPU differs from the CPU by {err} (peak {peak}, allowed {})",
+            rel * peak
+        );
+    }
+
+    /// Each pass on the GPU against the same pass on the CPU, from the same random state, on
+    /// every boundary mode with obstacles: max error ≤ 1e-5 of the field's peak.
+    #[test]
+    fn each_pass_matches_the_cpu_on_every_boundary_with_obstacles() {
+        let Some(ctx) = context() else { return };
+        let (device, queue) = (&ctx.device, &ctx.queue);
+        for (n, boundary) in [Boundary::Closed, Boundary::Open, Boundary::Periodic]
+            .into_iter()
+            .enumerate()
+        {
+            let seed = 100 * n as u64;
+            let base = random_solver(boundary, seed);
+            let dt = base.params.dt;
+            let mut gpu = GpuFluid::new(device, &base);
+            let run =
+                |gpu: &mut GpuFluid, pass: &dyn Fn(&mut GpuFluid, &mut wgpu::CommandEncoder)| {
+                    gpu.upload_state(queue, &base);
+                    let mut enc = device.create_command_encoder(&Default::default());
+                    pass(gpu, &mut enc);
+                    queue.submit([enc.finish()]);
+                };
+            let get = |gpu: &GpuFluid, f| gpu.download(device, queue, f).unwrap();
+            let tag = |pass: &str| format!("{pass} ({boundary:?})");
+
+            let mut cpu = random_solver(boundary, seed);
+            cpu.curl.fill(0.0);
+            cpu.compute_curl();
+            run(&mut gpu, &|g, e| g.curl(device, e));
+            check(&tag("curl"), &get(&gpu, FieldId::Curl), &cpu.curl, 1e-5);
+
+            let mut cpu = random_solver(boundary, seed);
+            cpu.confine_vorticity(dt);
+            run(&mut gpu, &|g, e| g.confine(device, queue, e, dt));
+            check(&tag("confinement u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+            check(&tag("confinement v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+
+            let mut cpu = random_solver(boundary, seed);
+            cpu.compute_divergence();
+            run(&mut gpu, &|g, e| g.divergence(device, e));
+            check(&tag("divergence"), &get(&gpu, FieldId::Div), &cpu.div, 1e-5);
+
+            let mut cpu = random_solver(boundary, seed);
+            cpu.solve_pressure();
+            let iterations = cpu.params.pressure_iterations as usize;
+            run(&mut gpu, &|g, e| g.pressure(device, e, iterations));
+            check(&tag("pressure"), &get(&gpu, FieldId::P), &cpu.p, 1e-5);
+
+            let mut cpu = random_solver(boundary, seed);
+            cpu.subtract_gradient();
+            run(&mut gpu, &|g, e| g.gradient(device, e));
+            check(&tag("gradient u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+            check(&tag("gradient v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+
+            let mut cpu = random_solver(boundary, seed);
+            cpu.advect(dt);
+            let keep = 1.0 / (1.0 + cpu.params.velocity_dissipation * dt);
+            gpu.upload_state(queue, &base);
+            let mut enc = device.create_command_encoder(&Default::default());
+            gpu.advect(device, queue, &mut enc, dt, keep);
+            queue.submit([enc.finish()]);
+            check(&tag("advection u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+            check(&tag("advection v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+        }
+    }
+
+    /// The passes chained over 12 substeps (no forces: that pass is still CPU-only) from a
+    /// random field: the GPU's velocity stays within 1e-4 of the CPU's peak. Bits differ only
+    /// in the pressure solve (fused multiply-adds), and advection carries those on.
+    #[test]
+    fn the_passes_chained_stay_with_the_cpu() {
+        let Some(ctx) = context() else { return };
+        let (device, queue) = (&ctx.device, &ctx.queue);
+        for boundary in [Boundary::Closed, Boundary::Open, Boundary::Periodic] {
+            let mut cpu = random_solver(boundary, 7);
+            let mut gpu = GpuFluid::new(device, &cpu);
+            gpu.upload_state(queue, &cpu);
+            let dt = cpu.params.dt;
+            let keep = 1.0 / (1.0 + cpu.params.velocity_dissipation * dt);
+            let iterations = cpu.params.pressure_iterations as usize;
+            for _ in 0..12 {
+                cpu.compute_curl();
+                cpu.confine_vorticity(dt);
+                cpu.compute_divergence();
+                cpu.solve_pressure();
+                cpu.subtract_gradient();
+                cpu.advect(dt);
+                gpu.substep_without_forces(device, queue, dt, iterations, keep);
+            }
+            let u = gpu.download(device, queue, FieldId::U).unwrap();
+            let v = gpu.download(device, queue, FieldId::V).unwrap();
+            check(&format!("12 substeps, u ({boundary:?})"), &u, &cpu.u, 1e-4);
+            check(&format!("12 substeps, v ({boundary:?})"), &v, &cpu.v, 1e-4);
+        }
+    }
+}

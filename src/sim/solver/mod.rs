@@ -94,12 +94,12 @@ pub struct Solver {
     v_hat: Vec<f32>,
     p_tmp: Vec<f32>,
     /// 1 where a face's velocity is free to change (not touching a solid or a wall).
-    u_free: Vec<u8>,
-    v_free: Vec<u8>,
+    pub(crate) u_free: Vec<u8>,
+    pub(crate) v_free: Vec<u8>,
     /// Per cell: which neighbours take part in the pressure solve (see `L`…`EDGE`).
-    flags: Vec<u8>,
+    pub(crate) flags: Vec<u8>,
     /// Per cell: `1 / Σ w` of the neighbours in its pressure stencil (0 outside the solve).
-    inv_w: Vec<f32>,
+    pub(crate) inv_w: Vec<f32>,
     /// Rows whose interior cells all have four fluid neighbours (the Jacobi fast path).
     row_regular: Vec<bool>,
     layout: Layout,

@@ -1,0 +1,41 @@
+// Shared by every fluid pass (prepended to each pass's source by `gpu::fluid`): the grid and
+// step parameters, mirrored by `gpu::fluid::Params` (#[repr(C)], bytemuck), and the index
+// helpers of the CPU solver (`src/sim/solver/mod.rs`). The staggered MAC layout is the CPU's:
+// u faces (nx + 1) × ny, v faces nx × (ny + 1), cells nx × ny, all row-major, row j along +z.
+
+struct Params {
+    nx: u32,
+    ny: u32,
+    // 1 for periodic boundaries.
+    periodic: u32,
+    _pad0: u32,
+    // Cell size in metres along x and z.
+    hx: f32,
+    hz: f32,
+    // Step (seconds), negative for a backward trace.
+    dt: f32,
+    // Dissipation factor folded into advection: 1 / (1 + dissipation × dt).
+    keep: f32,
+    // Vorticity confinement ε and min(hx, hz).
+    eps: f32,
+    h: f32,
+    // Pressure stencil weights 1/hx², 1/hz².
+    wx: f32,
+    wz: f32,
+    // Warm-start factor of the pressure.
+    decay: f32,
+    // Velocity clamp, m/s (`solver::MAX_SPEED`).
+    max_speed: f32,
+    _pad1: f32,
+    _pad2: f32,
+}
+
+@group(0) @binding(0) var<uniform> P: Params;
+
+// Neighbour indices (lower, upper) of `i` on an axis of `n` cells: wrapped or clamped.
+fn neighbours(i: u32, n: u32) -> vec2<u32> {
+    if (P.periodic != 0u) {
+        return vec2<u32>((i + n - 1u) % n, (i + 1u) % n);
+    }
+    return vec2<u32>(select(i - 1u, 0u, i == 0u), min(i + 1u, n - 1u));
+}

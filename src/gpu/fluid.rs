@@ -1,0 +1,489 @@
+//! The fluid passes on the GPU: each a compute shader in `shaders/`, each the twin of a CPU
+//! solver pass (`src/sim/solver/`), on the CPU's staggered MAC layout in storage buffers.
+//!
+//! Built so far: curl, vorticity confinement, divergence, the Jacobi pressure solve with its
+//! warm start, gradient subtraction, semi-Lagrangian advection with dissipation, and the
+//! periodic face sync — with every boundary mode and obstacle masks. Still on the CPU only:
+//! the forces pass (AGC splats and ambient layers) and MacCormack advection; see
+//! `docs/SOLVER.md`.
+
+use crate::sim::Solver;
+use crate::sim::solver::MAX_SPEED;
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+/// Step parameters; mirrors `struct Params` in `shaders/common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Params {
+    pub nx: u32,
+    pub ny: u32,
+    pub periodic: u32,
+    pub _pad0: u32,
+    pub hx: f32,
+    pub hz: f32,
+    pub dt: f32,
+    pub keep: f32,
+    pub eps: f32,
+    pub h: f32,
+    pub wx: f32,
+    pub wz: f32,
+    pub decay: f32,
+    pub max_speed: f32,
+    pub _pad1: f32,
+    pub _pad2: f32,
+}
+
+/// The shared header every pass is compiled with.
+pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
+
+/// Every pass's shader file: `(name, source)`, each compiled after [`COMMON`].
+pub const SHADERS: [(&str, &str); 7] = [
+    ("curl", include_str!("../../shaders/curl.wgsl")),
+    (
+        "confinement",
+        include_str!("../../shaders/confinement.wgsl"),
+    ),
+    ("divergence", include_str!("../../shaders/divergence.wgsl")),
+    ("jacobi", include_str!("../../shaders/jacobi.wgsl")),
+    ("gradient", include_str!("../../shaders/gradient.wgsl")),
+    ("advect", include_str!("../../shaders/advect.wgsl")),
+    ("periodic", include_str!("../../shaders/periodic.wgsl")),
+];
+
+/// The full WGSL of pass `name` (the common header, then the pass).
+pub fn shader_source(name: &str) -> Option<String> {
+    SHADERS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| format!("{COMMON}\n{s}"))
+}
+
+struct Kernel {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// The GPU's copy of the solver state and the passes that step it.
+pub struct GpuFluid {
+    pub nx: usize,
+    pub ny: usize,
+    periodic: bool,
+    params: Params,
+    params_buf: wgpu::Buffer,
+    u: wgpu::Buffer,
+    v: wgpu::Buffer,
+    u_tmp: wgpu::Buffer,
+    v_tmp: wgpu::Buffer,
+    p: wgpu::Buffer,
+    p_tmp: wgpu::Buffer,
+    div: wgpu::Buffer,
+    curl: wgpu::Buffer,
+    fx: wgpu::Buffer,
+    fz: wgpu::Buffer,
+    solid: wgpu::Buffer,
+    u_free: wgpu::Buffer,
+    v_free: wgpu::Buffer,
+    flags: wgpu::Buffer,
+    inv_w: wgpu::Buffer,
+    kernels: std::collections::HashMap<&'static str, Kernel>,
+}
+
+/// Which field to move between the CPU solver and the GPU.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FieldId {
+    U,
+    V,
+    P,
+    Div,
+    Curl,
+}
+
+fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+    })
+}
+
+fn floats(device: &wgpu::Device, label: &str, data: &[f32]) -> wgpu::Buffer {
+    storage(device, label, bytemuck::cast_slice(data))
+}
+
+fn mask(device: &wgpu::Device, label: &str, data: &[u8]) -> wgpu::Buffer {
+    let words: Vec<u32> = data.iter().map(|&b| u32::from(b)).collect();
+    storage(device, label, bytemuck::cast_slice(&words))
+}
+
+/// Workgroups of `size` to cover `n` invocations.
+fn groups(n: usize, size: u32) -> u32 {
+    (n as u32).div_ceil(size)
+}
+
+impl GpuFluid {
+    /// Uploads `solver`'s grid, masks and state. The solver fixes the layout: its grid, cell
+    /// size, boundary mode and obstacles.
+    pub fn new(device: &wgpu::Device, solver: &Solver) -> Self {
+        let (nx, ny) = (solver.nx, solver.ny);
+        let sp = &solver.params;
+        let periodic = sp.boundary == crate::doc::Boundary::Periodic;
+        let params = Params {
+            nx: nx as u32,
+            ny: ny as u32,
+            periodic: u32::from(periodic),
+            _pad0: 0,
+            hx: solver.hx,
+            hz: solver.hz,
+            dt: sp.dt,
+            keep: 1.0,
+            eps: sp.vorticity,
+            h: solver.hx.min(solver.hz),
+            wx: 1.0 / (solver.hx * solver.hx),
+            wz: 1.0 / (solver.hz * solver.hz),
+            decay: sp.pressure_decay,
+            max_speed: MAX_SPEED,
+            _pad1: 0.0,
+            _pad2: 0.0,
+        };
+        let params_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("fluid params"),
+            contents: bytemuck::bytes_of(&params),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let mut kernels = std::collections::HashMap::new();
+        for (name, _) in SHADERS {
+            let source = shader_source(name).expect("listed");
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            for entry in entry_points(name) {
+                let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(entry.0),
+                    layout: None,
+                    module: &module,
+                    entry_point: Some(entry.1),
+                    compilation_options: Default::default(),
+                    cache: None,
+                });
+                let layout = pipeline.get_bind_group_layout(0);
+                kernels.insert(entry.0, Kernel { pipeline, layout });
+            }
+        }
+        Self {
+            nx,
+            ny,
+            periodic,
+            params,
+            params_buf,
+            u: floats(device, "u", &solver.u),
+            v: floats(device, "v", &solver.v),
+            u_tmp: floats(device, "u_tmp", &solver.u),
+            v_tmp: floats(device, "v_tmp", &solver.v),
+            p: floats(device, "p", &solver.p),
+            p_tmp: floats(device, "p_tmp", &solver.p),
+            div: floats(device, "div", &solver.div),
+            curl: floats(device, "curl", &solver.curl),
+            fx: floats(device, "fx", &solver.p),
+            fz: floats(device, "fz", &solver.p),
+            solid: mask(device, "solid", &solver.solid),
+            u_free: mask(device, "u_free", &solver.u_free),
+            v_free: mask(device, "v_free", &solver.v_free),
+            flags: mask(device, "flags", &solver.flags),
+            inv_w: floats(device, "inv_w", &solver.inv_w),
+            kernels,
+        }
+    }
+
+    fn buffer(&self, f: FieldId) -> &wgpu::Buffer {
+        match f {
+            FieldId::U => &self.u,
+            FieldId::V => &self.v,
+            FieldId::P => &self.p,
+            FieldId::Div => &self.div,
+            FieldId::Curl => &self.curl,
+        }
+    }
+
+    /// Copies a field of `solver` to the GPU.
+    pub fn upload(&self, queue: &wgpu::Queue, solver: &Solver, f: FieldId) {
+        let data = match f {
+            FieldId::U => &solver.u,
+            FieldId::V => &solver.v,
+            FieldId::P => &solver.p,
+            FieldId::Div => &solver.div,
+            FieldId::Curl => &solver.curl,
+        };
+        queue.write_buffer(self.buffer(f), 0, bytemuck::cast_slice(data));
+    }
+
+    /// Copies every state field of `solver` (u, v, p, div, curl) to the GPU.
+    pub fn upload_state(&self, queue: &wgpu::Queue, solver: &Solver) {
+        for f in [
+            FieldId::U,
+            FieldId::V,
+            FieldId::P,
+            FieldId::Div,
+            FieldId::Curl,
+        ] {
+            self.upload(queue, solver, f);
+        }
+    }
+
+    /// Reads a field back (waits for the GPU).
+    pub fn download(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        f: FieldId,
+    ) -> Result<Vec<f32>, super::GpuError> {
+        let src = self.buffer(f);
+        let size = src.size();
+        let staging = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("read-back"),
+            size,
+            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let mut enc = device.create_command_encoder(&Default::default());
+        enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
+        queue.submit([enc.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        staging.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        let runtime = |message: String| super::GpuError::Runtime {
+            what: "reading a field back".into(),
+            message,
+        };
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| runtime(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| runtime(e.to_string()))?
+            .map_err(|e| runtime(e.to_string()))?;
+        let data = {
+            let view = staging
+                .slice(..)
+                .get_mapped_range()
+                .map_err(|e| runtime(e.to_string()))?;
+            bytemuck::cast_slice::<u8, f32>(&view).to_vec()
+        };
+        staging.unmap();
+        Ok(data)
+    }
+
+    fn set_params(&mut self, queue: &wgpu::Queue, change: impl FnOnce(&mut Params)) {
+        change(&mut self.params);
+        queue.write_buffer(&self.params_buf, 0, bytemuck::bytes_of(&self.params));
+    }
+
+    /// Records one dispatch of `kernel` over `(x, y)` invocations (`y == 1`: a 1D dispatch)
+    /// with `buffers` at their bindings (binding 0 is the parameters). The layouts are the
+    /// shaders' own, so each entry point gets exactly the bindings it uses.
+    fn dispatch(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        kernel: &str,
+        buffers: &[(u32, &wgpu::Buffer)],
+        (x, y): (usize, usize),
+    ) {
+        let k = &self.kernels[kernel];
+        let mut entries = vec![wgpu::BindGroupEntry {
+            binding: 0,
+            resource: self.params_buf.as_entire_binding(),
+        }];
+        for &(binding, b) in buffers {
+            entries.push(wgpu::BindGroupEntry {
+                binding,
+                resource: b.as_entire_binding(),
+            });
+        }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some(kernel),
+            layout: &k.layout,
+            entries: &entries,
+        });
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some(kernel),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&k.pipeline);
+        pass.set_bind_group(0, &group, &[]);
+        if y == 1 {
+            pass.dispatch_workgroups(groups(x, 64), 1, 1);
+        } else {
+            pass.dispatch_workgroups(groups(x, 8), groups(y, 8), 1);
+        }
+    }
+
+    fn sync_periodic(&self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder) {
+        if self.periodic {
+            self.dispatch(device, enc, "sync_u", &[(1, &self.u)], (self.ny, 1));
+            self.dispatch(device, enc, "sync_v", &[(2, &self.v)], (self.nx, 1));
+        }
+    }
+
+    /// Records the curl pass. Twin of [`Solver::compute_curl`].
+    pub fn curl(&self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder) {
+        let b = [
+            (1, &self.u),
+            (2, &self.v),
+            (3, &self.solid),
+            (4, &self.curl),
+        ];
+        self.dispatch(device, enc, "curl", &b, (self.nx, self.ny));
+    }
+
+    /// Records vorticity confinement over `dt` (reads the curl). Twin of
+    /// [`Solver::confine_vorticity`].
+    pub fn confine(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        dt: f32,
+    ) {
+        if self.params.eps <= 0.0 {
+            return;
+        }
+        self.set_params(queue, |p| p.dt = dt);
+        let (nx, ny) = (self.nx, self.ny);
+        let force = [(1, &self.curl), (2, &self.fx), (3, &self.fz)];
+        self.dispatch(device, enc, "force", &force, (nx, ny));
+        let on_u = [(2, &self.fx), (4, &self.u), (6, &self.u_free)];
+        self.dispatch(device, enc, "apply_u", &on_u, (nx + 1, ny));
+        let on_v = [(3, &self.fz), (5, &self.v), (7, &self.v_free)];
+        self.dispatch(device, enc, "apply_v", &on_v, (nx, ny + 1));
+        self.sync_periodic(device, enc);
+    }
+
+    /// Records the divergence pass. Twin of [`Solver::compute_divergence`].
+    pub fn divergence(&self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder) {
+        let b = [(1, &self.u), (2, &self.v), (3, &self.solid), (4, &self.div)];
+        self.dispatch(device, enc, "divergence", &b, (self.nx, self.ny));
+    }
+
+    /// Records the pressure solve: the warm start's decay, then `iterations` Jacobi sweeps.
+    /// Twin of [`Solver::solve_pressure`].
+    pub fn pressure(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        iterations: usize,
+    ) {
+        let (nx, ny) = (self.nx, self.ny);
+        self.dispatch(device, enc, "decay", &[(6, &self.p)], (nx * ny, 1));
+        for k in 0..iterations {
+            let (from, to) = if k % 2 == 0 {
+                (&self.p, &self.p_tmp)
+            } else {
+                (&self.p_tmp, &self.p)
+            };
+            let b = [
+                (1, from),
+                (2, to),
+                (3, &self.div),
+                (4, &self.flags),
+                (5, &self.inv_w),
+            ];
+            self.dispatch(device, enc, "main", &b, (nx, ny));
+        }
+        if iterations % 2 == 1 {
+            enc.copy_buffer_to_buffer(&self.p_tmp, 0, &self.p, 0, self.p.size());
+        }
+    }
+
+    /// Records the gradient subtraction. Twin of [`Solver::subtract_gradient`].
+    pub fn gradient(&self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder) {
+        let (nx, ny) = (self.nx, self.ny);
+        let bu = [(1, &self.p), (2, &self.u), (4, &self.u_free)];
+        self.dispatch(device, enc, "u_faces", &bu, (nx + 1, ny));
+        let bv = [(1, &self.p), (3, &self.v), (5, &self.v_free)];
+        self.dispatch(device, enc, "v_faces", &bv, (nx, ny + 1));
+        self.sync_periodic(device, enc);
+    }
+
+    /// Records semi-Lagrangian advection over `dt` with dissipation `keep`. Twin of
+    /// [`Solver::advect`] with `sim.advection = "semi_lagrangian"`.
+    pub fn advect(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        dt: f32,
+        keep: f32,
+    ) {
+        self.set_params(queue, |p| {
+            p.dt = dt;
+            p.keep = keep;
+        });
+        let (nx, ny) = (self.nx, self.ny);
+        let bu = [
+            (1, &self.u),
+            (2, &self.v),
+            (3, &self.u),
+            (4, &self.u_tmp),
+            (5, &self.u_free),
+        ];
+        self.dispatch(device, enc, "advect_u", &bu, (nx + 1, ny));
+        let bv = [
+            (1, &self.u),
+            (2, &self.v),
+            (3, &self.v),
+            (4, &self.v_tmp),
+            (5, &self.v_free),
+        ];
+        self.dispatch(device, enc, "advect_v", &bv, (nx, ny + 1));
+        enc.copy_buffer_to_buffer(&self.u_tmp, 0, &self.u, 0, self.u.size());
+        enc.copy_buffer_to_buffer(&self.v_tmp, 0, &self.v, 0, self.v.size());
+        self.sync_periodic(device, enc);
+    }
+}
+
+impl GpuFluid {
+    /// One substep of everything but the forces, in the CPU solver's order: curl, vorticity
+    /// confinement, divergence, pressure, gradient subtraction, semi-Lagrangian advection.
+    /// One command encoder, no read-back.
+    pub fn substep_without_forces(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        dt: f32,
+        iterations: usize,
+        keep: f32,
+    ) {
+        let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+            label: Some("fluid substep"),
+        });
+        self.curl(device, &mut enc);
+        self.confine(device, queue, &mut enc, dt);
+        self.divergence(device, &mut enc);
+        self.pressure(device, &mut enc, iterations);
+        self.gradient(device, &mut enc);
+        self.advect(device, queue, &mut enc, dt, keep);
+        queue.submit([enc.finish()]);
+    }
+}
+
+/// The entry points of each pass's shader: `(kernel name, entry point)`.
+fn entry_points(shader: &str) -> &'static [(&'static str, &'static str)] {
+    match shader {
+        "curl" => &[("curl", "main")],
+        "confinement" => &[
+            ("force", "force"),
+            ("apply_u", "apply_u"),
+            ("apply_v", "apply_v"),
+        ],
+        "divergence" => &[("divergence", "main")],
+        "jacobi" => &[("decay", "decay"), ("main", "main")],
+        "gradient" => &[("u_faces", "u_faces"), ("v_faces", "v_faces")],
+        "advect" => &[("advect_u", "advect_u"), ("advect_v", "advect_v")],
+        "periodic" => &[("sync_u", "sync_u"), ("sync_v", "sync_v")],
+        _ => &[],
+    }
+}
