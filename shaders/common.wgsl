@@ -8,7 +8,8 @@ struct Params {
     ny: u32,
     // 1 for periodic boundaries.
     periodic: u32,
-    _pad0: u32,
+    // Active AGC splats in the forces pass.
+    splats: u32,
     // Cell size in metres along x and z.
     hx: f32,
     hz: f32,
@@ -26,8 +27,12 @@ struct Params {
     decay: f32,
     // Velocity clamp, m/s (`solver::MAX_SPEED`).
     max_speed: f32,
+    // Rate (1/s) at which an arrow brings the wind up to its strength.
+    response: f32,
     _pad1: f32,
-    _pad2: f32,
+    // World position of the grid's minimum corner, metres.
+    origin: vec2<f32>,
+    _pad2: vec2<f32>,
 }
 
 @group(0) @binding(0) var<uniform> P: Params;

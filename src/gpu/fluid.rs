@@ -1,13 +1,14 @@
 //! The fluid passes on the GPU: each a compute shader in `shaders/`, each the twin of a CPU
 //! solver pass (`src/sim/solver/`), on the CPU's staggered MAC layout in storage buffers.
 //!
-//! Built so far: curl, vorticity confinement, divergence, the Jacobi pressure solve with its
-//! warm start, gradient subtraction, semi-Lagrangian advection with dissipation, and the
-//! periodic face sync — with every boundary mode and obstacle masks. Still on the CPU only:
-//! the forces pass (AGC splats and ambient layers) and MacCormack advection; see
-//! `docs/SOLVER.md`.
+//! Built so far: the AGC arrows' forces, curl, vorticity confinement, divergence, the Jacobi
+//! pressure solve with its warm start, gradient subtraction, semi-Lagrangian advection with
+//! dissipation, and the periodic face sync — with every boundary mode and obstacle masks.
+//! Still on the CPU only: the ambient layers' part of the forces and MacCormack advection;
+//! see `docs/SOLVER.md`.
 
 use crate::sim::Solver;
+use crate::sim::forces::ArrowSplat;
 use crate::sim::solver::MAX_SPEED;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
@@ -19,7 +20,7 @@ pub struct Params {
     pub nx: u32,
     pub ny: u32,
     pub periodic: u32,
-    pub _pad0: u32,
+    pub splats: u32,
     pub hx: f32,
     pub hz: f32,
     pub dt: f32,
@@ -30,15 +31,18 @@ pub struct Params {
     pub wz: f32,
     pub decay: f32,
     pub max_speed: f32,
+    pub response: f32,
     pub _pad1: f32,
-    pub _pad2: f32,
+    pub origin: [f32; 2],
+    pub _pad2: [f32; 2],
 }
 
 /// The shared header every pass is compiled with.
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
 /// Every pass's shader file: `(name, source)`, each compiled after [`COMMON`].
-pub const SHADERS: [(&str, &str); 7] = [
+pub const SHADERS: [(&str, &str); 8] = [
+    ("forces", include_str!("../../shaders/forces.wgsl")),
     ("curl", include_str!("../../shaders/curl.wgsl")),
     (
         "confinement",
@@ -86,6 +90,8 @@ pub struct GpuFluid {
     v_free: wgpu::Buffer,
     flags: wgpu::Buffer,
     inv_w: wgpu::Buffer,
+    /// The active AGC splats (grown as needed; at least one element).
+    splats: wgpu::Buffer,
     kernels: std::collections::HashMap<&'static str, Kernel>,
 }
 
@@ -118,6 +124,15 @@ fn mask(device: &wgpu::Device, label: &str, data: &[u8]) -> wgpu::Buffer {
     storage(device, label, bytemuck::cast_slice(&words))
 }
 
+fn splat_buffer(device: &wgpu::Device, n: usize) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("splats"),
+        size: (n.max(1) * std::mem::size_of::<ArrowSplat>()) as u64,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// Workgroups of `size` to cover `n` invocations.
 fn groups(n: usize, size: u32) -> u32 {
     (n as u32).div_ceil(size)
@@ -134,7 +149,7 @@ impl GpuFluid {
             nx: nx as u32,
             ny: ny as u32,
             periodic: u32::from(periodic),
-            _pad0: 0,
+            splats: 0,
             hx: solver.hx,
             hz: solver.hz,
             dt: sp.dt,
@@ -145,8 +160,10 @@ impl GpuFluid {
             wz: 1.0 / (solver.hz * solver.hz),
             decay: sp.pressure_decay,
             max_speed: MAX_SPEED,
+            response: sp.arrow_response,
             _pad1: 0.0,
-            _pad2: 0.0,
+            origin: solver.origin,
+            _pad2: [0.0; 2],
         };
         let params_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("fluid params"),
@@ -194,6 +211,7 @@ impl GpuFluid {
             v_free: mask(device, "v_free", &solver.v_free),
             flags: mask(device, "flags", &solver.flags),
             inv_w: floats(device, "inv_w", &solver.inv_w),
+            splats: splat_buffer(device, 16),
             kernels,
         }
     }
@@ -326,6 +344,63 @@ impl GpuFluid {
             self.dispatch(device, enc, "sync_u", &[(1, &self.u)], (self.ny, 1));
             self.dispatch(device, enc, "sync_v", &[(2, &self.v)], (self.nx, 1));
         }
+    }
+
+    /// Records the AGC arrows' forces over `dt` for the active `splats` (from
+    /// [`crate::sim::forces::agc_splats`] at the step's time). Twin of [`Solver::apply_forces`]
+    /// for layouts without ambient layers.
+    pub fn forces(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        splats: &[ArrowSplat],
+        dt: f32,
+    ) {
+        if splats.is_empty() {
+            return;
+        }
+        let bytes = std::mem::size_of_val(splats) as u64;
+        if bytes > self.splats.size() {
+            self.splats = splat_buffer(device, splats.len().next_power_of_two());
+        }
+        queue.write_buffer(&self.splats, 0, bytemuck::cast_slice(splats));
+        self.set_params(queue, |p| {
+            p.dt = dt;
+            p.splats = splats.len() as u32;
+        });
+        let (nx, ny) = (self.nx, self.ny);
+        let on_u = [
+            (1, &self.u),
+            (2, &self.v),
+            (3, &self.splats),
+            (4, &self.u_tmp),
+            (5, &self.u_free),
+        ];
+        self.dispatch(device, enc, "inc_u", &on_u, (nx + 1, ny));
+        let on_v = [
+            (1, &self.u),
+            (2, &self.v),
+            (3, &self.splats),
+            (4, &self.v_tmp),
+            (5, &self.v_free),
+        ];
+        self.dispatch(device, enc, "inc_v", &on_v, (nx, ny + 1));
+        self.dispatch(
+            device,
+            enc,
+            "add",
+            &[(4, &self.u_tmp), (6, &self.u)],
+            ((nx + 1) * ny, 1),
+        );
+        self.dispatch(
+            device,
+            enc,
+            "add",
+            &[(4, &self.v_tmp), (6, &self.v)],
+            (nx * (ny + 1), 1),
+        );
+        self.sync_periodic(device, enc);
     }
 
     /// Records the curl pass. Twin of [`Solver::compute_curl`].
@@ -473,6 +548,7 @@ impl GpuFluid {
 /// The entry points of each pass's shader: `(kernel name, entry point)`.
 fn entry_points(shader: &str) -> &'static [(&'static str, &'static str)] {
     match shader {
+        "forces" => &[("inc_u", "inc_u"), ("inc_v", "inc_v"), ("add", "add")],
         "curl" => &[("curl", "main")],
         "confinement" => &[
             ("force", "force"),

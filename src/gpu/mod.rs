@@ -5,5 +5,7 @@
 
 mod context;
 pub mod fluid;
+mod solver;
 
 pub use context::{GpuContext, GpuError};
+pub use solver::GpuSolver;

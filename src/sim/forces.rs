@@ -8,8 +8,9 @@ use rustfft::{FftPlanner, num_complex::Complex32};
 /// wind along `dir` (unit) toward `strength` m/s, with Gaussian weight `g = exp(-d² / radius²)`,
 /// `d` the distance to the segment. The force is always along the arrow and fades as the wind
 /// along it reaches `strength`: per step, `Δvel = (1 − e^(−k·g·dt)) · max(0, strength − vel·dir) · dir`
-/// with `k` the layout's `arrow_response`. `#[repr(C)]` because the GPU path uploads these.
-#[derive(Debug, Clone, Copy, PartialEq)]
+/// with `k` the layout's `arrow_response`. The GPU forces pass uploads these: mirrored by
+/// `struct Splat` in `shaders/forces.wgsl`.
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
 #[repr(C)]
 pub struct ArrowSplat {
     pub a: [f32; 2],

@@ -1,0 +1,107 @@
+//! Whole solver steps on the GPU: the passes of [`super::fluid`] in the CPU solver's order,
+//! one command encoder a step, the CPU uploading only the step's active AGC splats.
+//!
+//! Covers layouts without ambient layers and with semi-Lagrangian advection; others are
+//! refused with [`GpuError::Unsupported`] until those passes are on the GPU.
+
+use super::fluid::{FieldId, GpuFluid};
+use super::{GpuContext, GpuError};
+use crate::doc::{Advection, Layout, SimParams};
+use crate::sim::Solver;
+use crate::sim::forces::agc_splats;
+
+/// The GPU twin of [`Solver`] for the layouts it covers.
+pub struct GpuSolver {
+    fluid: GpuFluid,
+    layout: Layout,
+    pub params: SimParams,
+    pub nx: usize,
+    pub ny: usize,
+    /// Simulation time in seconds.
+    pub time: f32,
+}
+
+impl GpuSolver {
+    /// A GPU solver for `layout` at rest (the layout must be valid).
+    pub fn new(ctx: &GpuContext, layout: &Layout) -> Result<Self, GpuError> {
+        Self::from_solver(ctx, layout, &Solver::new(layout))
+    }
+
+    /// A GPU solver that takes over `cpu`'s running field (velocity, pressure, time).
+    pub fn from_solver(ctx: &GpuContext, layout: &Layout, cpu: &Solver) -> Result<Self, GpuError> {
+        let unsupported = |what: &str| GpuError::Unsupported {
+            adapter: ctx.describe(),
+            what: format!("{what} yet: the GPU solver does not cover them (use the CPU)"),
+        };
+        if layout.ambient.iter().any(|a| a.enabled) {
+            return Err(unsupported("simulate ambient layers"));
+        }
+        if layout.sim.advection != Advection::SemiLagrangian {
+            return Err(unsupported("run MacCormack advection"));
+        }
+        let fluid = GpuFluid::new(&ctx.device, cpu);
+        fluid.upload_state(&ctx.queue, cpu);
+        Ok(Self {
+            fluid,
+            layout: layout.clone(),
+            params: layout.sim,
+            nx: cpu.nx,
+            ny: cpu.ny,
+            time: cpu.time,
+        })
+    }
+
+    /// Records and submits one step (its substeps), without waiting for the GPU.
+    pub fn step(&mut self, ctx: &GpuContext) {
+        let (device, queue) = (&ctx.device, &ctx.queue);
+        let n = self.params.substeps.max(1);
+        let dt = self.params.dt / n as f32;
+        let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
+        let iterations = self.params.pressure_iterations as usize;
+        for _ in 0..n {
+            let splats = agc_splats(&self.layout, self.time);
+            let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("fluid step"),
+            });
+            self.fluid.forces(device, queue, &mut enc, &splats, dt);
+            queue.submit([enc.finish()]);
+            self.fluid
+                .substep_without_forces(device, queue, dt, iterations, keep);
+            self.time += dt;
+        }
+    }
+
+    /// Waits until the GPU has finished every submitted step.
+    pub fn finish(&self, ctx: &GpuContext) -> Result<(), GpuError> {
+        ctx.device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map(|_| ())
+            .map_err(|e| GpuError::Runtime {
+                what: "a solver step".into(),
+                message: e.to_string(),
+            })
+    }
+
+    /// The face velocities `(u, v)` read back from the GPU.
+    pub fn faces(&self, ctx: &GpuContext) -> Result<(Vec<f32>, Vec<f32>), GpuError> {
+        Ok((
+            self.fluid.download(&ctx.device, &ctx.queue, FieldId::U)?,
+            self.fluid.download(&ctx.device, &ctx.queue, FieldId::V)?,
+        ))
+    }
+
+    /// Cell-centred velocity `[x, z]` (m/s), row-major, as [`Solver::velocity_field`].
+    pub fn velocity_field(&self, ctx: &GpuContext) -> Result<Vec<[f32; 2]>, GpuError> {
+        let (u, v) = self.faces(ctx)?;
+        let nx = self.nx;
+        Ok((0..self.ny)
+            .flat_map(|j| (0..nx).map(move |i| (i, j)))
+            .map(|(i, j)| {
+                [
+                    0.5 * (u[j * (nx + 1) + i] + u[j * (nx + 1) + i + 1]),
+                    0.5 * (v[j * nx + i] + v[(j + 1) * nx + i]),
+                ]
+            })
+            .collect())
+    }
+}
