@@ -153,9 +153,9 @@ enum Command {
 enum Backend {
     /// The CPU reference solver.
     Cpu,
-    /// The GPU solver (not built yet).
+    /// The GPU solver (layouts without ambient layers, semi-Lagrangian advection).
     Gpu,
-    /// The GPU when there is one, else the CPU; today always the CPU.
+    /// The GPU when a hardware adapter exists and covers the layout, else the CPU.
     Auto,
 }
 
@@ -306,9 +306,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             max_disk,
             backend,
         }) => {
-            if backend == Backend::Gpu {
-                anyhow::bail!("the GPU solver is not built yet: use --backend cpu");
-            }
             let l = io::load(&layout)?;
             let opts = bake::BakeOptions {
                 formats: if formats.is_empty() {
@@ -323,6 +320,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 grid,
                 half,
                 max_bytes: max_disk,
+                backend: match backend {
+                    Backend::Cpu => bake::Backend::Cpu,
+                    Backend::Gpu => bake::Backend::Gpu,
+                    Backend::Auto => bake::Backend::Auto,
+                },
             };
             let cancel = Arc::new(AtomicBool::new(false));
             let flag = cancel.clone();
@@ -393,9 +395,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             advection,
             json,
         }) => {
-            if backend == Backend::Gpu {
-                anyhow::bail!("the GPU solver is not built yet: use --backend cpu");
-            }
             let (mut l, name) = match &layout {
                 Some(p) => (io::load(p)?, p.display().to_string()),
                 None => (
@@ -412,6 +411,27 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let issues = doc::validate(&l);
             if let Some(i) = issues.first() {
                 anyhow::bail!("bench settings: {i}");
+            }
+            if backend == Backend::Gpu {
+                let ctx = windloom::gpu::GpuContext::headless()?;
+                let r = windloom::gpu::bench::run(&ctx, &l, &name, warmup, steps)?;
+                if json {
+                    println!("{}", serde_json::to_string(&r)?);
+                } else {
+                    println!(
+                        "{} {}x{}, {} Jacobi iterations, GPU {} ({}): median {:.2} ms, min {:.2} ms per step, {:.1} GB/s effective",
+                        r.layout,
+                        r.grid[0],
+                        r.grid[1],
+                        r.iterations,
+                        r.adapter.name,
+                        r.adapter.device_type,
+                        r.median_ms,
+                        r.min_ms,
+                        r.effective_gb_s
+                    );
+                }
+                return Ok(ExitCode::SUCCESS);
             }
             let pool = rayon::ThreadPoolBuilder::new()
                 .num_threads(threads.unwrap_or(0))

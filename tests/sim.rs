@@ -998,4 +998,107 @@ mod gpu {
             .to_string();
         assert!(e.contains("MacCormack"), "{e}");
     }
+
+    fn bake_raw(backend: windloom::bake::Backend) -> (Vec<f32>, windloom::bake::Manifest) {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("bake");
+        let opts = windloom::bake::BakeOptions {
+            formats: vec![windloom::bake::Format::Raw],
+            warmup: 1.0,
+            frames: 3,
+            fps: 10.0,
+            grid: Some([60, 40]),
+            backend,
+            ..Default::default()
+        };
+        let m = windloom::bake::bake(
+            &example("two-winds.json"),
+            &out,
+            &opts,
+            &std::sync::atomic::AtomicBool::new(false),
+            &mut |_, _, _| {},
+        )
+        .unwrap();
+        let bytes = std::fs::read(out.join("wind.f32")).unwrap();
+        let data = bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect();
+        (data, m)
+    }
+
+    /// `bake --backend gpu` and `--backend cpu` of the same layout give the same wind within
+    /// the whole-run bound; `auto` on a software adapter bakes on the CPU and says why.
+    #[test]
+    fn a_gpu_bake_agrees_with_a_cpu_bake() {
+        let Some(_ctx) = context() else { return };
+        use windloom::bake::Backend;
+        let (cpu, mc) = bake_raw(Backend::Cpu);
+        let (gpu, mg) = bake_raw(Backend::Gpu);
+        assert_eq!(mc.solver, "cpu");
+        assert!(mg.solver.starts_with("gpu: "), "{}", mg.solver);
+        let peak = cpu.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+        let err = gpu
+            .iter()
+            .zip(&cpu)
+            .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()));
+        println!("gpu bake vs cpu bake: max error {err:.2e} of peak {peak:.2}");
+        assert!(peak > 1.0 && err <= 1e-3 * peak, "{err} of {peak}");
+        if _ctx.adapter.device_type == wgpu::DeviceType::Cpu {
+            let (auto, ma) = bake_raw(Backend::Auto);
+            assert_eq!(ma.solver, "cpu");
+            assert!(
+                ma.notes.iter().any(|n| n.contains("software")),
+                "{:?}",
+                ma.notes
+            );
+            assert_eq!(auto, cpu);
+        }
+    }
+
+    #[test]
+    fn bench_reports_the_gpu_it_ran_on() {
+        let Some(_ctx) = context() else { return };
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+            .args([
+                "bench",
+                "--backend",
+                "gpu",
+                "--grid",
+                "48",
+                "--steps",
+                "3",
+                "--warmup",
+                "1",
+                "--json",
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(r["backend"], "gpu");
+        assert_eq!(r["adapter"]["name"], _ctx.adapter.name.as_str());
+        assert_eq!(r["grid"], serde_json::json!([48, 48]));
+        assert!(r["median_ms"].as_f64().unwrap() > 0.0);
+        assert!(r["bytes_per_step"].as_u64().unwrap() > 0);
+        // A layout the GPU does not cover is a one-line error naming why.
+        let meadow = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/meadow.json");
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+            .args([
+                "bench",
+                "--backend",
+                "gpu",
+                "--grid",
+                "32",
+                "--steps",
+                "1",
+                "--layout",
+            ])
+            .arg(&meadow)
+            .output()
+            .unwrap();
+        assert!(!o.status.success());
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(err.contains("ambient layers"), "{err}");
+    }
 }

@@ -13,14 +13,15 @@ mod folder;
 mod frames;
 mod png;
 mod raw;
+mod stepper;
 pub mod timing;
 mod vf;
 
 pub use png::ATLAS_MAX_SIDE;
+pub use stepper::Backend;
 pub use timing::FrameTiming;
 
 use crate::doc::{self, Layout};
-use crate::sim::Solver;
 use frames::{FrameReader, FrameWriter};
 use serde::Serialize;
 use sha2::Digest;
@@ -160,6 +161,8 @@ pub struct BakeOptions {
     /// Most disk the bake may take, in bytes, counted before it starts (an upper bound of
     /// what every output and the temporary frame files need).
     pub max_bytes: u64,
+    /// Which solver runs the bake.
+    pub backend: Backend,
 }
 
 /// The default disk budget of a bake: 16 GiB.
@@ -176,6 +179,7 @@ impl Default for BakeOptions {
             grid: None,
             half: false,
             max_bytes: DEFAULT_MAX_BYTES,
+            backend: Backend::Cpu,
         }
     }
 }
@@ -263,6 +267,8 @@ pub struct Manifest {
     pub frames: FramesInfo,
     /// Largest wind speed over all frames, m/s (the PNG flowmap scale).
     pub max_speed: f32,
+    /// The solver that ran: `cpu`, or `gpu: ADAPTER`.
+    pub solver: String,
     pub notes: Vec<String>,
     pub files: Vec<FileEntry>,
 }
@@ -549,9 +555,10 @@ pub fn bake(
     } else {
         frames_path.clone()
     };
-    let mut solver = Solver::new(&sim_layout);
+    let (mut solver, solver_note) = stepper::Stepper::new(&sim_layout, opts.backend)?;
+    let solver_name = solver.describe();
     let mut steps = 0;
-    let mut advance = |solver: &mut Solver, count: usize| -> Result<(), BakeError> {
+    let mut advance = |solver: &mut stepper::Stepper, count: usize| -> Result<(), BakeError> {
         for _ in 0..count {
             if cancel.load(Ordering::Relaxed) {
                 return Err(BakeError::Cancelled);
@@ -559,7 +566,7 @@ pub fn bake(
             solver.step();
             steps += 1;
             // The clock from the step count, so frame k sits at exactly warmup + k / fps.
-            solver.time = timing.time_after(steps) as f32;
+            solver.set_time(timing.time_after(steps) as f32);
             if steps % 8 == 0 || steps == sim_steps {
                 progress(steps, total, "simulating");
             }
@@ -568,10 +575,10 @@ pub fn bake(
     };
     let mut writer = FrameWriter::create(&source_path, nx, ny)?;
     advance(&mut solver, timing.warmup_steps)?;
-    writer.push(&solver.velocity_field())?;
+    writer.push(&solver.velocity_field()?)?;
     for _ in 1..simulated {
         advance(&mut solver, timing.steps_per_frame)?;
-        writer.push(&solver.velocity_field())?;
+        writer.push(&solver.velocity_field()?)?;
     }
     drop(solver);
     let mut max_speed = writer.max_speed;
@@ -687,11 +694,10 @@ pub fn bake(
             layout_dt: layout.sim.dt,
         },
         max_speed,
-        notes: formats
-            .contains(&Format::Fga)
-            .then(|| fga::note(nx, ny))
-            .flatten()
+        solver: solver_name,
+        notes: solver_note
             .into_iter()
+            .chain(formats.contains(&Format::Fga).then(|| fga::note(nx, ny)).flatten())
             .collect(),
         files: files.into_values().flatten().collect(),
     };

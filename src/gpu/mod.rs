@@ -3,6 +3,7 @@
 //! `&wgpu::Device` and `&wgpu::Queue` and knows nothing of egui. Structs shared with WGSL are
 //! `#[repr(C)]` + bytemuck and name the shader they mirror.
 
+pub mod bench;
 mod context;
 pub mod fluid;
 mod solver;
