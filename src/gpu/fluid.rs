@@ -79,6 +79,8 @@ pub struct GpuFluid {
     v: wgpu::Buffer,
     u_tmp: wgpu::Buffer,
     v_tmp: wgpu::Buffer,
+    u_hat: wgpu::Buffer,
+    v_hat: wgpu::Buffer,
     p: wgpu::Buffer,
     p_tmp: wgpu::Buffer,
     div: wgpu::Buffer,
@@ -200,6 +202,8 @@ impl GpuFluid {
             v: floats(device, "v", &solver.v),
             u_tmp: floats(device, "u_tmp", &solver.u),
             v_tmp: floats(device, "v_tmp", &solver.v),
+            u_hat: floats(device, "u_hat", &solver.u),
+            v_hat: floats(device, "v_hat", &solver.v),
             p: floats(device, "p", &solver.p),
             p_tmp: floats(device, "p_tmp", &solver.p),
             div: floats(device, "div", &solver.div),
@@ -483,8 +487,8 @@ impl GpuFluid {
         self.sync_periodic(device, enc);
     }
 
-    /// Records semi-Lagrangian advection over `dt` with dissipation `keep`. Twin of
-    /// [`Solver::advect`] with `sim.advection = "semi_lagrangian"`.
+    /// Records advection over `dt` with dissipation `keep`: semi-Lagrangian, or limited
+    /// MacCormack with `maccormack`. Twin of [`Solver::advect`].
     pub fn advect(
         &mut self,
         device: &wgpu::Device,
@@ -492,12 +496,45 @@ impl GpuFluid {
         enc: &mut wgpu::CommandEncoder,
         dt: f32,
         keep: f32,
+        maccormack: bool,
     ) {
         self.set_params(queue, |p| {
             p.dt = dt;
             p.keep = keep;
         });
         let (nx, ny) = (self.nx, self.ny);
+        if maccormack {
+            for (f, tmp, hat, free, c, size) in [
+                (
+                    &self.u,
+                    &self.u_tmp,
+                    &self.u_hat,
+                    &self.u_free,
+                    "u",
+                    (nx + 1, ny),
+                ),
+                (
+                    &self.v,
+                    &self.v_tmp,
+                    &self.v_hat,
+                    &self.v_free,
+                    "v",
+                    (nx, ny + 1),
+                ),
+            ] {
+                let vel = [(1, &self.u), (2, &self.v)];
+                let fwd = [vel[0], vel[1], (3, f), (4, tmp), (5, free)];
+                self.dispatch(device, enc, &format!("trace_{c}"), &fwd, size);
+                let back = [vel[0], vel[1], (3, tmp), (4, hat), (5, free)];
+                self.dispatch(device, enc, &format!("retrace_{c}"), &back, size);
+                let fix = [vel[0], vel[1], (3, tmp), (5, free), (6, hat)];
+                self.dispatch(device, enc, &format!("maccormack_{c}"), &fix, size);
+            }
+            enc.copy_buffer_to_buffer(&self.u_hat, 0, &self.u, 0, self.u.size());
+            enc.copy_buffer_to_buffer(&self.v_hat, 0, &self.v, 0, self.v.size());
+            self.sync_periodic(device, enc);
+            return;
+        }
         let bu = [
             (1, &self.u),
             (2, &self.v),
@@ -522,7 +559,7 @@ impl GpuFluid {
 
 impl GpuFluid {
     /// One substep of everything but the forces, in the CPU solver's order: curl, vorticity
-    /// confinement, divergence, pressure, gradient subtraction, semi-Lagrangian advection.
+    /// confinement, divergence, pressure, gradient subtraction, advection.
     /// One command encoder, no read-back.
     pub fn substep_without_forces(
         &mut self,
@@ -531,6 +568,7 @@ impl GpuFluid {
         dt: f32,
         iterations: usize,
         keep: f32,
+        maccormack: bool,
     ) {
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("fluid substep"),
@@ -540,7 +578,7 @@ impl GpuFluid {
         self.divergence(device, &mut enc);
         self.pressure(device, &mut enc, iterations);
         self.gradient(device, &mut enc);
-        self.advect(device, queue, &mut enc, dt, keep);
+        self.advect(device, queue, &mut enc, dt, keep, maccormack);
         queue.submit([enc.finish()]);
     }
 }
@@ -558,7 +596,16 @@ fn entry_points(shader: &str) -> &'static [(&'static str, &'static str)] {
         "divergence" => &[("divergence", "main")],
         "jacobi" => &[("decay", "decay"), ("main", "main")],
         "gradient" => &[("u_faces", "u_faces"), ("v_faces", "v_faces")],
-        "advect" => &[("advect_u", "advect_u"), ("advect_v", "advect_v")],
+        "advect" => &[
+            ("advect_u", "advect_u"),
+            ("advect_v", "advect_v"),
+            ("trace_u", "trace_u"),
+            ("trace_v", "trace_v"),
+            ("retrace_u", "retrace_u"),
+            ("retrace_v", "retrace_v"),
+            ("maccormack_u", "maccormack_u"),
+            ("maccormack_v", "maccormack_v"),
+        ],
         "periodic" => &[("sync_u", "sync_u"), ("sync_v", "sync_v")],
         _ => &[],
     }

@@ -1,8 +1,8 @@
 //! Whole solver steps on the GPU: the passes of [`super::fluid`] in the CPU solver's order,
 //! one command encoder a step, the CPU uploading only the step's active AGC splats.
 //!
-//! Covers layouts without ambient layers and with semi-Lagrangian advection; others are
-//! refused with [`GpuError::Unsupported`] until those passes are on the GPU.
+//! Covers layouts without ambient layers; others are refused with [`GpuError::Unsupported`]
+//! until that part of the forces is on the GPU.
 
 use super::fluid::{FieldId, GpuFluid};
 use super::{GpuContext, GpuError};
@@ -36,9 +36,6 @@ impl GpuSolver {
         if layout.ambient.iter().any(|a| a.enabled) {
             return Err(unsupported("simulate ambient layers"));
         }
-        if layout.sim.advection != Advection::SemiLagrangian {
-            return Err(unsupported("run MacCormack advection"));
-        }
         let fluid = GpuFluid::new(&ctx.device, cpu);
         fluid.upload_state(&ctx.queue, cpu);
         Ok(Self {
@@ -58,6 +55,7 @@ impl GpuSolver {
         let dt = self.params.dt / n as f32;
         let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
         let iterations = self.params.pressure_iterations as usize;
+        let maccormack = self.params.advection == Advection::MacCormack;
         for _ in 0..n {
             let splats = agc_splats(&self.layout, self.time);
             let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
@@ -66,7 +64,7 @@ impl GpuSolver {
             self.fluid.forces(device, queue, &mut enc, &splats, dt);
             queue.submit([enc.finish()]);
             self.fluid
-                .substep_without_forces(device, queue, dt, iterations, keep);
+                .substep_without_forces(device, queue, dt, iterations, keep, maccormack);
             self.time += dt;
         }
     }
