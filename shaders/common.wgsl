@@ -32,7 +32,10 @@ struct Params {
     _pad1: f32,
     // World position of the grid's minimum corner, metres.
     origin: vec2<f32>,
-    _pad2: vec2<f32>,
+    // Ambient layers: the pull toward their wind per substep, 1 − e^(−coupling·dt), and how
+    // many layers are active.
+    coupling: f32,
+    layers: u32,
 }
 
 @group(0) @binding(0) var<uniform> P: Params;

@@ -1,10 +1,11 @@
 // Step 1, the AGC arrows: each active arrow is a capsule splat that drives the wind on the
 // free faces along its direction toward its strength,
 // Δvel = (1 − e^(−k·g·dt)) · max(0, strength − vel·dir) · dir, g = exp(−d²/r²) within 3 r.
-// `inc_u`/`inc_v` write every face's change from the velocity before the pass; `add_u`/`add_v`
-// then add it, clamped to ±max_speed. CPU twin: `Solver::apply_forces` with
-// `sim::forces::ArrowSplat` (mirrored by `struct Splat`) and `sim::forces::exp_neg`.
-// The ambient layers' pull is not on the GPU yet.
+// The ambient layers then pull every free face toward their wind: Δvel = (w − vel)·coupling.
+// `inc_u`/`inc_v` write every face's change from the velocity before the pass; `add` then adds
+// it, clamped to ±max_speed. CPU twin: `Solver::apply_forces` with `sim::forces::ArrowSplat`
+// (mirrored by `struct Splat`), `sim::forces::LayerParams` (by `struct Layer`),
+// `sim::forces::Ambient::wind`, `gradient_noise` and `exp_neg`.
 
 struct Splat {
     a: vec2<f32>,
@@ -20,6 +21,140 @@ struct Splat {
 @group(0) @binding(4) var<storage, read_write> inc: array<f32>;
 @group(0) @binding(5) var<storage, read> free: array<u32>;
 @group(0) @binding(6) var<storage, read_write> field: array<f32>;
+@group(0) @binding(7) var<storage, read> layers: array<Layer>;
+// The FFT layers' gust fields, one after the other.
+@group(0) @binding(8) var<storage, read> gusts: array<f32>;
+
+struct Layer {
+    // 0 directional, 1 noise, 2 FFT gusts, 3 sine.
+    kind: u32,
+    fft_offset: u32,
+    fft_n: u32,
+    _pad: u32,
+    dir: vec2<f32>,
+    // dir · speed · t: how far the pattern has scrolled.
+    shift: vec2<f32>,
+    a: f32,
+    b: f32,
+    c: f32,
+    _pad2: f32,
+}
+
+// (sin a, cos a): Cody–Waite reduction by π/2 in three parts and polynomials on [−π/4, π/4],
+// accurate to about 1e-7 for the arguments that occur, on any GPU.
+fn sincos(a: f32) -> vec2<f32> {
+    let k = round(a * 0.63661975);
+    let r = ((a - k * 1.5703125) - k * 4.8375129699707031e-4) - k * 7.5497899548918821e-8;
+    let r2 = r * r;
+    let s = r + r * r2 * (-0.16666667 + r2 * (0.0083333333 + r2 * (-0.00019841270 + r2 * 2.7557319e-6)));
+    let c = 1.0 + r2 * (-0.5 + r2 * (0.041666668 + r2 * (-0.0013888889 + r2 * 2.4801587e-5)));
+    let q = i32(k) & 3;
+    if (q == 0) {
+        return vec2<f32>(s, c);
+    }
+    if (q == 1) {
+        return vec2<f32>(c, -s);
+    }
+    if (q == 2) {
+        return vec2<f32>(-s, -c);
+    }
+    return vec2<f32>(-c, s);
+}
+
+// The CPU's integer hash (`sim::forces::hash`), bit for bit.
+fn hash(x: i32, y: i32, seed: u32) -> u32 {
+    var h = (bitcast<u32>(x) * 0x8da6b343u) ^ (bitcast<u32>(y) * 0xd8163841u) ^ (seed * 0xcb1ab31fu);
+    h = h ^ (h >> 16u);
+    h = h * 0x7feb352du;
+    h = h ^ (h >> 15u);
+    h = h * 0x846ca68bu;
+    return h ^ (h >> 16u);
+}
+
+fn grad(ix: i32, iy: i32, seed: u32, dx: f32, dy: f32) -> f32 {
+    let a = f32(hash(ix, iy, seed) >> 8u) * (6.2831855 / 16777216.0);
+    let sc = sincos(a);
+    return sc.y * dx + sc.x * dy;
+}
+
+fn fade(t: f32) -> f32 {
+    return t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
+}
+
+// 2D gradient noise in about [−1, 1]: `sim::forces::gradient_noise`.
+fn gradient_noise(x: f32, y: f32, seed: u32) -> f32 {
+    let xf = floor(x);
+    let yf = floor(y);
+    let fx = x - xf;
+    let fy = y - yf;
+    let xi = i32(xf);
+    let yi = i32(yf);
+    let n00 = grad(xi, yi, seed, fx, fy);
+    let n10 = grad(xi + 1, yi, seed, fx - 1.0, fy);
+    let n01 = grad(xi, yi + 1, seed, fx, fy - 1.0);
+    let n11 = grad(xi + 1, yi + 1, seed, fx - 1.0, fy - 1.0);
+    let u = fade(fx);
+    let v = fade(fy);
+    let nx0 = n00 + (n10 - n00) * u;
+    let nx1 = n01 + (n11 - n01) * u;
+    return (nx0 + (nx1 - nx0) * v) * 1.4142135;
+}
+
+// Rust's f32::rem_euclid(1.0).
+fn rem1(x: f32) -> f32 {
+    let r = x % 1.0;
+    return select(r, r + 1.0, r < 0.0);
+}
+
+// An FFT layer's unit-rms gust at world point `p`, bilinear, wrapping every tile (`c`).
+fn fft_sample(l: Layer, p: vec2<f32>) -> f32 {
+    let n = l.fft_n;
+    let x = rem1(p.x / l.c) * f32(n);
+    let z = rem1(p.y / l.c) * f32(n);
+    let i0 = u32(floor(x)) % n;
+    let j0 = u32(floor(z)) % n;
+    let i1 = (i0 + 1u) % n;
+    let j1 = (j0 + 1u) % n;
+    let fx = x - floor(x);
+    let fz = z - floor(z);
+    let o = l.fft_offset;
+    let a = gusts[o + j0 * n + i0] + (gusts[o + j0 * n + i1] - gusts[o + j0 * n + i0]) * fx;
+    let b = gusts[o + j1 * n + i0] + (gusts[o + j1 * n + i1] - gusts[o + j1 * n + i0]) * fx;
+    return a + (b - a) * fz;
+}
+
+// The ambient layers' target wind at world point `p`: `sim::forces::Ambient::wind`.
+fn ambient_wind(p: vec2<f32>) -> vec2<f32> {
+    var w = vec2<f32>(0.0, 0.0);
+    for (var n = 0u; n < P.layers; n = n + 1u) {
+        let l = layers[n];
+        var speed = 0.0;
+        if (l.kind == 0u) {
+            // Directional: frozen turbulence scrolled with the mean wind, and the gusty mean.
+            let q = vec2<f32>(p.x - l.shift.x, p.y - l.shift.y);
+            let s = 1.0 / 8.0;
+            w.x = w.x + l.a * gradient_noise(q.x * s, q.y * s, 11u);
+            w.y = w.y + l.a * gradient_noise(q.x * s, q.y * s, 23u);
+            speed = l.b;
+        } else if (l.kind == 1u) {
+            let q = vec2<f32>(p.x - l.shift.x, p.y - l.shift.y);
+            let nz = gradient_noise(q.x / l.a, q.y / l.a, 5u);
+            speed = l.b * clamp(0.5 + 0.5 * nz, 0.0, 1.0);
+        } else if (l.kind == 2u) {
+            var f = 0.0;
+            if (l.fft_n > 0u) {
+                f = fft_sample(l, vec2<f32>(p.x - l.shift.x, p.y - l.shift.y));
+            }
+            speed = l.a + l.b * f;
+        } else {
+            let x = p.x * l.dir.x + p.y * l.dir.y;
+            speed = l.a * sincos(6.2831855 * (x / l.b - l.c)).x;
+        }
+        w.x = w.x + l.dir.x * speed;
+        w.y = w.y + l.dir.y * speed;
+    }
+    return w;
+}
 
 // e^x for x ≤ 0: the CPU's range-reduced polynomial (`sim::forces::exp_neg`). The CPU rounds
 // n = x·log2(e) by adding and subtracting 1.5·2²³; shader compilers may fold that pair away
@@ -69,6 +204,9 @@ fn increment(at: vec2<f32>, vel: vec2<f32>, c: u32) -> f32 {
         let deficit = max(sp.strength - (vel.x * sp.dir.x + vel.y * sp.dir.y), 0.0);
         let m = (1.0 - exp_neg(-P.response * g * P.dt)) * deficit;
         sum = sum + sp.dir[c] * m;
+    }
+    if (P.layers > 0u) {
+        sum = sum + (ambient_wind(at)[c] - vel[c]) * P.coupling;
     }
     return sum;
 }

@@ -8,7 +8,7 @@
 //! see `docs/SOLVER.md`.
 
 use crate::sim::Solver;
-use crate::sim::forces::ArrowSplat;
+use crate::sim::forces::{ArrowSplat, LayerParams};
 use crate::sim::solver::MAX_SPEED;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
@@ -34,7 +34,8 @@ pub struct Params {
     pub response: f32,
     pub _pad1: f32,
     pub origin: [f32; 2],
-    pub _pad2: [f32; 2],
+    pub coupling: f32,
+    pub layers: u32,
 }
 
 /// The shared header every pass is compiled with.
@@ -92,8 +93,11 @@ pub struct GpuFluid {
     v_free: wgpu::Buffer,
     flags: wgpu::Buffer,
     inv_w: wgpu::Buffer,
-    /// The active AGC splats (grown as needed; at least one element).
+    /// The active AGC splats, the ambient layers and their FFT gust fields (each grown as
+    /// needed; at least one element).
     splats: wgpu::Buffer,
+    layers: wgpu::Buffer,
+    gusts: wgpu::Buffer,
     kernels: std::collections::HashMap<&'static str, Kernel>,
 }
 
@@ -126,13 +130,29 @@ fn mask(device: &wgpu::Device, label: &str, data: &[u8]) -> wgpu::Buffer {
     storage(device, label, bytemuck::cast_slice(&words))
 }
 
-fn splat_buffer(device: &wgpu::Device, n: usize) -> wgpu::Buffer {
+fn grow_buffer(device: &wgpu::Device, label: &str, bytes: usize) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("splats"),
-        size: (n.max(1) * std::mem::size_of::<ArrowSplat>()) as u64,
+        label: Some(label),
+        size: bytes.max(16).next_power_of_two() as u64,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
+}
+
+/// Writes `data` into `buf`, first replacing it with a larger one if it is too small.
+fn upload_growing(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    buf: &mut wgpu::Buffer,
+    label: &str,
+    data: &[u8],
+) {
+    if data.len() as u64 > buf.size() {
+        *buf = grow_buffer(device, label, data.len());
+    }
+    if !data.is_empty() {
+        queue.write_buffer(buf, 0, data);
+    }
 }
 
 /// Workgroups of `size` to cover `n` invocations.
@@ -165,7 +185,8 @@ impl GpuFluid {
             response: sp.arrow_response,
             _pad1: 0.0,
             origin: solver.origin,
-            _pad2: [0.0; 2],
+            coupling: 0.0,
+            layers: 0,
         };
         let params_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("fluid params"),
@@ -215,7 +236,9 @@ impl GpuFluid {
             v_free: mask(device, "v_free", &solver.v_free),
             flags: mask(device, "flags", &solver.flags),
             inv_w: floats(device, "inv_w", &solver.inv_w),
-            splats: splat_buffer(device, 16),
+            splats: grow_buffer(device, "splats", 16 * std::mem::size_of::<ArrowSplat>()),
+            layers: grow_buffer(device, "layers", 4 * std::mem::size_of::<LayerParams>()),
+            gusts: grow_buffer(device, "gusts", 4),
             kernels,
         }
     }
@@ -350,28 +373,54 @@ impl GpuFluid {
         }
     }
 
-    /// Records the AGC arrows' forces over `dt` for the active `splats` (from
-    /// [`crate::sim::forces::agc_splats`] at the step's time). Twin of [`Solver::apply_forces`]
-    /// for layouts without ambient layers.
+    /// Records the forces over `dt`: the active AGC `splats` (from
+    /// [`crate::sim::forces::agc_splats`] at the step's time) and the ambient `layers` with
+    /// their FFT `gusts` (from [`crate::sim::forces::Ambient::layer_params`]) pulling with
+    /// `coupling` (`1 − e^(−ambient_coupling·dt)`). Twin of [`Solver::apply_forces`].
+    #[allow(clippy::too_many_arguments)]
     pub fn forces(
         &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         enc: &mut wgpu::CommandEncoder,
         splats: &[ArrowSplat],
+        (layers, gusts, coupling): (&[LayerParams], &[f32], f32),
         dt: f32,
     ) {
-        if splats.is_empty() {
+        let coupling = if layers.is_empty() { 0.0 } else { coupling };
+        if splats.is_empty() && coupling == 0.0 {
             return;
         }
-        let bytes = std::mem::size_of_val(splats) as u64;
-        if bytes > self.splats.size() {
-            self.splats = splat_buffer(device, splats.len().next_power_of_two());
-        }
-        queue.write_buffer(&self.splats, 0, bytemuck::cast_slice(splats));
+        upload_growing(
+            device,
+            queue,
+            &mut self.splats,
+            "splats",
+            bytemuck::cast_slice(splats),
+        );
+        upload_growing(
+            device,
+            queue,
+            &mut self.layers,
+            "layers",
+            bytemuck::cast_slice(layers),
+        );
+        upload_growing(
+            device,
+            queue,
+            &mut self.gusts,
+            "gusts",
+            bytemuck::cast_slice(gusts),
+        );
         self.set_params(queue, |p| {
             p.dt = dt;
             p.splats = splats.len() as u32;
+            p.layers = if coupling > 0.0 {
+                layers.len() as u32
+            } else {
+                0
+            };
+            p.coupling = coupling;
         });
         let (nx, ny) = (self.nx, self.ny);
         let on_u = [
@@ -380,6 +429,8 @@ impl GpuFluid {
             (3, &self.splats),
             (4, &self.u_tmp),
             (5, &self.u_free),
+            (7, &self.layers),
+            (8, &self.gusts),
         ];
         self.dispatch(device, enc, "inc_u", &on_u, (nx + 1, ny));
         let on_v = [
@@ -388,6 +439,8 @@ impl GpuFluid {
             (3, &self.splats),
             (4, &self.v_tmp),
             (5, &self.v_free),
+            (7, &self.layers),
+            (8, &self.gusts),
         ];
         self.dispatch(device, enc, "inc_v", &on_v, (nx, ny + 1));
         self.dispatch(

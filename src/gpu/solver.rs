@@ -1,19 +1,22 @@
 //! Whole solver steps on the GPU: the passes of [`super::fluid`] in the CPU solver's order,
 //! one command encoder a step, the CPU uploading only the step's active AGC splats.
 //!
-//! Covers layouts without ambient layers; others are refused with [`GpuError::Unsupported`]
-//! until that part of the forces is on the GPU.
+//! Covers every layout: the CPU uploads per substep only the active AGC splats, the ambient
+//! layers' time-dependent parameters and, for FFT layers, the gust field it evaluates.
 
 use super::fluid::{FieldId, GpuFluid};
 use super::{GpuContext, GpuError};
 use crate::doc::{Advection, Layout, SimParams};
 use crate::sim::Solver;
-use crate::sim::forces::agc_splats;
+use crate::sim::forces::{Ambient, agc_splats};
 
 /// The GPU twin of [`Solver`] for the layouts it covers.
 pub struct GpuSolver {
     fluid: GpuFluid,
     layout: Layout,
+    /// The ambient layers, prepared on the CPU (FFT spectra) and evaluated per substep into
+    /// the small parameter and gust buffers the GPU reads.
+    ambient: Ambient,
     pub params: SimParams,
     pub nx: usize,
     pub ny: usize,
@@ -28,19 +31,14 @@ impl GpuSolver {
     }
 
     /// A GPU solver that takes over `cpu`'s running field (velocity, pressure, time).
+    /// `layout` must be the one `cpu` was made from.
     pub fn from_solver(ctx: &GpuContext, layout: &Layout, cpu: &Solver) -> Result<Self, GpuError> {
-        let unsupported = |what: &str| GpuError::Unsupported {
-            adapter: ctx.describe(),
-            what: format!("{what} yet: the GPU solver does not cover them (use the CPU)"),
-        };
-        if layout.ambient.iter().any(|a| a.enabled) {
-            return Err(unsupported("simulate ambient layers"));
-        }
         let fluid = GpuFluid::new(&ctx.device, cpu);
         fluid.upload_state(&ctx.queue, cpu);
         Ok(Self {
             fluid,
             layout: layout.clone(),
+            ambient: Ambient::new(layout),
             params: layout.sim,
             nx: cpu.nx,
             ny: cpu.ny,
@@ -58,10 +56,21 @@ impl GpuSolver {
         let maccormack = self.params.advection == Advection::MacCormack;
         for _ in 0..n {
             let splats = agc_splats(&self.layout, self.time);
+            self.ambient.set_time(self.time);
+            let (layers, gusts) = self.ambient.layer_params();
+            // As the CPU computes it, so both pull with the same factor.
+            let coupling = 1.0 - (-self.params.ambient_coupling * dt).exp();
             let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("fluid step"),
             });
-            self.fluid.forces(device, queue, &mut enc, &splats, dt);
+            self.fluid.forces(
+                device,
+                queue,
+                &mut enc,
+                &splats,
+                (&layers, &gusts, coupling),
+                dt,
+            );
             queue.submit([enc.finish()]);
             self.fluid
                 .substep_without_forces(device, queue, dt, iterations, keep, maccormack);

@@ -349,6 +349,32 @@ impl SplitMix {
     }
 }
 
+/// One ambient layer at one instant, as the GPU forces pass reads it: everything that depends
+/// only on time is computed here, with the CPU's own arithmetic, so the shader evaluates
+/// exactly [`Ambient::wind`]'s per-point part. Mirrored by `struct Layer` in
+/// `shaders/forces.wgsl`.
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+#[repr(C)]
+pub struct LayerParams {
+    /// 0 directional, 1 noise, 2 FFT gusts, 3 sine.
+    pub kind: u32,
+    /// FFT: where its field starts in the uploaded gust fields, and its size per axis.
+    pub fft_offset: u32,
+    pub fft_n: u32,
+    pub _pad: u32,
+    /// The layer's unit direction.
+    pub dir: [f32; 2],
+    /// How far the pattern has scrolled: `dir · speed · t` (directional: the mean wind; noise:
+    /// its speed; FFT: its wind speed).
+    pub shift: [f32; 2],
+    /// Directional: turbulence, speed (`main × pulse`). Noise: scale, strength. FFT: wind
+    /// speed, amplitude, tile. Sine: amplitude, wavelength, `frequency × t`.
+    pub a: f32,
+    pub b: f32,
+    pub c: f32,
+    pub _pad2: f32,
+}
+
 /// Ambient layers prepared for one instant: evaluates the target wind at any point.
 pub struct Ambient {
     layers: Vec<(AmbientKind, Option<FftGusts>)>,
@@ -398,6 +424,109 @@ impl Ambient {
                 f.evaluate(t);
             }
         }
+    }
+
+    /// The layers at the current time for the GPU, and their FFT gust fields one after the
+    /// other (what [`LayerParams::fft_offset`] indexes).
+    pub fn layer_params(&self) -> (Vec<LayerParams>, Vec<f32>) {
+        let t = self.t;
+        let mut gusts = Vec::new();
+        let layers = self
+            .layers
+            .iter()
+            .map(|(kind, fft)| {
+                let blank = LayerParams {
+                    kind: 0,
+                    fft_offset: 0,
+                    fft_n: 0,
+                    _pad: 0,
+                    dir: [0.0; 2],
+                    shift: [0.0; 2],
+                    a: 0.0,
+                    b: 0.0,
+                    c: 0.0,
+                    _pad2: 0.0,
+                };
+                match kind {
+                    AmbientKind::Directional {
+                        direction_deg,
+                        main,
+                        turbulence,
+                        pulse_magnitude,
+                        pulse_frequency,
+                    } => {
+                        let d = doc::direction(*direction_deg);
+                        let pulse = 1.0
+                            + pulse_magnitude
+                                * (0.5 + 0.5 * (std::f32::consts::TAU * pulse_frequency * t).sin());
+                        LayerParams {
+                            dir: d,
+                            shift: [d[0] * main * t, d[1] * main * t],
+                            a: *turbulence,
+                            b: main * pulse,
+                            ..blank
+                        }
+                    }
+                    AmbientKind::Noise {
+                        direction_deg,
+                        scale,
+                        speed,
+                        strength,
+                    } => {
+                        let d = doc::direction(*direction_deg);
+                        LayerParams {
+                            kind: 1,
+                            dir: d,
+                            shift: [d[0] * speed * t, d[1] * speed * t],
+                            a: *scale,
+                            b: *strength,
+                            ..blank
+                        }
+                    }
+                    AmbientKind::Fft {
+                        direction_deg,
+                        wind_speed,
+                        amplitude,
+                        ..
+                    } => {
+                        let d = doc::direction(*direction_deg);
+                        let (offset, n, tile) = match fft {
+                            Some(f) => {
+                                let offset = gusts.len() as u32;
+                                gusts.extend_from_slice(f.field());
+                                (offset, f.n as u32, f.tile)
+                            }
+                            None => (0, 0, 1.0),
+                        };
+                        LayerParams {
+                            kind: 2,
+                            fft_offset: offset,
+                            fft_n: n,
+                            dir: d,
+                            shift: [d[0] * wind_speed * t, d[1] * wind_speed * t],
+                            a: *wind_speed,
+                            b: *amplitude,
+                            c: tile,
+                            ..blank
+                        }
+                    }
+                    AmbientKind::Sine {
+                        direction_deg,
+                        amplitude,
+                        wavelength,
+                        frequency,
+                    } => LayerParams {
+                        kind: 3,
+                        dir: doc::direction(*direction_deg),
+                        a: *amplitude,
+                        b: *wavelength,
+                        c: frequency * t,
+                        ..blank
+                    },
+                }
+            })
+            .collect();
+        (layers, gusts)
     }
 
     /// Target ambient wind (m/s) at world point `p`.
