@@ -99,7 +99,11 @@ pub struct GpuFluid {
     layers: wgpu::Buffer,
     gusts: wgpu::Buffer,
     kernels: std::collections::HashMap<&'static str, Kernel>,
+    bind_groups: std::sync::Mutex<BindGroups>,
 }
+
+/// Bind groups by kernel and the buffers bound at each binding.
+type BindGroups = std::collections::HashMap<(String, Vec<(u32, wgpu::Buffer)>), wgpu::BindGroup>;
 
 /// Which field to move between the CPU solver and the GPU.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -139,20 +143,23 @@ fn grow_buffer(device: &wgpu::Device, label: &str, bytes: usize) -> wgpu::Buffer
     })
 }
 
-/// Writes `data` into `buf`, first replacing it with a larger one if it is too small.
+/// Writes `data` into `buf`, first replacing it with a larger one if it is too small (then
+/// returns true: bind groups holding the old one must go).
 fn upload_growing(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     buf: &mut wgpu::Buffer,
     label: &str,
     data: &[u8],
-) {
-    if data.len() as u64 > buf.size() {
+) -> bool {
+    let grow = data.len() as u64 > buf.size();
+    if grow {
         *buf = grow_buffer(device, label, data.len());
     }
     if !data.is_empty() {
         queue.write_buffer(buf, 0, data);
     }
+    grow
 }
 
 /// Workgroups of `size` to cover `n` invocations.
@@ -240,6 +247,7 @@ impl GpuFluid {
             layers: grow_buffer(device, "layers", 4 * std::mem::size_of::<LayerParams>()),
             gusts: grow_buffer(device, "gusts", 4),
             kernels,
+            bind_groups: Default::default(),
         }
     }
 
@@ -338,27 +346,39 @@ impl GpuFluid {
         (x, y): (usize, usize),
     ) {
         let k = &self.kernels[kernel];
-        let mut entries = vec![wgpu::BindGroupEntry {
-            binding: 0,
-            resource: self.params_buf.as_entire_binding(),
-        }];
-        for &(binding, b) in buffers {
-            entries.push(wgpu::BindGroupEntry {
-                binding,
-                resource: b.as_entire_binding(),
-            });
-        }
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some(kernel),
-            layout: &k.layout,
-            entries: &entries,
+        // Bind groups are made once per (kernel, buffers) and kept: the buffers live as long
+        // as the grid, so after the first step no dispatch creates anything.
+        let key = (
+            kernel.to_string(),
+            buffers
+                .iter()
+                .map(|&(n, b)| (n, b.clone()))
+                .collect::<Vec<_>>(),
+        );
+        let mut cache = self.bind_groups.lock().unwrap_or_else(|e| e.into_inner());
+        let group = cache.entry(key).or_insert_with(|| {
+            let mut entries = vec![wgpu::BindGroupEntry {
+                binding: 0,
+                resource: self.params_buf.as_entire_binding(),
+            }];
+            for &(binding, b) in buffers {
+                entries.push(wgpu::BindGroupEntry {
+                    binding,
+                    resource: b.as_entire_binding(),
+                });
+            }
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some(kernel),
+                layout: &k.layout,
+                entries: &entries,
+            })
         });
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(kernel),
             timestamp_writes: None,
         });
         pass.set_pipeline(&k.pipeline);
-        pass.set_bind_group(0, &group, &[]);
+        pass.set_bind_group(0, &*group, &[]);
         if y == 1 {
             pass.dispatch_workgroups(groups(x, 64), 1, 1);
         } else {
@@ -391,27 +411,35 @@ impl GpuFluid {
         if splats.is_empty() && coupling == 0.0 {
             return;
         }
-        upload_growing(
-            device,
-            queue,
-            &mut self.splats,
-            "splats",
-            bytemuck::cast_slice(splats),
-        );
-        upload_growing(
-            device,
-            queue,
-            &mut self.layers,
-            "layers",
-            bytemuck::cast_slice(layers),
-        );
-        upload_growing(
-            device,
-            queue,
-            &mut self.gusts,
-            "gusts",
-            bytemuck::cast_slice(gusts),
-        );
+        let grew = [
+            upload_growing(
+                device,
+                queue,
+                &mut self.splats,
+                "splats",
+                bytemuck::cast_slice(splats),
+            ),
+            upload_growing(
+                device,
+                queue,
+                &mut self.layers,
+                "layers",
+                bytemuck::cast_slice(layers),
+            ),
+            upload_growing(
+                device,
+                queue,
+                &mut self.gusts,
+                "gusts",
+                bytemuck::cast_slice(gusts),
+            ),
+        ];
+        if grew.contains(&true) {
+            self.bind_groups
+                .lock()
+                .unwrap_or_else(|e| e.into_inner())
+                .clear();
+        }
         self.set_params(queue, |p| {
             p.dt = dt;
             p.splats = splats.len() as u32;
@@ -611,9 +639,28 @@ impl GpuFluid {
 }
 
 impl GpuFluid {
-    /// One substep of everything but the forces, in the CPU solver's order: curl, vorticity
-    /// confinement, divergence, pressure, gradient subtraction, advection.
-    /// One command encoder, no read-back.
+    /// Records one substep of everything but the forces, in the CPU solver's order: curl,
+    /// vorticity confinement, divergence, pressure, gradient subtraction, advection.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record_substep(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        dt: f32,
+        iterations: usize,
+        keep: f32,
+        maccormack: bool,
+    ) {
+        self.curl(device, enc);
+        self.confine(device, queue, enc, dt);
+        self.divergence(device, enc);
+        self.pressure(device, enc, iterations);
+        self.gradient(device, enc);
+        self.advect(device, queue, enc, dt, keep, maccormack);
+    }
+
+    /// [`Self::record_substep`] in a command encoder of its own, submitted.
     pub fn substep_without_forces(
         &mut self,
         device: &wgpu::Device,
@@ -626,12 +673,7 @@ impl GpuFluid {
         let mut enc = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
             label: Some("fluid substep"),
         });
-        self.curl(device, &mut enc);
-        self.confine(device, queue, &mut enc, dt);
-        self.divergence(device, &mut enc);
-        self.pressure(device, &mut enc, iterations);
-        self.gradient(device, &mut enc);
-        self.advect(device, queue, &mut enc, dt, keep, maccormack);
+        self.record_substep(device, queue, &mut enc, dt, iterations, keep, maccormack);
         queue.submit([enc.finish()]);
     }
 }

@@ -1,5 +1,5 @@
 //! Whole solver steps on the GPU: the passes of [`super::fluid`] in the CPU solver's order,
-//! one command encoder a step, the CPU uploading only the step's active AGC splats.
+//! one command encoder a substep (one a step at the usual `substeps = 1`), no read-back.
 //!
 //! Covers every layout: the CPU uploads per substep only the active AGC splats, the ambient
 //! layers' time-dependent parameters and, for FFT layers, the gust field it evaluates.
@@ -71,9 +71,11 @@ impl GpuSolver {
                 (&layers, &gusts, coupling),
                 dt,
             );
-            queue.submit([enc.finish()]);
             self.fluid
-                .substep_without_forces(device, queue, dt, iterations, keep, maccormack);
+                .record_substep(device, queue, &mut enc, dt, iterations, keep, maccormack);
+            // One encoder a substep, no read-back: the parameters all passes read are written
+            // once before it runs.
+            queue.submit([enc.finish()]);
             self.time += dt;
         }
     }
