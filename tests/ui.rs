@@ -381,3 +381,22 @@ fn export_is_reachable_from_the_file_menu() {
         "the dialog shows a Bake button"
     );
 }
+
+/// Paused, with no input, the editor stops drawing: nothing requests another frame (the
+/// window title was sent every frame, and each viewport command asks for a repaint, so an
+/// idle editor used to redraw forever at 180% CPU).
+#[test]
+fn an_idle_paused_editor_stops_drawing() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    // Let the simulation thread publish its first field, then the editor must settle.
+    std::thread::sleep(Duration::from_millis(300));
+    let frames = h.try_run().expect("an idle editor keeps asking for frames");
+    assert!(frames <= 8, "{frames} frames to settle");
+    // And it stays idle.
+    std::thread::sleep(Duration::from_millis(300));
+    let more = h.try_run().expect("an idle editor keeps asking for frames");
+    assert!(more <= 2, "{more} frames drawn while idle");
+}

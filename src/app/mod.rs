@@ -170,6 +170,8 @@ pub struct EditorApp {
     recovery_path: Option<PathBuf>,
     pub adapter: String,
     frame_ms: f32,
+    /// The window title last sent to the window.
+    sent_title: Option<String>,
     pub cursor_world: Option<doc::Vec2>,
     allow_close: bool,
     pub export: export::ExportDialog,
@@ -206,6 +208,7 @@ impl EditorApp {
             recovery_path: None,
             adapter: "no GPU adapter".into(),
             frame_ms: 0.0,
+            sent_title: None,
             cursor_world: None,
             allow_close: false,
             export: export::ExportDialog::default(),
@@ -723,7 +726,13 @@ impl eframe::App for EditorApp {
             self.dirty = doc::to_json(&self.doc) != self.saved_json;
             self.live.set_layout(&self.doc);
         }
-        ctx.send_viewport_cmd(egui::ViewportCommand::Title(self.title()));
+        // Every viewport command requests another frame: send the title only when it changes,
+        // or an idle editor would redraw forever.
+        let title = self.title();
+        if self.sent_title.as_deref() != Some(title.as_str()) {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.sent_title = Some(title);
+        }
         self.autosave(now);
         if self.live.playing {
             ctx.request_repaint();
