@@ -1,35 +1,137 @@
-//! Every solver pass in its straightforward form: one face or cell at a time, written as the
-//! formula reads, with the boundary cases inline. The passes in `mod.rs` are restructured for
-//! speed (rows split into interior and ends, vectorisable loops, cache-blocked Jacobi) and
-//! must give the same bits: `tests/sim.rs` steps both on layouts with every boundary kind and
-//! compares the fields byte for byte. This is also the form the GPU passes mirror.
+//! Every solver pass in its plain form: one face or cell at a time, written as the formula
+//! reads, the boundary cases inline, sharing no kernel, sampler or driver with the fast passes
+//! in the other files (only the force *model* — `agc_splats`, `ArrowSplat`, `Ambient::wind` —
+//! which defines what both must compute). The fast passes are restructured for speed (rows
+//! split into interior and ends, vectorisable loops, cache-blocked Jacobi) and must give the
+//! same numbers: `tests/sim.rs` steps both on layouts with every boundary kind and both
+//! advection schemes and compares the fields. The GPU passes mirror these formulas too.
 
 use super::*;
 
+/// Neighbour indices `(lower, upper)` of `i` on an axis of `n`: wrapped or clamped.
+fn lower_upper(i: usize, n: usize, periodic: bool) -> (usize, usize) {
+    if periodic {
+        ((i + n - 1) % n, (i + 1) % n)
+    } else {
+        (i.saturating_sub(1), (i + 1).min(n - 1))
+    }
+}
+
 impl Solver {
-    /// One step through the reference passes: same order, same arithmetic as [`Self::step`].
+    /// One step through the reference passes, in the order of [`Self::step`].
     pub fn step_reference(&mut self) {
         let n = self.params.substeps.max(1);
         let dt = self.params.dt / n as f32;
         for _ in 0..n {
-            self.apply_forces_reference(dt);
+            self.forces_reference(dt);
             self.compute_curl_reference();
             self.confine_vorticity_reference(dt);
-            self.compute_divergence_reference();
+            self.divergence_reference();
             let decay = self.params.pressure_decay;
             self.p.iter_mut().for_each(|p| *p *= decay);
             for _ in 0..self.params.pressure_iterations {
-                self.jacobi_iteration();
+                self.jacobi_reference();
             }
             self.subtract_gradient_reference();
-            self.advect_reference(dt);
+            self.advect_plain_reference(dt);
             self.time += dt;
         }
     }
 
-    /// Step 1 with the face-by-face increments below.
-    fn apply_forces_reference(&mut self, dt: f32) {
-        self.apply_forces_with(dt, increments_reference);
+    /// Periodic grids: the last column of u faces and the last row of v faces are the first.
+    fn wrap_faces_reference(&mut self) {
+        if self.params.boundary != Boundary::Periodic {
+            return;
+        }
+        let (nx, ny) = (self.nx, self.ny);
+        for j in 0..ny {
+            self.u[j * (nx + 1) + nx] = self.u[j * (nx + 1)];
+        }
+        for i in 0..nx {
+            self.v[ny * nx + i] = self.v[i];
+        }
+    }
+
+    /// x velocity at the centre of v face `(i, j)`: the mean of the four u faces around it.
+    fn u_at_v_face(&self, i: usize, j: usize) -> f32 {
+        let (nx, ny) = (self.nx, self.ny);
+        let (jb, jt) = if self.params.boundary == Boundary::Periodic {
+            ((j + ny - 1) % ny, j % ny)
+        } else {
+            (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
+        };
+        let u = &self.u;
+        let w = nx + 1;
+        0.25 * (u[jb * w + i] + u[jb * w + i + 1] + u[jt * w + i] + u[jt * w + i + 1])
+    }
+
+    /// z velocity at the centre of u face `(i, j)`: the mean of the four v faces around it.
+    fn v_at_u_face(&self, i: usize, j: usize) -> f32 {
+        let nx = self.nx;
+        let (il, ir) = if self.params.boundary == Boundary::Periodic {
+            ((i + nx - 1) % nx, i % nx)
+        } else {
+            (i.saturating_sub(1).min(nx - 1), i.min(nx - 1))
+        };
+        let v = &self.v;
+        0.25 * (v[j * nx + il] + v[j * nx + ir] + v[(j + 1) * nx + il] + v[(j + 1) * nx + ir])
+    }
+
+    /// Step 1: every free face gets the AGC arrows' impulses (in splat order) and the ambient
+    /// layers' pull `(w − vel)·(1 − e^(−coupling·dt))`, all from the velocity before the step.
+    fn forces_reference(&mut self, dt: f32) {
+        let splats = agc_splats(&self.layout, self.time);
+        self.ambient.set_time(self.time);
+        let coupling = if self.ambient.is_empty() {
+            0.0
+        } else {
+            1.0 - (-self.params.ambient_coupling * dt).exp()
+        };
+        if splats.is_empty() && coupling == 0.0 {
+            return;
+        }
+        let (nx, ny, hx, hz) = (self.nx, self.ny, self.hx, self.hz);
+        let [ox, oz] = self.origin;
+        let k_resp = self.params.arrow_response;
+        let change = |s: &Solver, p: [f32; 2], vel: [f32; 2], c: usize| -> f32 {
+            let mut inc = 0.0;
+            for sp in &splats {
+                let g = sp.weight(p);
+                if g != 0.0 {
+                    inc += sp.impulse_weighted(g, vel, k_resp, dt)[c];
+                }
+            }
+            if coupling > 0.0 {
+                inc += (s.ambient.wind(p)[c] - vel[c]) * coupling;
+            }
+            inc
+        };
+        let mut du = vec![0.0f32; self.u.len()];
+        for j in 0..ny {
+            for i in 0..=nx {
+                let k = j * (nx + 1) + i;
+                if self.u_free[k] != 0 {
+                    let p = [ox + i as f32 * hx, oz + (j as f32 + 0.5) * hz];
+                    du[k] = change(self, p, [self.u[k], self.v_at_u_face(i, j)], 0);
+                }
+            }
+        }
+        let mut dv = vec![0.0f32; self.v.len()];
+        for j in 0..=ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                if self.v_free[k] != 0 {
+                    let p = [ox + (i as f32 + 0.5) * hx, oz + j as f32 * hz];
+                    dv[k] = change(self, p, [self.u_at_v_face(i, j), self.v[k]], 1);
+                }
+            }
+        }
+        for (x, d) in self.u.iter_mut().zip(&du).chain(self.v.iter_mut().zip(&dv)) {
+            if *d != 0.0 {
+                *x = (*x + d).clamp(-MAX_SPEED, MAX_SPEED);
+            }
+        }
+        self.wrap_faces_reference();
     }
 
     /// Step 2: vorticity at cell centres, `∂v/∂x − ∂u/∂z`, central differences.
@@ -45,13 +147,13 @@ impl Solver {
             .enumerate()
             .with_min_len(rows_per_job(nx))
             .for_each(|(j, row)| {
-                let (jb, jt) = neighbours(j, ny, periodic);
+                let (jb, jt) = lower_upper(j, ny, periodic);
                 for (i, w) in row.iter_mut().enumerate() {
                     if solid[j * nx + i] != 0 {
                         *w = 0.0;
                         continue;
                     }
-                    let (il, ir) = neighbours(i, nx, periodic);
+                    let (il, ir) = lower_upper(i, nx, periodic);
                     let dvdx = (vc(ir, j) - vc(il, j))
                         / (hx * (ir as f32 - il as f32).abs().clamp(1.0, 2.0));
                     let dudz = (uc(i, jt) - uc(i, jb))
@@ -79,9 +181,9 @@ impl Solver {
             .enumerate()
             .with_min_len(rows_per_job(nx))
             .for_each(|(j, (fx_row, fz_row))| {
-                let (jb, jt) = neighbours(j, ny, periodic);
+                let (jb, jt) = lower_upper(j, ny, periodic);
                 for i in 0..nx {
-                    let (il, ir) = neighbours(i, nx, periodic);
+                    let (il, ir) = lower_upper(i, nx, periodic);
                     let w = curl[j * nx + i];
                     let gx = 0.5 * (curl[j * nx + ir].abs() - curl[j * nx + il].abs());
                     let gz = 0.5 * (curl[jt * nx + i].abs() - curl[jb * nx + i].abs());
@@ -114,7 +216,7 @@ impl Solver {
                         } else {
                             i
                         }];
-                    *u = clamp_speed(*u + dt * 0.5 * (a + b));
+                    *u = (*u + dt * 0.5 * (a + b)).clamp(-MAX_SPEED, MAX_SPEED);
                 }
             });
         self.v
@@ -136,23 +238,78 @@ impl Solver {
                     } else {
                         j
                     };
-                    *v = clamp_speed(*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]));
+                    *v = (*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]))
+                        .clamp(-MAX_SPEED, MAX_SPEED);
                 }
             });
-        self.sync_periodic();
+        self.wrap_faces_reference();
     }
 
     /// Step 4: divergence per cell, `(u_R − u_L)/hx + (v_T − v_B)/hz` (0 in solids).
-    fn compute_divergence_reference(&mut self) {
-        let (nx, hx, hz) = (self.nx, self.hx, self.hz);
-        let (u, v, solid) = (&self.u, &self.v, &self.solid);
-        self.div
-            .par_chunks_mut(nx)
-            .enumerate()
-            .with_min_len(rows_per_job(nx))
-            .for_each(|(j, row)| {
-                divergence_row(row, j, nx, hx, hz, u, v, solid);
-            });
+    fn divergence_reference(&mut self) {
+        let (nx, ny, hx, hz) = (self.nx, self.ny, self.hx, self.hz);
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                self.div[k] = if self.solid[k] != 0 {
+                    0.0
+                } else {
+                    (self.u[j * (nx + 1) + i + 1] - self.u[j * (nx + 1) + i]) / hx
+                        + (self.v[(j + 1) * nx + i] - self.v[j * nx + i]) / hz
+                };
+            }
+        }
+    }
+
+    /// Step 5, one Jacobi sweep: `p ← (wx (p_L + p_R) + wz (p_B + p_T) − div) / Σw` over the
+    /// neighbours that take part, each decided here from the solid mask and the boundary mode:
+    /// a fluid cell inside the grid takes part; a solid one does not (Neumann); past the edge a
+    /// closed wall does not, an open edge does with p = 0, a periodic grid wraps. Solid cells
+    /// and cells with no neighbour taking part get 0.
+    fn jacobi_reference(&mut self) {
+        let (nx, ny) = (self.nx, self.ny);
+        let (wx, wz) = (1.0 / (self.hx * self.hx), 1.0 / (self.hz * self.hz));
+        let boundary = self.params.boundary;
+        let (p, solid) = (&self.p, &self.solid);
+        // (takes part, pressure) of the neighbour at (i + di, j + dj).
+        let neighbour = |i: usize, j: usize, di: isize, dj: isize| -> (f32, f32) {
+            let (a, b) = (i as isize + di, j as isize + dj);
+            let inside = a >= 0 && b >= 0 && (a as usize) < nx && (b as usize) < ny;
+            let (a, b) = if inside {
+                (a as usize, b as usize)
+            } else {
+                match boundary {
+                    Boundary::Closed => return (0.0, 0.0),
+                    Boundary::Open => return (1.0, 0.0),
+                    Boundary::Periodic => (
+                        a.rem_euclid(nx as isize) as usize,
+                        b.rem_euclid(ny as isize) as usize,
+                    ),
+                }
+            };
+            if solid[b * nx + a] != 0 {
+                (0.0, 0.0)
+            } else {
+                (1.0, p[b * nx + a])
+            }
+        };
+        let mut out = vec![0.0f32; nx * ny];
+        for j in 0..ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                if solid[k] != 0 {
+                    continue;
+                }
+                let (nl, pl) = neighbour(i, j, -1, 0);
+                let (nr, pr) = neighbour(i, j, 1, 0);
+                let (nb, pb) = neighbour(i, j, 0, -1);
+                let (nt, pt) = neighbour(i, j, 0, 1);
+                let ws = wx * (nl + nr) + wz * (nb + nt);
+                let inv = if ws > 0.0 { 1.0 / ws } else { 0.0 };
+                out[k] = (wx * (pl + pr) + wz * (pb + pt) - self.div[k]) * inv;
+            }
+        }
+        self.p = out;
     }
 
     /// Step 6: subtract the pressure gradient from every free face.
@@ -209,152 +366,122 @@ impl Solver {
                     *v -= (pz(i, j) - pz(i, j - 1)) / hz;
                 }
             });
-        self.sync_periodic();
+        self.wrap_faces_reference();
     }
 
-    /// Step 7 with the face-by-face kernels below.
-    fn advect_reference(&mut self, dt: f32) {
-        self.advect_with(dt, advect_faces_reference, maccormack_reference);
+    /// Departure point (grid units) of face `(i, j)` (a v face with `is_v`) over `dt`, along
+    /// the velocity at the face.
+    fn departure_reference(&self, i: usize, j: usize, is_v: bool, dt: f32) -> (f32, f32) {
+        let (x, z, vel) = if is_v {
+            let vel = [self.u_at_v_face(i, j), self.v[j * self.nx + i]];
+            (i as f32 + 0.5, j as f32, vel)
+        } else {
+            let vel = [self.u[j * (self.nx + 1) + i], self.v_at_u_face(i, j)];
+            (i as f32, j as f32 + 0.5, vel)
+        };
+        (x - vel[0] * (dt / self.hx), z - vel[1] * (dt / self.hz))
     }
-}
 
-/// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
-#[allow(clippy::too_many_arguments)]
-fn advect_faces_reference(
-    g: &Geometry,
-    u: &[f32],
-    v: &[f32],
-    src: &[f32],
-    dst: &mut [f32],
-    dt: f32,
-    keep: f32,
-    free: &[u8],
-    is_v: bool,
-) {
-    let w = if is_v { g.nx } else { g.nx + 1 };
-    dst.par_chunks_mut(w)
-        .enumerate()
-        .with_min_len(rows_per_job(w))
-        .for_each(|(j, row)| {
-            for (i, out) in row.iter_mut().enumerate() {
-                *out = if free[j * w + i] == 0 {
-                    0.0
-                } else {
-                    let (x, z) = departure(g, u, v, i, j, is_v, dt);
-                    let s = if is_v {
-                        bilerp(g, src, g.nx, g.ny + 1, x - 0.5, z)
-                    } else {
-                        bilerp(g, src, g.nx + 1, g.ny, x, z - 0.5)
-                    };
-                    s * keep
-                };
+    /// Bilinear sample of a face field (`is_v`: a v field) at grid point `(x, z)`: the value
+    /// and the min/max of the four samples used. Clamped at the edges, or wrapped every
+    /// `nx × ny` on periodic grids.
+    fn sample_reference(&self, f: &[f32], is_v: bool, x: f32, z: f32) -> (f32, f32, f32) {
+        let (nx, ny) = (self.nx, self.ny);
+        // Sample coordinates: u[i, j] sits at (i, j + ½), v[i, j] at (i + ½, j).
+        let (w, h, sx, sz) = if is_v {
+            (nx, ny + 1, x - 0.5, z)
+        } else {
+            (nx + 1, ny, x, z - 0.5)
+        };
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let along = |t: f32, n: usize, period: usize| -> (usize, usize, f32) {
+            if periodic {
+                let t = t.rem_euclid(period as f32);
+                let i0 = (t.floor() as usize).min(period - 1);
+                (i0, (i0 + 1) % period, t - i0 as f32)
+            } else {
+                let t = t.clamp(0.0, (n - 1) as f32);
+                let i0 = (t.floor() as usize).min(n - 2);
+                (i0, (i0 + 1).min(n - 1), t - i0 as f32)
             }
-        });
-}
+        };
+        let (i0, i1, fx) = along(sx, w, nx);
+        let (j0, j1, fz) = along(sz, h, ny);
+        let (a, b, c, d) = (
+            f[j0 * w + i0],
+            f[j0 * w + i1],
+            f[j1 * w + i0],
+            f[j1 * w + i1],
+        );
+        let top = a + (b - a) * fx;
+        let bottom = c + (d - c) * fx;
+        (
+            top + (bottom - top) * fz,
+            a.min(b).min(c).min(d),
+            a.max(b).max(c).max(d),
+        )
+    }
 
-/// MacCormack correction: `back` holds φ̌ on entry and the limited result on exit.
-#[allow(clippy::too_many_arguments)]
-fn maccormack_reference(
-    g: &Geometry,
-    u: &[f32],
-    v: &[f32],
-    fwd: &[f32],
-    back: &mut [f32],
-    dt: f32,
-    keep: f32,
-    free: &[u8],
-    is_v: bool,
-) {
-    let w = if is_v { g.nx } else { g.nx + 1 };
-    let orig = if is_v { v } else { u };
-    back.par_chunks_mut(w)
-        .enumerate()
-        .with_min_len(rows_per_job(w))
-        .for_each(|(j, row)| {
-            for (i, out) in row.iter_mut().enumerate() {
+    /// One semi-Lagrangian step of a face field `src` (`is_v`: v faces) over `dt`, times
+    /// `keep`; faces that are not free get 0.
+    fn trace_reference(&self, src: &[f32], is_v: bool, dt: f32, keep: f32) -> Vec<f32> {
+        let (nx, ny) = (self.nx, self.ny);
+        let (w, h, free) = if is_v {
+            (nx, ny + 1, &self.v_free)
+        } else {
+            (nx + 1, ny, &self.u_free)
+        };
+        let mut out = vec![0.0f32; w * h];
+        for j in 0..h {
+            for i in 0..w {
                 let k = j * w + i;
-                if free[k] == 0 {
-                    *out = 0.0;
-                    continue;
-                }
-                let (x, z) = departure(g, u, v, i, j, is_v, dt);
-                let (_, lo, hi) = if is_v {
-                    sample_v(g, orig, x, z)
-                } else {
-                    sample_u(g, orig, x, z)
-                };
-                *out = (fwd[k] + 0.5 * (orig[k] - *out)).clamp(lo, hi) * keep;
-            }
-        });
-}
-
-/// The velocity change of the faces each row's forces reach, face by face, into `inc` (u faces,
-/// or v faces with `is_v`); returns those ranges, row by row.
-fn increments_reference(
-    f: &Forcing,
-    u: &[f32],
-    v: &[f32],
-    inc: &mut [f32],
-    free: &[u8],
-    is_v: bool,
-) -> Vec<std::ops::Range<usize>> {
-    let g = &f.g;
-    let w = if is_v { g.nx } else { g.nx + 1 };
-    inc.par_chunks_mut(w)
-        .enumerate()
-        .with_min_len(rows_per_job(w))
-        .map(|(j, row)| {
-            let reach = f.row_reach(j, w, is_v);
-            row[reach.clone()].fill(0.0);
-            let (ox, z_world) = (if is_v { 0.5 } else { 0.0 }, f.row_z(j, is_v));
-            let c = usize::from(is_v);
-            let x_of = |i: usize| f.origin[0] + (i as f32 + ox) * g.hx;
-            for (s, &b) in f.splats.iter().zip(&f.bounds) {
-                if z_world < b.0[1] || z_world > b.1[1] {
-                    continue;
-                }
-                for i in f.columns(b, w, is_v).into_iter().flatten() {
-                    if free[j * w + i] == 0 {
-                        continue;
-                    }
-                    let weight = s.weight([x_of(i), z_world]);
-                    if weight == 0.0 {
-                        continue;
-                    }
-                    let vel = face_velocity(g, u, v, i, j, is_v);
-                    row[i] += s.impulse_weighted(weight, vel, f.response, f.dt)[c];
+                if free[k] != 0 {
+                    let (x, z) = self.departure_reference(i, j, is_v, dt);
+                    out[k] = self.sample_reference(src, is_v, x, z).0 * keep;
                 }
             }
-            if f.coupling > 0.0 {
-                for (i, out) in row.iter_mut().enumerate() {
-                    if free[j * w + i] == 0 {
-                        continue;
-                    }
-                    let vel = face_velocity(g, u, v, i, j, is_v);
-                    *out += (f.ambient.wind([x_of(i), z_world])[c] - vel[c]) * f.coupling;
-                }
-            }
-            reach
-        })
-        .collect()
-}
-
-/// Bilinear sample of a `w × h` face field at fractional sample coordinates: the generic
-/// sampler for periodic grids, a clamp-only fast path otherwise (same arithmetic, same bits).
-#[inline(always)]
-fn bilerp(g: &Geometry, f: &[f32], w: usize, h: usize, x: f32, z: f32) -> f32 {
-    if g.periodic {
-        return bilinear(g, f, w, h, x, z).0;
+        }
+        out
     }
-    let x = x.clamp(0.0, (w - 1) as f32);
-    let z = z.clamp(0.0, (h - 1) as f32);
-    let i0 = (x as usize).min(w - 2);
-    let j0 = (z as usize).min(h - 2);
-    let fx = x - i0 as f32;
-    let fz = z - j0 as f32;
-    let k = j0 * w + i0;
-    let (a, b, c, d) = (f[k], f[k + 1], f[k + w], f[k + w + 1]);
-    let top = a + (b - a) * fx;
-    let bottom = c + (d - c) * fx;
-    top + (bottom - top) * fz
+
+    /// Step 7: advection with dissipation `1 / (1 + dissipation × dt)` folded into the write.
+    /// Semi-Lagrangian: φ' = A(φ). Limited MacCormack: φ̂ = A(φ), φ̌ = A⁻¹(φ̂), and
+    /// φ' = clamp(φ̂ + (φ − φ̌)/2) to the range of the samples φ̂ was taken from.
+    fn advect_plain_reference(&mut self, dt: f32) {
+        let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
+        let (u, v) = match self.params.advection {
+            Advection::SemiLagrangian => (
+                self.trace_reference(&self.u, false, dt, keep),
+                self.trace_reference(&self.v, true, dt, keep),
+            ),
+            Advection::MacCormack => {
+                let corrected = |s: &Solver, f: &[f32], is_v: bool| -> Vec<f32> {
+                    let fwd = s.trace_reference(f, is_v, dt, 1.0);
+                    let back = s.trace_reference(&fwd, is_v, -dt, 1.0);
+                    let (w, free) = if is_v {
+                        (s.nx, &s.v_free)
+                    } else {
+                        (s.nx + 1, &s.u_free)
+                    };
+                    (0..f.len())
+                        .map(|k| {
+                            if free[k] == 0 {
+                                return 0.0;
+                            }
+                            let (x, z) = s.departure_reference(k % w, k / w, is_v, dt);
+                            let (_, lo, hi) = s.sample_reference(f, is_v, x, z);
+                            (fwd[k] + 0.5 * (f[k] - back[k])).clamp(lo, hi) * keep
+                        })
+                        .collect()
+                };
+                (
+                    corrected(self, &self.u, false),
+                    corrected(self, &self.v, true),
+                )
+            }
+        };
+        self.u = u;
+        self.v = v;
+        self.wrap_faces_reference();
+    }
 }
