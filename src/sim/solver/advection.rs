@@ -1,0 +1,380 @@
+//! Step 7, advection: departure points, the bilinear samplers (clamped or periodic) and the
+//! semi-Lagrangian and limited MacCormack drivers.
+
+use super::*;
+
+impl Solver {
+    /// Step 7: advection (semi-Lagrangian or limited MacCormack) with dissipation
+    /// `vel / (1 + dissipation × dt)` folded into the same write.
+    pub fn advect(&mut self, dt: f32) {
+        self.advect_with(dt, advect_faces, maccormack);
+    }
+
+    /// Advection with the given kernels for one face field (the fast or the reference ones).
+    fn advect_with(&mut self, dt: f32, advect_faces: FaceKernel, maccormack: FaceKernel) {
+        let g = self.geometry();
+        let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
+        match self.params.advection {
+            Advection::SemiLagrangian => {
+                let (u, v) = (&self.u, &self.v);
+                advect_faces(&g, u, v, u, &mut self.u_tmp, dt, keep, &self.u_free, false);
+                advect_faces(&g, u, v, v, &mut self.v_tmp, dt, keep, &self.v_free, true);
+                std::mem::swap(&mut self.u, &mut self.u_tmp);
+                std::mem::swap(&mut self.v, &mut self.v_tmp);
+            }
+            Advection::MacCormack => {
+                // Forward: φ̂ = A(φ); backward: φ̌ = A⁻¹(φ̂); φ' = φ̂ + (φ − φ̌)/2, clamped to
+                // the forward stencil's range so the correction cannot create new extrema.
+                let (u, v) = (&self.u, &self.v);
+                advect_faces(&g, u, v, u, &mut self.u_tmp, dt, 1.0, &self.u_free, false);
+                advect_faces(&g, u, v, v, &mut self.v_tmp, dt, 1.0, &self.v_free, true);
+                advect_faces(
+                    &g,
+                    u,
+                    v,
+                    &self.u_tmp,
+                    &mut self.u_hat,
+                    -dt,
+                    1.0,
+                    &self.u_free,
+                    false,
+                );
+                advect_faces(
+                    &g,
+                    u,
+                    v,
+                    &self.v_tmp,
+                    &mut self.v_hat,
+                    -dt,
+                    1.0,
+                    &self.v_free,
+                    true,
+                );
+                maccormack(
+                    &g,
+                    u,
+                    v,
+                    &self.u_tmp,
+                    &mut self.u_hat,
+                    dt,
+                    keep,
+                    &self.u_free,
+                    false,
+                );
+                maccormack(
+                    &g,
+                    u,
+                    v,
+                    &self.v_tmp,
+                    &mut self.v_hat,
+                    dt,
+                    keep,
+                    &self.v_free,
+                    true,
+                );
+                std::mem::swap(&mut self.u, &mut self.u_hat);
+                std::mem::swap(&mut self.v, &mut self.v_hat);
+            }
+        }
+        self.sync_periodic();
+    }
+}
+
+/// A pass over one face field: `(geometry, u, v, source, destination, dt, keep, free,
+/// is_v)`, as [`advect_faces`] and [`maccormack`] (and their reference twins) take it.
+pub(super) type FaceKernel =
+    fn(&Geometry, &[f32], &[f32], &[f32], &mut [f32], f32, f32, &[u8], bool);
+
+#[derive(Clone, Copy)]
+pub(super) struct Geometry {
+    pub(super) nx: usize,
+    pub(super) ny: usize,
+    pub(super) hx: f32,
+    pub(super) hz: f32,
+    pub(super) periodic: bool,
+}
+
+/// Bilinear sample of a face field with `w × h` samples, at fractional sample coordinates;
+/// periodic grids wrap every `nx × ny` samples (the last face row/column repeats the first).
+/// Returns the value and the min/max of the four samples used (for the MacCormack limiter).
+#[inline]
+pub(super) fn bilinear(
+    g: &Geometry,
+    f: &[f32],
+    w: usize,
+    h: usize,
+    x: f32,
+    z: f32,
+) -> (f32, f32, f32) {
+    let (i0, i1, fx) = axis(x, w, g.nx, g.periodic);
+    let (j0, j1, fz) = axis(z, h, g.ny, g.periodic);
+    let a = f[j0 * w + i0];
+    let b = f[j0 * w + i1];
+    let c = f[j1 * w + i0];
+    let d = f[j1 * w + i1];
+    let top = a + (b - a) * fx;
+    let bottom = c + (d - c) * fx;
+    (
+        top + (bottom - top) * fz,
+        a.min(b).min(c).min(d),
+        a.max(b).max(c).max(d),
+    )
+}
+
+/// Sample indices and weight along one axis. Clamped: `[0, n-1]`; periodic: modulo `period`.
+#[inline]
+pub(super) fn axis(x: f32, n: usize, period: usize, periodic: bool) -> (usize, usize, f32) {
+    if periodic {
+        let p = period as f32;
+        let x = x.rem_euclid(p);
+        let i0 = (x.floor() as usize).min(period - 1);
+        let f = x - i0 as f32;
+        (i0, (i0 + 1) % period, f)
+    } else {
+        let x = x.clamp(0.0, (n - 1) as f32);
+        let i0 = (x.floor() as usize).min(n.saturating_sub(2));
+        let f = x - i0 as f32;
+        (i0, (i0 + 1).min(n - 1), f)
+    }
+}
+
+/// `u` at grid point `(x, z)` (cell units; `u[i, j]` sits at `(i, j + ½)`).
+#[inline]
+pub(super) fn sample_u(g: &Geometry, u: &[f32], x: f32, z: f32) -> (f32, f32, f32) {
+    bilinear(g, u, g.nx + 1, g.ny, x, z - 0.5)
+}
+
+/// `v` at grid point `(x, z)` (`v[i, j]` sits at `(i + ½, j)`).
+#[inline]
+pub(super) fn sample_v(g: &Geometry, v: &[f32], x: f32, z: f32) -> (f32, f32, f32) {
+    bilinear(g, v, g.nx, g.ny + 1, x - 0.5, z)
+}
+
+/// The rows of u faces below and above the v faces of row `j` (wrapped, or clamped into the
+/// grid at its bottom and top edges).
+#[inline(always)]
+pub(super) fn u_rows_beside(g: &Geometry, j: usize) -> (usize, usize) {
+    let ny = g.ny;
+    if g.periodic {
+        ((j + ny - 1) % ny, j % ny)
+    } else {
+        (j.saturating_sub(1).min(ny - 1), j.min(ny - 1))
+    }
+}
+
+/// Velocity `[x, z]` at face `(i, j)` (a v face with `is_v`): the face's own component and the
+/// mean of the four nearest faces of the other component (exactly the bilinear sample there).
+#[inline(always)]
+pub(super) fn face_velocity(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    i: usize,
+    j: usize,
+    is_v: bool,
+) -> [f32; 2] {
+    let nx = g.nx;
+    if is_v {
+        // u faces at columns i, i+1 and rows j-1, j (wrapped or clamped into the grid).
+        let (jb, jt) = u_rows_beside(g, j);
+        let w = nx + 1;
+        let ux = 0.25 * (u[jb * w + i] + u[jb * w + i + 1] + u[jt * w + i] + u[jt * w + i + 1]);
+        [ux, v[j * nx + i]]
+    } else {
+        let (il, ir) = if g.periodic {
+            ((i + nx - 1) % nx, i % nx)
+        } else {
+            (i.saturating_sub(1).min(nx - 1), i.min(nx - 1))
+        };
+        let vz =
+            0.25 * (v[j * nx + il] + v[j * nx + ir] + v[(j + 1) * nx + il] + v[(j + 1) * nx + ir]);
+        [u[j * (nx + 1) + i], vz]
+    }
+}
+
+/// Backtraced departure point (grid units) of face `(i, j)`.
+#[inline(always)]
+pub(super) fn departure(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    i: usize,
+    j: usize,
+    is_v: bool,
+    dt: f32,
+) -> (f32, f32) {
+    let (x, z) = if is_v {
+        (i as f32 + 0.5, j as f32)
+    } else {
+        (i as f32, j as f32 + 0.5)
+    };
+    let vel = face_velocity(g, u, v, i, j, is_v);
+    (x - vel[0] * (dt / g.hx), z - vel[1] * (dt / g.hz))
+}
+
+/// Departure points (grid units) of the faces of row `j` (`is_v`: a row of v faces) into
+/// `xs`, `zs`: exactly [`departure`] face by face, but with the row's neighbour rows chosen
+/// once and the interior faces in one vectorisable loop.
+#[allow(clippy::too_many_arguments)]
+#[multiversion(targets = "simd")]
+pub(super) fn departures_row(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    j: usize,
+    is_v: bool,
+    dt: f32,
+    xs: &mut [f32],
+    zs: &mut [f32],
+) {
+    let nx = g.nx;
+    let (cx, cz) = (dt / g.hx, dt / g.hz);
+    if is_v {
+        // u faces at columns i, i+1 of the rows below and above the v row (wrapped or clamped).
+        let (jb, jt) = u_rows_beside(g, j);
+        let w = nx + 1;
+        let (ub, ut) = (&u[jb * w..][..w], &u[jt * w..][..w]);
+        let vr = &v[j * nx..][..nx];
+        let (xs, zs) = (&mut xs[..nx], &mut zs[..nx]);
+        let z = j as f32;
+        for i in 0..nx {
+            let ux = 0.25 * (ub[i] + ub[i + 1] + ut[i] + ut[i + 1]);
+            xs[i] = (i as f32 + 0.5) - ux * cx;
+            zs[i] = z - vr[i] * cz;
+        }
+    } else {
+        let w = nx + 1;
+        let ur = &u[j * w..][..w];
+        let (vb, vt) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
+        let z = j as f32 + 0.5;
+        // The end faces (columns 0 and nx) take their v neighbours wrapped or clamped.
+        for i in [0, nx] {
+            let (x, zz) = departure(g, u, v, i, j, false, dt);
+            xs[i] = x;
+            zs[i] = zz;
+        }
+        let (xs, zs) = (&mut xs[1..nx], &mut zs[1..nx]);
+        let (ui, vbl, vbr, vtl, vtr) =
+            (&ur[1..nx], &vb[..nx - 1], &vb[1..], &vt[..nx - 1], &vt[1..]);
+        for k in 0..nx - 1 {
+            let vz = 0.25 * (vbl[k] + vbr[k] + vtl[k] + vtr[k]);
+            xs[k] = (k + 1) as f32 - ui[k] * cx;
+            zs[k] = z - vz * cz;
+        }
+    }
+}
+
+/// Samples `src` (`is_v`: the v faces) at the departure points `xs`, `zs` of a row of faces
+/// on a periodic grid (wrapping, through [`bilinear`]); faces that are not free get 0.
+/// `shape(value, min, max, k)` shapes each free face's output, `k` being its index in `src`.
+/// Non-periodic grids use the vectorised [`sample_clamped`] and [`correct_clamped`].
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+pub(super) fn sample_row(
+    g: &Geometry,
+    src: &[f32],
+    j: usize,
+    is_v: bool,
+    xs: &[f32],
+    zs: &[f32],
+    free: &[u8],
+    out: &mut [f32],
+    shape: impl Fn(f32, f32, f32, usize) -> f32,
+) {
+    debug_assert!(g.periodic);
+    let (w, h) = if is_v {
+        (g.nx, g.ny + 1)
+    } else {
+        (g.nx + 1, g.ny)
+    };
+    // Sample coordinates of the field: v sits half a cell right, u half a cell up.
+    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+    let row0 = j * w;
+    let free = &free[row0..][..w];
+    for i in 0..w {
+        out[i] = if free[i] == 0 {
+            0.0
+        } else {
+            let (s, lo, hi) = bilinear(g, src, w, h, xs[i] - ox, zs[i] - oz);
+            shape(s, lo, hi, row0 + i)
+        };
+    }
+}
+
+/// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn advect_faces(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    src: &[f32],
+    dst: &mut [f32],
+    dt: f32,
+    keep: f32,
+    free: &[u8],
+    is_v: bool,
+) {
+    let w = if is_v { g.nx } else { g.nx + 1 };
+    dst.par_chunks_mut(w)
+        .enumerate()
+        .with_min_len(rows_per_job(w))
+        .for_each_init(
+            || (vec![0.0; w], vec![0.0; w]),
+            |(xs, zs), (j, row)| {
+                departures_row(g, u, v, j, is_v, dt, xs, zs);
+                if g.periodic {
+                    sample_row(g, src, j, is_v, xs, zs, free, row, |s, _, _, _| s * keep);
+                } else {
+                    let (w, h) = if is_v {
+                        (g.nx, g.ny + 1)
+                    } else {
+                        (g.nx + 1, g.ny)
+                    };
+                    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+                    let free = &free[j * w..][..w];
+                    sample_clamped(&Clamped::new(src, w, h), [ox, oz], xs, zs, free, keep, row);
+                }
+            },
+        );
+}
+
+/// MacCormack correction: `back` holds φ̌ on entry and the limited result on exit.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn maccormack(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    fwd: &[f32],
+    back: &mut [f32],
+    dt: f32,
+    keep: f32,
+    free: &[u8],
+    is_v: bool,
+) {
+    let w = if is_v { g.nx } else { g.nx + 1 };
+    let orig = if is_v { v } else { u };
+    let h = if is_v { g.ny + 1 } else { g.ny };
+    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+    back.par_chunks_mut(w)
+        .enumerate()
+        .with_min_len(rows_per_job(w))
+        .for_each_init(
+            || (vec![0.0; w], vec![0.0; w], vec![0.0; w]),
+            |(xs, zs, checked), (j, row)| {
+                departures_row(g, u, v, j, is_v, dt, xs, zs);
+                let k = j * w;
+                if !g.periodic {
+                    let (free, fwd_row, orig_row) =
+                        (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
+                    let f = Clamped::new(orig, w, h);
+                    correct_clamped(&f, [ox, oz], xs, zs, free, fwd_row, orig_row, keep, row);
+                    return;
+                }
+                checked.copy_from_slice(row);
+                let shape = |_, lo: f32, hi: f32, k: usize| {
+                    (fwd[k] + 0.5 * (orig[k] - checked[k - j * w])).clamp(lo, hi) * keep
+                };
+                sample_row(g, orig, j, is_v, xs, zs, free, row, shape);
+            },
+        );
+}

@@ -1,0 +1,283 @@
+//! Step 1, the forces: AGC arrow splats and the pull toward the ambient wind, written only
+//! to the faces each row's splats reach, in vectorised runs.
+
+use super::*;
+
+impl Solver {
+    /// Step 1: AGC arrow splats and the pull toward the ambient wind. Both read the velocity
+    /// before the pass, so the u and v faces see the same state.
+    pub fn apply_forces(&mut self, dt: f32) {
+        self.apply_forces_with(dt, |f, u, v, inc, free, is_v| {
+            f.increments(u, v, inc, free, is_v)
+        });
+    }
+
+    /// Step 1 with the given kernel for one component's increments (fast or reference).
+    fn apply_forces_with(&mut self, dt: f32, increments: Increments) {
+        let splats = agc_splats(&self.layout, self.time);
+        self.ambient.set_time(self.time);
+        let coupling = if self.ambient.is_empty() {
+            0.0
+        } else {
+            1.0 - (-self.params.ambient_coupling * dt).exp()
+        };
+        let f = Forcing {
+            g: self.geometry(),
+            origin: self.origin,
+            splats: &splats,
+            bounds: splats.iter().map(ArrowSplat::bounds).collect(),
+            ambient: &self.ambient,
+            coupling,
+            response: self.params.arrow_response,
+            dt,
+        };
+        if splats.is_empty() && coupling == 0.0 {
+            self.force_faces = 0;
+            return;
+        }
+        let rows_u = increments(&f, &self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
+        let rows_v = increments(&f, &self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
+        self.force_faces = add_rows(&mut self.u, &self.u_tmp, &rows_u, self.nx + 1)
+            + add_rows(&mut self.v, &self.v_tmp, &rows_v, self.nx);
+        self.sync_periodic();
+    }
+}
+
+/// The velocity changes of one component's faces: `(forcing, u, v, increments, free, is_v)`
+/// → the range of faces written in each row ([`Forcing::increments`] and its reference twin).
+pub(super) type Increments =
+    fn(&Forcing, &[f32], &[f32], &mut [f32], &[u8], bool) -> Vec<Range<usize>>;
+
+/// Everything the forces pass needs for one substep.
+pub(super) struct Forcing<'a> {
+    pub(super) g: Geometry,
+    pub(super) origin: [f32; 2],
+    pub(super) splats: &'a [ArrowSplat],
+    pub(super) bounds: Vec<([f32; 2], [f32; 2])>,
+    pub(super) ambient: &'a Ambient,
+    pub(super) coupling: f32,
+    pub(super) response: f32,
+    pub(super) dt: f32,
+}
+
+impl Forcing<'_> {
+    /// Faces `first..=last` of a row of `w` faces (v faces with `is_v`) inside splat bounds
+    /// `(lo, hi)` along x; `None` when the bounds miss the grid.
+    pub(super) fn columns(
+        &self,
+        (lo, hi): ([f32; 2], [f32; 2]),
+        w: usize,
+        is_v: bool,
+    ) -> Option<RangeInclusive<usize>> {
+        let ox = if is_v { 0.5 } else { 0.0 };
+        let first = (((lo[0] - self.origin[0]) / self.g.hx - ox).floor().max(0.0)) as usize;
+        let last =
+            (((hi[0] - self.origin[0]) / self.g.hx - ox).ceil().max(0.0) as usize).min(w - 1);
+        (first <= last).then_some(first..=last)
+    }
+
+    /// The faces of row `j` that the forces write: the hull of the active splats' columns, or
+    /// the whole row when ambient layers pull on it. Empty when nothing reaches the row.
+    pub(super) fn row_reach(&self, j: usize, w: usize, is_v: bool) -> Range<usize> {
+        if self.coupling > 0.0 {
+            return 0..w;
+        }
+        let z = self.row_z(j, is_v);
+        self.bounds
+            .iter()
+            .filter(|(lo, hi)| z >= lo[1] && z <= hi[1])
+            .filter_map(|&b| self.columns(b, w, is_v))
+            .map(|c| *c.start()..*c.end() + 1)
+            .reduce(|a, b| a.start.min(b.start)..a.end.max(b.end))
+            .unwrap_or(0..0)
+    }
+
+    /// World z of row `j` of faces: face (i, j) sits at grid point (i, j + ½) for u, (i + ½, j)
+    /// for v.
+    pub(super) fn row_z(&self, j: usize, is_v: bool) -> f32 {
+        let oz = if is_v { 0.0 } else { 0.5 };
+        self.origin[1] + (j as f32 + oz) * self.g.hz
+    }
+
+    /// Writes the velocity change of the faces each row's forces reach (see
+    /// [`Self::row_reach`]) into `inc` (u faces, or v faces with `is_v`); returns those
+    /// ranges, row by row.
+    pub(super) fn increments(
+        &self,
+        u: &[f32],
+        v: &[f32],
+        inc: &mut [f32],
+        free: &[u8],
+        is_v: bool,
+    ) -> Vec<Range<usize>> {
+        let g = &self.g;
+        let w = if is_v { g.nx } else { g.nx + 1 };
+        inc.par_chunks_mut(w)
+            .enumerate()
+            .with_min_len(rows_per_job(w))
+            .map(|(j, row)| {
+                let reach = self.row_reach(j, w, is_v);
+                if reach.is_empty() {
+                    return reach;
+                }
+                row[reach.clone()].fill(0.0);
+                let z_world = self.row_z(j, is_v);
+                let free = &free[j * w..][..w];
+                // Each splat only visits the faces inside its x-extent; per face the splats
+                // still add up in the same order.
+                for (s, &b) in self.splats.iter().zip(&self.bounds) {
+                    if z_world < b.0[1] || z_world > b.1[1] {
+                        continue;
+                    }
+                    if let Some(span) = self.columns(b, w, is_v) {
+                        self.splat_span(s, u, v, j, is_v, span, free, row);
+                    }
+                }
+                if self.coupling > 0.0 {
+                    let x_of = |i: usize| {
+                        self.origin[0] + (i as f32 + if is_v { 0.5 } else { 0.0 }) * g.hx
+                    };
+                    let c = usize::from(is_v);
+                    for (i, out) in row.iter_mut().enumerate() {
+                        if free[i] == 0 {
+                            continue;
+                        }
+                        let vel = face_velocity(g, u, v, i, j, is_v);
+                        *out += (self.ambient.wind([x_of(i), z_world])[c] - vel[c]) * self.coupling;
+                    }
+                }
+                reach
+            })
+            .collect()
+    }
+
+    /// Adds one splat's push to the free faces `span` of row `j`: the faces whose velocity
+    /// stencil wraps or clamps one at a time, the rest in one branch-free loop (weights,
+    /// face velocities and impulses all vectorise).
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn splat_span(
+        &self,
+        s: &ArrowSplat,
+        u: &[f32],
+        v: &[f32],
+        j: usize,
+        is_v: bool,
+        span: std::ops::RangeInclusive<usize>,
+        free: &[u8],
+        row: &mut [f32],
+    ) {
+        let g = &self.g;
+        let nx = g.nx;
+        let c = usize::from(is_v);
+        let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+        let z_world = self.origin[1] + (j as f32 + oz) * g.hz;
+        let (origin_x, hx, k, dt) = (self.origin[0], g.hx, self.response, self.dt);
+        #[inline(always)]
+        #[allow(clippy::too_many_arguments)]
+        fn impulse(
+            s: &ArrowSplat,
+            x: f32,
+            z: f32,
+            vel: [f32; 2],
+            k: f32,
+            dt: f32,
+            c: usize,
+        ) -> f32 {
+            s.impulse_weighted(s.weight([x, z]), vel, k, dt)[c]
+        }
+        let x_of = |i: usize| origin_x + (i as f32 + ox) * hx;
+        let push = |i: usize, vel: [f32; 2]| impulse(s, x_of(i), z_world, vel, k, dt, c);
+        // Faces whose stencil needs no wrap or clamp: all v faces, u faces 1..nx-1.
+        let (lo, hi) = if is_v { (0, nx - 1) } else { (1, nx - 1) };
+        for i in span.clone().filter(|i| !(lo..=hi).contains(i)) {
+            if free[i] != 0 {
+                row[i] += push(i, face_velocity(g, u, v, i, j, is_v));
+            }
+        }
+        let (a, b) = (*span.start().max(&lo), *span.end().min(&hi));
+        if a > b {
+            return;
+        }
+        let n = b - a + 1;
+        let (out, fr) = (&mut row[a..=b], &free[a..=b]);
+        let span = SplatSpan {
+            s,
+            k,
+            dt,
+            first: a,
+            x0: origin_x,
+            ox,
+            hx,
+            z: z_world,
+        };
+        if is_v {
+            let w = nx + 1;
+            let (jb, jt) = u_rows_beside(g, j);
+            let own = &v[j * nx + a..][..n];
+            let (ub0, ub1) = (&u[jb * w + a..][..n], &u[jb * w + a + 1..][..n]);
+            let (ut0, ut1) = (&u[jt * w + a..][..n], &u[jt * w + a + 1..][..n]);
+            splat_faces(&span, true, own, [ub0, ub1, ut0, ut1], fr, out);
+        } else {
+            let own = &u[j * (nx + 1) + a..][..n];
+            let (vb0, vb1) = (&v[j * nx + a - 1..][..n], &v[j * nx + a..][..n]);
+            let (vt0, vt1) = (&v[(j + 1) * nx + a - 1..][..n], &v[(j + 1) * nx + a..][..n]);
+            splat_faces(&span, false, own, [vb0, vb1, vt0, vt1], fr, out);
+        }
+    }
+}
+
+/// One splat over a run of faces of one row: what [`splat_faces`] needs besides the slices.
+pub(super) struct SplatSpan<'a> {
+    pub(super) s: &'a ArrowSplat,
+    pub(super) k: f32,
+    pub(super) dt: f32,
+    /// Index of the run's first face in its row.
+    pub(super) first: usize,
+    /// World x of face `i` is `x0 + (i + ox) · hx`; the row's world z is `z`.
+    pub(super) x0: f32,
+    pub(super) ox: f32,
+    pub(super) hx: f32,
+    pub(super) z: f32,
+}
+
+/// Adds the splat's push to the free faces of a run whose velocity stencil needs no wrap or
+/// clamp: `own` is the faces' own component, `other` the four faces of the other component
+/// averaged onto each (v faces with `is_v`). Compiled for several SIMD levels, picked at run
+/// time: the weights, face velocities and impulses vectorise.
+#[multiversion(targets = "simd")]
+pub(super) fn splat_faces(
+    p: &SplatSpan,
+    is_v: bool,
+    own: &[f32],
+    other: [&[f32]; 4],
+    free: &[u8],
+    out: &mut [f32],
+) {
+    let n = out.len();
+    let (own, free) = (&own[..n], &free[..n]);
+    let [o0, o1, o2, o3] = other.map(|o| &o[..n]);
+    let c = usize::from(is_v);
+    for q in 0..n {
+        let avg = 0.25 * (o0[q] + o1[q] + o2[q] + o3[q]);
+        let vel = if is_v { [avg, own[q]] } else { [own[q], avg] };
+        let x = p.x0 + ((p.first + q) as f32 + p.ox) * p.hx;
+        let d = p.s.impulse_weighted(p.s.weight([x, p.z]), vel, p.k, p.dt)[c];
+        out[q] = if free[q] != 0 { out[q] + d } else { out[q] };
+    }
+}
+
+/// `field += inc` over each row's range in `reach`; returns the number of faces touched.
+pub(super) fn add_rows(field: &mut [f32], inc: &[f32], reach: &[Range<usize>], w: usize) -> usize {
+    field
+        .par_chunks_mut(w)
+        .zip(inc.par_chunks(w))
+        .zip(reach.par_iter())
+        .with_min_len(rows_per_job(w))
+        .map(|((f, d), r)| {
+            for (x, dx) in f[r.clone()].iter_mut().zip(&d[r.clone()]) {
+                *x = clamp_speed(*x + dx);
+            }
+            r.len()
+        })
+        .sum()
+}

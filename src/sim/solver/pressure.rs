@@ -1,0 +1,266 @@
+//! Step 5, the pressure solve: the warm start and Jacobi iterations, cache-blocked (each band
+//! of rows runs many iterations while it is in cache), and the plain sweep they must equal.
+
+use super::*;
+
+impl Solver {
+    /// Steps 5: warm start and Jacobi iterations for `∇²p = div`, blocked for cache: each band
+    /// of rows runs many iterations while its rows are in cache (see [`jacobi_band`]). The
+    /// result is bit-for-bit that of [`Self::jacobi_iteration`] repeated.
+    pub fn solve_pressure(&mut self) {
+        let decay = self.params.pressure_decay;
+        let k = self.params.pressure_iterations as usize;
+        if k == 0 {
+            self.p.par_iter_mut().for_each(|p| *p *= decay);
+            return;
+        }
+        let groups = k.div_ceil(MAX_BLOCK_LEVELS);
+        let mut done = 0;
+        for g in 0..groups {
+            let levels = (k - done).div_ceil(groups - g);
+            // The warm start's decay is applied as the first block reads p (×1 is exact).
+            let scale = if g == 0 { decay } else { 1.0 };
+            self.jacobi_blocked(levels, scale);
+            done += levels;
+        }
+    }
+
+    /// `levels` Jacobi iterations from `p × scale` into `p` (through `p_tmp`).
+    fn jacobi_blocked(&mut self, levels: usize, scale: f32) {
+        let (nx, ny) = (self.nx, self.ny);
+        let threads = rayon::current_num_threads();
+        // Two bands per thread for balance, but each well over the 2 × levels ghost rows a
+        // band recomputes at its ends.
+        let band = ny.div_ceil(2 * threads).max(4 * levels).min(ny);
+        let ctx = JacobiCtx {
+            nx,
+            ny,
+            st: self.stencil(),
+            src: &self.p,
+            div: &self.div,
+            flags: &self.flags,
+            inv_w: &self.inv_w,
+            regular: &self.row_regular,
+            wraps: self.params.boundary == Boundary::Periodic,
+            scale,
+        };
+        self.p_tmp
+            .par_chunks_mut(band * nx)
+            .enumerate()
+            .for_each(|(b, out)| {
+                let a = b * band;
+                jacobi_band(&ctx, out, a, a + out.len() / nx, levels);
+            });
+        std::mem::swap(&mut self.p, &mut self.p_tmp);
+    }
+
+    fn stencil(&self) -> Stencil {
+        Stencil::new(self.hx, self.hz)
+    }
+
+    /// One plain Jacobi sweep over the whole grid: `p ← (Σ w_n p_n − div) / Σ w_n` over the
+    /// neighbours that take part (solids and closed walls: Neumann, dropped; open edges:
+    /// p = 0 outside). The reference for the blocked solve.
+    pub fn jacobi_iteration(&mut self) {
+        let (nx, ny) = (self.nx, self.ny);
+        let st = self.stencil();
+        let (p, div, flags, regular) = (&self.p, &self.div, &self.flags, &self.row_regular);
+        let inv_w = &self.inv_w;
+        let wraps = self.params.boundary == Boundary::Periodic;
+        self.p_tmp
+            .par_chunks_mut(nx)
+            .enumerate()
+            .with_min_len(rows_per_job(nx))
+            .for_each(|(j, out)| {
+                // Rows beyond the grid have zero weight unless periodic: pass the row itself,
+                // as the blocked solve does.
+                let (jb, jt) = if wraps {
+                    ((j + ny - 1) % ny, (j + 1) % ny)
+                } else {
+                    (j.saturating_sub(1), (j + 1).min(ny - 1))
+                };
+                jacobi_row(
+                    &st,
+                    out,
+                    &p[jb * nx..(jb + 1) * nx],
+                    &p[j * nx..(j + 1) * nx],
+                    &p[jt * nx..(jt + 1) * nx],
+                    &div[j * nx..(j + 1) * nx],
+                    &flags[j * nx..(j + 1) * nx],
+                    &inv_w[j * nx..(j + 1) * nx],
+                    regular[j],
+                );
+            });
+        std::mem::swap(&mut self.p, &mut self.p_tmp);
+    }
+}
+
+/// At most this many Jacobi iterations run per blocked pass over the grid: more would make the
+/// ghost rows each band recomputes (≈ levels² rows) outweigh the cache savings.
+pub(super) const MAX_BLOCK_LEVELS: usize = 24;
+
+/// Weights of the pressure stencil: `1/hx²`, `1/hz²`, and the inverse of their sum for a cell
+/// with four fluid neighbours.
+#[derive(Clone, Copy)]
+pub(super) struct Stencil {
+    pub(super) wx: f32,
+    pub(super) wz: f32,
+    pub(super) inv_regular: f32,
+}
+
+impl Stencil {
+    pub(super) fn new(hx: f32, hz: f32) -> Self {
+        let (wx, wz) = (1.0 / (hx * hx), 1.0 / (hz * hz));
+        Self {
+            wx,
+            wz,
+            inv_regular: 1.0 / (2.0 * wx + 2.0 * wz),
+        }
+    }
+
+    /// `1 / Σw` for a cell with pressure flags `fl` (fluid and open-edge neighbours count;
+    /// 0 when none does). For four fluid neighbours this is exactly `inv_regular`.
+    pub(super) fn inv_weight(&self, fl: u8) -> f32 {
+        let n =
+            |b: u8| f32::from(u8::from(fl & b != 0)) + f32::from(u8::from(fl & (b << EDGE) != 0));
+        let ws = self.wx * (n(L) + n(R)) + self.wz * (n(B) + n(T));
+        if ws > 0.0 { 1.0 / ws } else { 0.0 }
+    }
+}
+
+/// One Jacobi row from the previous iterate's rows `below`, `row`, `above` (rows wrap at the
+/// grid's ends): `p = (wx (p_L + p_R) + wz (p_B + p_T) − div) / Σw`, where a neighbour that
+/// does not take part (solid, wall, open edge at p = 0) contributes 0 and `inv_w` holds the
+/// cell's `1 / Σw` (0 for cells outside the solve). Branch-free, so it vectorises; rows whose
+/// cells all have four fluid neighbours skip the flags (the same arithmetic, the same bits).
+#[allow(clippy::too_many_arguments)]
+#[multiversion(targets = "simd")]
+pub(super) fn jacobi_row(
+    st: &Stencil,
+    out: &mut [f32],
+    below: &[f32],
+    row: &[f32],
+    above: &[f32],
+    d: &[f32],
+    f: &[u8],
+    inv_w: &[f32],
+    regular: bool,
+) {
+    let nx = out.len();
+    let Stencil {
+        wx,
+        wz,
+        inv_regular,
+    } = *st;
+    #[inline(always)]
+    pub(super) fn pick(fl: u8, bit: u8, x: f32) -> f32 {
+        if fl & bit != 0 { x } else { 0.0 }
+    }
+    let cell = |i: usize, l: f32, r: f32| {
+        let fl = f[i];
+        (wx * (pick(fl, L, l) + pick(fl, R, r))
+            + wz * (pick(fl, B, below[i]) + pick(fl, T, above[i]))
+            - d[i])
+            * inv_w[i]
+    };
+    // The row's ends wrap to the other end (used only where periodic flags say so).
+    out[0] = cell(0, row[nx - 1], row[1 % nx]);
+    if nx == 1 {
+        return;
+    }
+    out[nx - 1] = cell(nx - 1, row[nx - 2], row[0]);
+    let n = nx - 2;
+    let (o, l, r) = (&mut out[1..=n], &row[..n], &row[2..n + 2]);
+    let (b, a, dd) = (&below[1..=n], &above[1..=n], &d[1..=n]);
+    if regular {
+        for i in 0..n {
+            o[i] = (wx * (l[i] + r[i]) + wz * (b[i] + a[i]) - dd[i]) * inv_regular;
+        }
+    } else {
+        let (ff, iw) = (&f[1..=n], &inv_w[1..=n]);
+        for i in 0..n {
+            let fl = ff[i];
+            o[i] = (wx * (pick(fl, L, l[i]) + pick(fl, R, r[i]))
+                + wz * (pick(fl, B, b[i]) + pick(fl, T, a[i]))
+                - dd[i])
+                * iw[i];
+        }
+    }
+}
+
+/// What every band of a blocked Jacobi pass reads.
+pub(super) struct JacobiCtx<'a> {
+    pub(super) nx: usize,
+    pub(super) ny: usize,
+    pub(super) st: Stencil,
+    pub(super) src: &'a [f32],
+    pub(super) div: &'a [f32],
+    pub(super) flags: &'a [u8],
+    pub(super) inv_w: &'a [f32],
+    pub(super) regular: &'a [bool],
+    /// Periodic: rows wrap around, so ghost rows continue past the grid's ends.
+    pub(super) wraps: bool,
+    pub(super) scale: f32,
+}
+
+/// `levels` Jacobi iterations for output rows `a..b`, written to `out`, in one sweep down the
+/// band: iteration `t` trails iteration `t − 1` by one row, and each keeps only its last three
+/// rows (a ring), so the band's working set stays in cache while every iteration runs. To
+/// produce rows `a..b` after `levels` iterations, iteration `t` must cover `levels − t` extra
+/// rows on each side (the trapezoid); those ghost rows are recomputed by the neighbouring
+/// bands, with the same arithmetic, so the result does not depend on the banding.
+pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, levels: usize) {
+    let (nx, ny) = (c.nx, c.ny);
+    let k = levels as isize;
+    let (a, b) = (a as isize, b as isize);
+    let lo = |t: isize| {
+        let r = a - (k - t);
+        if c.wraps { r } else { r.max(0) }
+    };
+    let hi = |t: isize| {
+        let r = b + (k - t);
+        if c.wraps { r } else { r.min(ny as isize) }
+    };
+    let wrap = |r: isize| r.rem_euclid(ny as isize) as usize;
+    let slot = |r: isize| r.rem_euclid(3) as usize * nx;
+    // Rings for iterations 0..levels (0 is the scaled input); the last writes to `out`.
+    let mut ring = vec![0.0f32; levels * 3 * nx];
+    for r in lo(0)..hi(0) + k {
+        if r < hi(0) {
+            let src = &c.src[wrap(r) * nx..][..nx];
+            let dst = &mut ring[slot(r)..][..nx];
+            for (d, s) in dst.iter_mut().zip(src) {
+                *d = s * c.scale;
+            }
+        }
+        for t in 1..=k {
+            let s = r - t;
+            if s < lo(t) || s >= hi(t) {
+                continue;
+            }
+            // Without wrapping, the first and last rows have no neighbour beyond the grid
+            // (its weight is zero): any finite row will do, so pass the row itself.
+            let sb = if s > lo(t - 1) { s - 1 } else { s };
+            let sa = if s + 1 < hi(t - 1) { s + 1 } else { s };
+            let (prev, cur) = ring.split_at_mut(t as usize * 3 * nx);
+            let prev = &prev[(t as usize - 1) * 3 * nx..];
+            let j = wrap(s);
+            let dst = if t == k {
+                &mut out[(s - a) as usize * nx..][..nx]
+            } else {
+                &mut cur[slot(s)..][..nx]
+            };
+            jacobi_row(
+                &c.st,
+                dst,
+                &prev[slot(sb)..][..nx],
+                &prev[slot(s)..][..nx],
+                &prev[slot(sa)..][..nx],
+                &c.div[j * nx..][..nx],
+                &c.flags[j * nx..][..nx],
+                &c.inv_w[j * nx..][..nx],
+                c.regular[j],
+            );
+        }
+    }
+}
