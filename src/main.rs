@@ -430,6 +430,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         r.min_ms,
                         r.effective_gb_s
                     );
+                    for (pass, ms) in &r.passes_ms {
+                        println!("  {pass:<12} {ms:8.3} ms (GPU timestamps)");
+                    }
                 }
                 return Ok(ExitCode::SUCCESS);
             }

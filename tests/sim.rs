@@ -1120,5 +1120,27 @@ mod gpu {
         assert_eq!(r["grid"], serde_json::json!([48, 48]));
         assert!(r["median_ms"].as_f64().unwrap() > 0.0);
         assert!(r["bytes_per_step"].as_u64().unwrap() > 0);
+        // lavapipe has timestamp queries: every pass of the obstacles layout is timed, and
+        // the passes add up to no more than the wall time of a step.
+        if r["timestamps"] == true {
+            let passes = r["passes_ms"].as_object().unwrap();
+            for p in [
+                "forces",
+                "curl",
+                "confinement",
+                "divergence",
+                "pressure",
+                "gradient",
+                "advection",
+            ] {
+                assert!(passes[p].as_f64().unwrap() >= 0.0, "{p} timed: {passes:?}");
+            }
+            let sum: f64 = passes.values().map(|v| v.as_f64().unwrap()).sum();
+            assert!(
+                sum > 0.0 && sum <= r["median_ms"].as_f64().unwrap() * 1.5,
+                "{sum} vs {}",
+                r["median_ms"]
+            );
+        }
     }
 }

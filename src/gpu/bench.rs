@@ -1,12 +1,14 @@
 //! `windloom bench --backend gpu`: wall time per GPU step (each step submitted and waited
-//! for), with the adapter that ran it and the bytes a step must move, so the figure can be set
-//! against a GPU's memory bandwidth. Speed is measured here, never asserted in tests.
+//! for), GPU time per pass from timestamp queries where the adapter has them, the adapter that
+//! ran it and the bytes a step must move, so the figure can be set against a GPU's memory
+//! bandwidth. Speed is measured here, never asserted in tests.
 
 use super::{GpuContext, GpuError, GpuSolver};
 use crate::doc::Layout;
 use crate::sim::Solver;
 use crate::sim::bench::{median, pass_bytes};
 use serde::Serialize;
+use std::collections::BTreeMap;
 use std::time::Instant;
 
 #[derive(Debug, Clone, Serialize)]
@@ -29,6 +31,10 @@ pub struct GpuBenchReport {
     /// Milliseconds per step, submission to completion, median and best.
     pub median_ms: f64,
     pub min_ms: f64,
+    /// Median GPU milliseconds per pass from timestamp queries (empty where the adapter has
+    /// none: see `timestamps`).
+    pub passes_ms: BTreeMap<&'static str, f64>,
+    pub timestamps: bool,
     /// Bytes the passes must read and write per step (each array element once; the CPU
     /// solver's count), for the bandwidth arithmetic in docs/PERFORMANCE.md.
     pub bytes_per_step: u64,
@@ -49,12 +55,17 @@ pub fn run(
         s.step(ctx);
     }
     s.finish(ctx)?;
+    let timestamps = s.enable_profiling(ctx);
     let mut totals = Vec::with_capacity(steps.max(1));
+    let mut per_pass: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     for _ in 0..steps.max(1) {
         let t = Instant::now();
         s.step(ctx);
         s.finish(ctx)?;
         totals.push(t.elapsed().as_secs_f64() * 1e3);
+        for (pass, ms) in s.pass_times(ctx)? {
+            per_pass.entry(pass).or_default().push(ms);
+        }
     }
     // The byte count of a step whose forces reach every face (an upper bound for arrows).
     let cpu = Solver::new(layout);
@@ -78,6 +89,11 @@ pub fn run(
         steps: steps.max(1),
         median_ms,
         min_ms: totals.iter().copied().fold(f64::MAX, f64::min),
+        passes_ms: per_pass
+            .into_iter()
+            .map(|(k, mut v)| (k, median(&mut v)))
+            .collect(),
+        timestamps,
         bytes_per_step,
         effective_gb_s: bytes_per_step as f64 / (median_ms * 1e-3) / 1e9,
     })

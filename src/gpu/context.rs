@@ -47,7 +47,8 @@ impl GpuContext {
         }
         let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
             label: Some("windloom headless device"),
-            required_features: wgpu::Features::empty(),
+            // Optional: per-pass times in `bench --backend gpu` where the adapter has them.
+            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
             required_limits: limits,
             ..Default::default()
         }))

@@ -100,6 +100,33 @@ pub struct GpuFluid {
     gusts: wgpu::Buffer,
     kernels: std::collections::HashMap<&'static str, Kernel>,
     bind_groups: std::sync::Mutex<BindGroups>,
+    profiler: std::sync::Mutex<Option<Profiler>>,
+}
+
+/// Per-pass GPU times from timestamp queries around each dispatch.
+struct Profiler {
+    set: wgpu::QuerySet,
+    resolve: wgpu::Buffer,
+    read: wgpu::Buffer,
+    /// The pass of each recorded dispatch, in order (two queries each).
+    passes: Vec<&'static str>,
+}
+
+/// Dispatches a profiler records between two reads of [`GpuFluid::pass_times`].
+const PROFILED_DISPATCHES: u32 = 1024;
+
+/// The solver pass a kernel belongs to, as the CPU solver's timings name them.
+fn pass_of(kernel: &str) -> &'static str {
+    match kernel {
+        "inc_u" | "inc_v" | "add" => "forces",
+        "curl" => "curl",
+        "force" | "apply_u" | "apply_v" => "confinement",
+        "divergence" => "divergence",
+        "decay" | "main" => "pressure",
+        "u_faces" | "v_faces" => "gradient",
+        "sync_u" | "sync_v" => "periodic",
+        _ => "advection",
+    }
 }
 
 /// Bind groups by kernel and the buffers bound at each binding.
@@ -248,6 +275,7 @@ impl GpuFluid {
             gusts: grow_buffer(device, "gusts", 4),
             kernels,
             bind_groups: Default::default(),
+            profiler: Default::default(),
         }
     }
 
@@ -373,9 +401,21 @@ impl GpuFluid {
                 entries: &entries,
             })
         });
+        let mut profiler = self.profiler.lock().unwrap_or_else(|e| e.into_inner());
+        let timestamp_writes = profiler.as_mut().and_then(|p| {
+            let n = p.passes.len() as u32;
+            (n < PROFILED_DISPATCHES).then(|| {
+                p.passes.push(pass_of(kernel));
+                wgpu::ComputePassTimestampWrites {
+                    query_set: &p.set,
+                    beginning_of_pass_write_index: Some(2 * n),
+                    end_of_pass_write_index: Some(2 * n + 1),
+                }
+            })
+        });
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some(kernel),
-            timestamp_writes: None,
+            timestamp_writes,
         });
         pass.set_pipeline(&k.pipeline);
         pass.set_bind_group(0, &*group, &[]);
@@ -384,6 +424,92 @@ impl GpuFluid {
         } else {
             pass.dispatch_workgroups(groups(x, 8), groups(y, 8), 1);
         }
+    }
+
+    /// Starts timing every dispatch with timestamp queries; false when the device cannot.
+    pub fn enable_profiling(&self, device: &wgpu::Device) -> bool {
+        if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {
+            return false;
+        }
+        let bytes = u64::from(2 * PROFILED_DISPATCHES) * 8;
+        let buffer = |label, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size: bytes,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let profiler = Profiler {
+            set: device.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("pass timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: 2 * PROFILED_DISPATCHES,
+            }),
+            resolve: buffer(
+                "timestamps",
+                wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+            ),
+            read: buffer(
+                "timestamps read-back",
+                wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+            ),
+            passes: Vec::new(),
+        };
+        *self.profiler.lock().unwrap_or_else(|e| e.into_inner()) = Some(profiler);
+        true
+    }
+
+    /// GPU milliseconds per pass over the dispatches since the last call (waits for the GPU);
+    /// empty when profiling is off.
+    pub fn pass_times(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<std::collections::BTreeMap<&'static str, f64>, super::GpuError> {
+        let mut guard = self.profiler.lock().unwrap_or_else(|e| e.into_inner());
+        let mut times = std::collections::BTreeMap::new();
+        let Some(p) = guard.as_mut() else {
+            return Ok(times);
+        };
+        let n = p.passes.len() as u32;
+        if n == 0 {
+            return Ok(times);
+        }
+        let runtime = |message: String| super::GpuError::Runtime {
+            what: "reading timestamps".into(),
+            message,
+        };
+        let mut enc = device.create_command_encoder(&Default::default());
+        enc.resolve_query_set(&p.set, 0..2 * n, &p.resolve, 0);
+        enc.copy_buffer_to_buffer(&p.resolve, 0, &p.read, 0, u64::from(2 * n) * 8);
+        queue.submit([enc.finish()]);
+        let (tx, rx) = std::sync::mpsc::channel();
+        p.read.map_async(wgpu::MapMode::Read, .., move |r| {
+            let _ = tx.send(r);
+        });
+        device
+            .poll(wgpu::PollType::wait_indefinitely())
+            .map_err(|e| runtime(e.to_string()))?;
+        rx.recv()
+            .map_err(|e| runtime(e.to_string()))?
+            .map_err(|e| runtime(e.to_string()))?;
+        let period_ms = f64::from(queue.get_timestamp_period()) * 1e-6;
+        {
+            let view = p
+                .read
+                .slice(..)
+                .get_mapped_range()
+                .map_err(|e| runtime(e.to_string()))?;
+            let stamps: &[u64] = bytemuck::cast_slice(&view);
+            for (k, pass) in p.passes.iter().enumerate() {
+                let ticks = stamps[2 * k + 1].saturating_sub(stamps[2 * k]);
+                *times.entry(*pass).or_insert(0.0) += ticks as f64 * period_ms;
+            }
+        }
+        p.read.unmap();
+        p.passes.clear();
+        Ok(times)
     }
 
     fn sync_periodic(&self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder) {

@@ -80,6 +80,19 @@ impl GpuSolver {
         }
     }
 
+    /// Starts per-pass GPU timing; false when the adapter has no timestamp queries.
+    pub fn enable_profiling(&self, ctx: &GpuContext) -> bool {
+        self.fluid.enable_profiling(&ctx.device)
+    }
+
+    /// GPU milliseconds per pass since the last call (empty without profiling).
+    pub fn pass_times(
+        &self,
+        ctx: &GpuContext,
+    ) -> Result<std::collections::BTreeMap<&'static str, f64>, GpuError> {
+        self.fluid.pass_times(&ctx.device, &ctx.queue)
+    }
+
     /// Waits until the GPU has finished every submitted step.
     pub fn finish(&self, ctx: &GpuContext) -> Result<(), GpuError> {
         ctx.device
