@@ -75,7 +75,7 @@ enum Command {
 /// Handle to the simulation thread.
 pub struct LiveSim {
     tx: Sender<Command>,
-    latest: Arc<Mutex<Snapshot>>,
+    latest: Arc<Mutex<Arc<Snapshot>>>,
     thread: Option<JoinHandle<()>>,
     pub playing: bool,
     pub speed: f32,
@@ -86,7 +86,7 @@ impl LiveSim {
     /// snapshot (the UI passes a closure that requests a repaint).
     pub fn start(layout: &Layout, repaint: impl Fn() + Send + 'static) -> Self {
         let (tx, rx) = mpsc::channel();
-        let latest = Arc::new(Mutex::new(Snapshot::default()));
+        let latest = Arc::new(Mutex::new(Arc::new(Snapshot::default())));
         let shared = latest.clone();
         let layout = layout.clone();
         let thread = std::thread::Builder::new()
@@ -126,17 +126,18 @@ impl LiveSim {
         let _ = self.tx.send(Command::Speed(speed));
     }
 
-    /// The most recent snapshot (a clone; cheap next to a frame).
-    pub fn snapshot(&self) -> Snapshot {
-        self.latest.lock().map(|s| s.clone()).unwrap_or_default()
+    /// The most recent snapshot, shared: the simulation thread publishes a new one rather
+    /// than changing this, so taking it each frame copies a pointer, not the fields.
+    pub fn snapshot(&self) -> Arc<Snapshot> {
+        match self.latest.lock() {
+            Ok(s) => Arc::clone(&s),
+            Err(p) => Arc::clone(&p.into_inner()),
+        }
     }
 
     /// Runs `f` on the latest snapshot without copying it.
     pub fn with_snapshot<R>(&self, f: impl FnOnce(&Snapshot) -> R) -> R {
-        match self.latest.lock() {
-            Ok(s) => f(&s),
-            Err(p) => f(&p.into_inner()),
-        }
+        f(&self.snapshot())
     }
 }
 
@@ -158,7 +159,7 @@ fn needs_rebuild(old: &Layout, new: &Layout) -> bool {
         || old.sim.boundary != new.sim.boundary
 }
 
-fn publish(solver: &mut Solver, shared: &Mutex<Snapshot>, ms: f32, serial: &mut u64) {
+fn publish(solver: &mut Solver, shared: &Mutex<Arc<Snapshot>>, ms: f32, serial: &mut u64) {
     *serial += 1;
     let snap = Snapshot {
         nx: solver.nx,
@@ -175,15 +176,17 @@ fn publish(solver: &mut Solver, shared: &Mutex<Snapshot>, ms: f32, serial: &mut 
         ms_per_step: ms,
         serial: *serial,
     };
-    if let Ok(mut s) = shared.lock() {
-        *s = snap;
+    let snap = Arc::new(snap);
+    match shared.lock() {
+        Ok(mut s) => *s = snap,
+        Err(p) => *p.into_inner() = snap,
     }
 }
 
 fn worker(
     mut layout: Layout,
     rx: Receiver<Command>,
-    shared: Arc<Mutex<Snapshot>>,
+    shared: Arc<Mutex<Arc<Snapshot>>>,
     repaint: impl Fn(),
 ) {
     let mut solver = Solver::new(&layout);
