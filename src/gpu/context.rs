@@ -1,4 +1,5 @@
-//! A headless wgpu device for the CLI and the tests (the editor hands in eframe's device).
+//! A headless wgpu device for the CLI and the tests. (The editor will hand in eframe's device
+//! instead, so that one device serves the UI and the wind; not wired yet.)
 
 /// A device and queue with what the fluid passes need.
 pub struct GpuContext {
