@@ -2,6 +2,7 @@
 //! target wind. Shared by the CPU solver and (later) the GPU path, which uploads the splats.
 
 use crate::doc::{self, AmbientKind, Emission, Layout, TimeWindow, Tree};
+use bytemuck::Zeroable;
 use rustfft::{FftPlanner, num_complex::Complex32};
 
 /// One active arrow at one instant: a capsule from `a` to `b` (world metres) that drives the
@@ -375,10 +376,18 @@ pub struct LayerParams {
     pub _pad2: f32,
 }
 
+/// [`LayerParams::kind`] of each ambient layer type.
+pub const LAYER_DIRECTIONAL: u32 = 0;
+pub const LAYER_NOISE: u32 = 1;
+pub const LAYER_FFT: u32 = 2;
+pub const LAYER_SINE: u32 = 3;
+
 /// Ambient layers prepared for one instant: evaluates the target wind at any point.
 pub struct Ambient {
     layers: Vec<(AmbientKind, Option<FftGusts>)>,
-    t: f32,
+    /// Each layer's time-dependent values at the current time ([`Self::set_time`]): what
+    /// [`Self::wind`] evaluates per point, and what the GPU forces pass is given.
+    params: Vec<LayerParams>,
 }
 
 impl Ambient {
@@ -409,44 +418,32 @@ impl Ambient {
                 (a.kind.clone(), fft)
             })
             .collect();
-        Self { layers, t: 0.0 }
+        let mut ambient = Self {
+            layers,
+            params: Vec::new(),
+        };
+        ambient.set_time(0.0);
+        ambient
     }
 
     pub fn is_empty(&self) -> bool {
         self.layers.is_empty()
     }
 
-    /// Moves the layers to time `t`.
+    /// Moves the layers to time `t`: evaluates the FFT fields and each layer's pulse, scroll
+    /// offset and phase, once for every point.
     pub fn set_time(&mut self, t: f32) {
-        self.t = t;
         for (_, fft) in &mut self.layers {
             if let Some(f) = fft {
                 f.evaluate(t);
             }
         }
-    }
-
-    /// The layers at the current time for the GPU, and their FFT gust fields one after the
-    /// other (what [`LayerParams::fft_offset`] indexes).
-    pub fn layer_params(&self) -> (Vec<LayerParams>, Vec<f32>) {
-        let t = self.t;
-        let mut gusts = Vec::new();
-        let layers = self
+        let mut offset = 0u32;
+        self.params = self
             .layers
             .iter()
             .map(|(kind, fft)| {
-                let blank = LayerParams {
-                    kind: 0,
-                    fft_offset: 0,
-                    fft_n: 0,
-                    _pad: 0,
-                    dir: [0.0; 2],
-                    shift: [0.0; 2],
-                    a: 0.0,
-                    b: 0.0,
-                    c: 0.0,
-                    _pad2: 0.0,
-                };
+                let blank = LayerParams::zeroed();
                 match kind {
                     AmbientKind::Directional {
                         direction_deg,
@@ -459,7 +456,9 @@ impl Ambient {
                         let pulse = 1.0
                             + pulse_magnitude
                                 * (0.5 + 0.5 * (std::f32::consts::TAU * pulse_frequency * t).sin());
+                        // Frozen turbulence scrolled with the mean wind (Taylor's hypothesis).
                         LayerParams {
+                            kind: LAYER_DIRECTIONAL,
                             dir: d,
                             shift: [d[0] * main * t, d[1] * main * t],
                             a: *turbulence,
@@ -475,7 +474,7 @@ impl Ambient {
                     } => {
                         let d = doc::direction(*direction_deg);
                         LayerParams {
-                            kind: 1,
+                            kind: LAYER_NOISE,
                             dir: d,
                             shift: [d[0] * speed * t, d[1] * speed * t],
                             a: *scale,
@@ -490,18 +489,18 @@ impl Ambient {
                         ..
                     } => {
                         let d = doc::direction(*direction_deg);
-                        let (offset, n, tile) = match fft {
+                        let (fft_offset, fft_n, tile) = match fft {
                             Some(f) => {
-                                let offset = gusts.len() as u32;
-                                gusts.extend_from_slice(f.field());
-                                (offset, f.n as u32, f.tile)
+                                let at = offset;
+                                offset += (f.n * f.n) as u32;
+                                (at, f.n as u32, f.tile)
                             }
                             None => (0, 0, 1.0),
                         };
                         LayerParams {
-                            kind: 2,
-                            fft_offset: offset,
-                            fft_n: n,
+                            kind: LAYER_FFT,
+                            fft_offset,
+                            fft_n,
                             dir: d,
                             shift: [d[0] * wind_speed * t, d[1] * wind_speed * t],
                             a: *wind_speed,
@@ -516,7 +515,7 @@ impl Ambient {
                         wavelength,
                         frequency,
                     } => LayerParams {
-                        kind: 3,
+                        kind: LAYER_SINE,
                         dir: doc::direction(*direction_deg),
                         a: *amplitude,
                         b: *wavelength,
@@ -526,70 +525,45 @@ impl Ambient {
                 }
             })
             .collect();
-        (layers, gusts)
     }
 
-    /// Target ambient wind (m/s) at world point `p`.
+    /// The layers at the current time for the GPU, and their FFT gust fields one after the
+    /// other (what [`LayerParams::fft_offset`] indexes).
+    pub fn layer_params(&self) -> (Vec<LayerParams>, Vec<f32>) {
+        let gusts = self
+            .layers
+            .iter()
+            .filter_map(|(_, fft)| fft.as_ref())
+            .flat_map(|f| f.field().iter().copied())
+            .collect();
+        (self.params.clone(), gusts)
+    }
+
+    /// Target ambient wind (m/s) at world point `p`: each layer's per-point part, from the
+    /// values [`Self::set_time`] prepared (the GPU evaluates the same in `shaders/forces.wgsl`).
     pub fn wind(&self, p: [f32; 2]) -> [f32; 2] {
-        let t = self.t;
         let mut w = [0.0f32, 0.0];
-        for (kind, fft) in &self.layers {
-            let (dir, speed) = match kind {
-                AmbientKind::Directional {
-                    direction_deg,
-                    main,
-                    turbulence,
-                    pulse_magnitude,
-                    pulse_frequency,
-                } => {
-                    let d = doc::direction(*direction_deg);
-                    let pulse = 1.0
-                        + pulse_magnitude
-                            * (0.5 + 0.5 * (std::f32::consts::TAU * pulse_frequency * t).sin());
-                    // Frozen turbulence scrolled with the mean wind (Taylor's hypothesis).
-                    let q = [p[0] - d[0] * main * t, p[1] - d[1] * main * t];
+        for (l, (_, fft)) in self.params.iter().zip(&self.layers) {
+            let q = [p[0] - l.shift[0], p[1] - l.shift[1]];
+            let speed = match l.kind {
+                LAYER_DIRECTIONAL => {
                     let s = 1.0 / 8.0;
-                    w[0] += turbulence * gradient_noise(q[0] * s, q[1] * s, 11);
-                    w[1] += turbulence * gradient_noise(q[0] * s, q[1] * s, 23);
-                    (d, main * pulse)
+                    w[0] += l.a * gradient_noise(q[0] * s, q[1] * s, 11);
+                    w[1] += l.a * gradient_noise(q[0] * s, q[1] * s, 23);
+                    l.b
                 }
-                AmbientKind::Noise {
-                    direction_deg,
-                    scale,
-                    speed,
-                    strength,
-                } => {
-                    let d = doc::direction(*direction_deg);
-                    let q = [p[0] - d[0] * speed * t, p[1] - d[1] * speed * t];
-                    let n = gradient_noise(q[0] / scale, q[1] / scale, 5);
-                    (d, strength * (0.5 + 0.5 * n).clamp(0.0, 1.0))
+                LAYER_NOISE => {
+                    let n = gradient_noise(q[0] / l.a, q[1] / l.a, 5);
+                    l.b * (0.5 + 0.5 * n).clamp(0.0, 1.0)
                 }
-                AmbientKind::Fft {
-                    direction_deg,
-                    wind_speed,
-                    amplitude,
-                    ..
-                } => {
-                    let d = doc::direction(*direction_deg);
-                    let f = fft.as_ref().map_or(0.0, |f| {
-                        f.sample([p[0] - d[0] * wind_speed * t, p[1] - d[1] * wind_speed * t])
-                    });
-                    (d, wind_speed + amplitude * f)
-                }
-                AmbientKind::Sine {
-                    direction_deg,
-                    amplitude,
-                    wavelength,
-                    frequency,
-                } => {
-                    let d = doc::direction(*direction_deg);
-                    let x = p[0] * d[0] + p[1] * d[1];
-                    let s = (std::f32::consts::TAU * (x / wavelength - frequency * t)).sin();
-                    (d, amplitude * s)
+                LAYER_FFT => l.a + l.b * fft.as_ref().map_or(0.0, |f| f.sample(q)),
+                _ => {
+                    let x = p[0] * l.dir[0] + p[1] * l.dir[1];
+                    l.a * (std::f32::consts::TAU * (x / l.b - l.c)).sin()
                 }
             };
-            w[0] += dir[0] * speed;
-            w[1] += dir[1] * speed;
+            w[0] += l.dir[0] * speed;
+            w[1] += l.dir[1] * speed;
         }
         w
     }
