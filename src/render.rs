@@ -52,6 +52,15 @@ fn paint(c: Color) -> Paint<'static> {
     p
 }
 
+/// Pictures are 64x64 to 8192x8192 pixels.
+fn check_size(w: u32, h: u32) -> Result<(), RenderError> {
+    if (64..=8192).contains(&w) && (64..=8192).contains(&h) {
+        Ok(())
+    } else {
+        Err(RenderError::Size(w, h))
+    }
+}
+
 /// Simulates `layout` for `time` seconds and draws it into a `size` PNG. `base` is the folder
 /// the layout's backdrop path is relative to.
 pub fn render_png(
@@ -61,9 +70,7 @@ pub fn render_png(
     time: f32,
 ) -> Result<Vec<u8>, RenderError> {
     let [w, h] = size;
-    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
-        return Err(RenderError::Size(w, h));
-    }
+    check_size(w, h)?;
     if !(time.is_finite() && (0.0..=3600.0).contains(&time)) {
         return Err(RenderError::Time(time));
     }
@@ -86,9 +93,7 @@ pub fn render(
     h: u32,
 ) -> Result<Pixmap, RenderError> {
     let degenerate = || RenderError::Degenerate(layout.world.size[0], layout.world.size[1], w, h);
-    if !(64..=8192).contains(&w) || !(64..=8192).contains(&h) {
-        return Err(RenderError::Size(w, h));
-    }
+    check_size(w, h)?;
     let mut pix = Pixmap::new(w, h).ok_or_else(degenerate)?;
     pix.fill(Color::from_rgba8(24, 27, 32, 255));
     let font = FontRef::try_from_slice(epaint_default_fonts::UBUNTU_LIGHT)

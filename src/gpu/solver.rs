@@ -33,8 +33,8 @@ impl GpuSolver {
     /// A GPU solver that takes over `cpu`'s running field (velocity, pressure, time).
     /// `layout` must be the one `cpu` was made from.
     pub fn from_solver(ctx: &GpuContext, layout: &Layout, cpu: &Solver) -> Result<Self, GpuError> {
+        // `GpuFluid::new` creates its buffers holding `cpu`'s state.
         let fluid = GpuFluid::new(&ctx.device, cpu);
-        fluid.upload_state(&ctx.queue, cpu);
         Ok(Self {
             fluid,
             layout: layout.clone(),
