@@ -53,8 +53,9 @@ fn png_bytes(
     Ok(bytes)
 }
 
-/// One row of 16-bit RGB samples, big-endian as PNG stores them.
-fn row16(f: &Field, j: usize, scale: f32, out: &mut Vec<u8>) {
+/// One row of 16-bit RGB samples, each written with `bytes` (PNG's big-endian order for the
+/// streamed atlas, native order for the image encoder).
+fn row16(f: &Field, j: usize, scale: f32, out: &mut Vec<u8>, bytes: fn(u16) -> [u8; 2]) {
     for i in 0..f.nx {
         let v = f.at(i, j);
         for c in [
@@ -62,7 +63,7 @@ fn row16(f: &Field, j: usize, scale: f32, out: &mut Vec<u8>) {
             encode(v[1], scale, 65535.0) as u16,
             0,
         ] {
-            out.extend_from_slice(&c.to_be_bytes());
+            out.extend_from_slice(&bytes(c));
         }
     }
 }
@@ -88,15 +89,11 @@ pub(crate) fn flowmap(
     };
     let name = ctx.name(stem, k, "png");
     let bytes = if sixteen {
-        let mut raw = Vec::with_capacity(f.nx * f.ny * 6);
-        for j in 0..f.ny {
-            row16(f, j, scale, &mut raw);
-        }
         // The encoder takes 16-bit samples in native order.
-        let native: Vec<u8> = raw
-            .chunks_exact(2)
-            .flat_map(|c| u16::from_be_bytes([c[0], c[1]]).to_ne_bytes())
-            .collect();
+        let mut native = Vec::with_capacity(f.nx * f.ny * 6);
+        for j in 0..f.ny {
+            row16(f, j, scale, &mut native, u16::to_ne_bytes);
+        }
         png_bytes(
             &name,
             f.nx as u32,
@@ -226,7 +223,8 @@ impl Atlas {
         for j in 0..ny {
             row.clear();
             for c in 0..self.columns {
-                row16(self.band.get(c).unwrap_or(&blank), j, self.scale, &mut row);
+                let f = self.band.get(c).unwrap_or(&blank);
+                row16(f, j, self.scale, &mut row, u16::to_be_bytes);
             }
             self.writer
                 .write_all(&row)
