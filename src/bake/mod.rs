@@ -582,7 +582,8 @@ pub fn bake(
     }
     drop(solver);
     let mut max_speed = writer.max_speed;
-    writer.finish()?;
+    // The length of the final frame stream (flushed to disk by `finish`).
+    let mut frames_bytes = writer.finish()?;
     if opts.looped {
         let mut source = FrameReader::open(&source_path, nx, ny)?;
         let mut looped = FrameWriter::create(&frames_path, nx, ny)?;
@@ -591,7 +592,7 @@ pub fn bake(
             looped.push(&crossfade(&late, &early, k, n).data)?;
         }
         max_speed = looped.max_speed;
-        looped.finish()?;
+        frames_bytes = looped.finish()?;
         drop(source);
         std::fs::remove_file(&source_path).map_err(|source| BakeError::Write {
             path: source_path.clone(),
@@ -649,7 +650,7 @@ pub fn bake(
     }
     if keep_raw {
         let mut entry = raw::entry(&ctx);
-        entry.bytes = sync_file(&frames_path)?;
+        entry.bytes = frames_bytes;
         files.insert(Format::Raw, vec![entry]);
     } else {
         std::fs::remove_file(&frames_path).map_err(|source| BakeError::Write {
