@@ -27,6 +27,10 @@ Examples:
 struct Cli {
     /// Layout to open in the editor (the bundled default layout when omitted).
     file: Option<PathBuf>,
+    /// Where the editor's live wind runs, for this run (the View menu changes it later);
+    /// without it, the choice last made in the View menu.
+    #[arg(long, value_enum)]
+    backend: Option<Backend>,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -153,9 +157,10 @@ enum Command {
 enum Backend {
     /// The CPU reference solver.
     Cpu,
-    /// The GPU solver (layouts without ambient layers, semi-Lagrangian advection).
+    /// The GPU solver (wgpu: Vulkan, Metal, DX12; lavapipe counts).
     Gpu,
-    /// The GPU when a hardware adapter exists and covers the layout, else the CPU.
+    /// The GPU when a hardware adapter exists, else the CPU (for the editor: on a software
+    /// adapter, whichever measures faster for the grid).
     Auto,
 }
 
@@ -250,7 +255,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 Some(path) => io::load(path)?,
                 None => doc::default_layout(),
             };
-            windloom::app::run(doc, cli.file)
+            let backend = cli.backend.map(|b| match b {
+                Backend::Cpu => windloom::app::live::BackendChoice::Cpu,
+                Backend::Gpu => windloom::app::live::BackendChoice::Gpu,
+                Backend::Auto => windloom::app::live::BackendChoice::Auto,
+            });
+            windloom::app::run(doc, cli.file, backend)
                 .map_err(|e| anyhow::anyhow!("could not open the editor window: {e}"))?;
             Ok(ExitCode::SUCCESS)
         }

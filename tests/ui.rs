@@ -9,6 +9,7 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use std::path::Path;
 use std::time::{Duration, Instant};
+use windloom::app::live::{Backend, BackendChoice, LiveSim};
 use windloom::app::{EditorApp, Sel, Tool};
 use windloom::doc::{self, Layout};
 
@@ -399,4 +400,152 @@ fn an_idle_paused_editor_stops_drawing() {
     std::thread::sleep(Duration::from_millis(300));
     let more = h.try_run().expect("an idle editor keeps asking for frames");
     assert!(more <= 2, "{more} frames drawn while idle");
+}
+
+/// The device the editor would make: kittest's software-preferring setup with windloom's
+/// features and limits (`gpu::device_descriptor`), as `app::run` asks eframe for.
+fn windloom_wgpu_setup() -> eframe::egui_wgpu::WgpuSetup {
+    let mut setup = egui_kittest::wgpu::default_wgpu_setup();
+    if let eframe::egui_wgpu::WgpuSetup::CreateNew(create) = &mut setup {
+        create.device_descriptor = std::sync::Arc::new(windloom::gpu::device_descriptor);
+    }
+    setup
+}
+
+/// Steps the paused worker `n` times and waits until the snapshot shows them, on `backend`.
+fn step_and_wait(app: &EditorApp, n: usize, backend: Backend) {
+    let before = app.live.snapshot().time;
+    let dt = app.doc.sim.dt;
+    for _ in 0..n {
+        app.live.step_once();
+    }
+    let deadline = Instant::now() + Duration::from_secs(240);
+    loop {
+        let s = app.live.snapshot();
+        if s.backend == backend && s.time >= before + n as f32 * dt - 1e-3 {
+            return;
+        }
+        assert!(
+            Instant::now() < deadline,
+            "the simulation did not reach t = {} on {backend:?} (at {} on {:?}; {:?})",
+            before + n as f32 * dt,
+            s.time,
+            s.backend,
+            s.notice
+        );
+        std::thread::sleep(Duration::from_millis(20));
+    }
+}
+
+/// The map view with the wind on the GPU, drawn from the solver's buffers through the
+/// `egui_wgpu` callback: its own snapshot beside the CPU-drawn `editor_obstacles`.
+#[test]
+fn editor_window_snapshot_drawn_on_the_gpu() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .with_max_steps(16)
+        .wgpu_setup(windloom_wgpu_setup())
+        .build_eframe(|cc| {
+            let mut app = EditorApp::new(example("obstacles.json"), None, &cc.egui_ctx);
+            app.live.set_playing(false);
+            app.settings.backend = BackendChoice::Gpu;
+            app.attach_gpu(
+                cc.wgpu_render_state
+                    .as_ref()
+                    .expect("kittest's wgpu renderer"),
+            );
+            app
+        });
+    h.state_mut().settings.wind_view = windloom::app::view::WindView::Glyphs;
+    step_and_wait(h.state(), 120, Backend::Gpu);
+    let snap = h.state().live.snapshot();
+    assert!(snap.field.is_some(), "the map draws from the GPU's buffers");
+    h.run_steps(3);
+    let status = h.state().status_rect;
+    h.mask(status);
+    h.snapshot("editor_obstacles_gpu");
+}
+
+/// Switching backends hands the running field over: the field the GPU starts from is the
+/// CPU's, bit for bit, and back; and the GPU then carries on as the CPU would.
+#[test]
+fn switching_backends_keeps_the_running_field() {
+    let Ok(ctx) = windloom::gpu::GpuContext::headless() else {
+        assert!(!in_ci(), "CI must run the GPU tests: no wgpu adapter found");
+        eprintln!("\n!!!!! SKIPPING: no wgpu adapter !!!!!\n");
+        return;
+    };
+    let layout = example("meadow.json");
+    let mut live = LiveSim::start(&layout, || {});
+    live.set_playing(false);
+    live.set_gpu(ctx, BackendChoice::Cpu);
+    let wait = |live: &LiveSim, serial: u64, backend: Backend| {
+        let deadline = Instant::now() + Duration::from_secs(120);
+        loop {
+            let s = live.snapshot();
+            if s.serial > serial && s.backend == backend {
+                return s;
+            }
+            assert!(
+                Instant::now() < deadline,
+                "no snapshot on {backend:?}: {:?}",
+                s.notice
+            );
+            std::thread::sleep(Duration::from_millis(10));
+        }
+    };
+    let steps = |live: &LiveSim, n: usize, backend: Backend| {
+        let mut s = live.snapshot();
+        for _ in 0..n {
+            live.step_once();
+            s = wait(live, s.serial, backend);
+        }
+        s
+    };
+    // A running field on the CPU.
+    let cpu = steps(&live, 30, Backend::Cpu);
+    assert!(cpu.time > 0.4 && cpu.velocity.iter().any(|v| v[0] != 0.0));
+    // Onto the GPU: the same field, the same clock.
+    live.set_backend(BackendChoice::Gpu);
+    let on_gpu = wait(&live, cpu.serial, Backend::Gpu);
+    assert_eq!(on_gpu.time, cpu.time, "the clock carries over");
+    assert!(
+        on_gpu.velocity == cpu.velocity && on_gpu.pressure == cpu.pressure,
+        "the GPU starts from the CPU's field, bit for bit"
+    );
+    // Ten steps on the GPU stay with ten on a CPU solver from the same field.
+    let gpu_later = steps(&live, 10, Backend::Gpu);
+    let mut reference = windloom::sim::Solver::new(&layout);
+    {
+        // Replay the CPU's 30 steps, then 10 more.
+        for _ in 0..40 {
+            reference.step();
+        }
+    }
+    let peak = reference
+        .velocity_field()
+        .iter()
+        .fold(0.0f32, |m, v| m.max(v[0].hypot(v[1])));
+    let err = gpu_later
+        .velocity
+        .iter()
+        .zip(reference.velocity_field())
+        .fold(0.0f32, |m, (a, b)| {
+            m.max((a[0] - b[0]).abs().max((a[1] - b[1]).abs()))
+        });
+    assert!(
+        err <= 1e-3 * peak,
+        "after the hand-over the GPU drifts from the CPU: {err} (peak {peak})"
+    );
+    // And back to the CPU: the field the GPU had.
+    live.set_backend(BackendChoice::Cpu);
+    let back = wait(&live, gpu_later.serial, Backend::Cpu);
+    assert_eq!(back.time, gpu_later.time);
+    assert!(
+        back.velocity == gpu_later.velocity,
+        "the CPU takes the GPU's field back, bit for bit"
+    );
 }

@@ -1,7 +1,15 @@
-//! The live simulation: a worker thread that owns the CPU solver, takes layout edits and
-//! transport commands, and publishes field snapshots. The UI never waits for it.
+//! The live simulation: a worker thread that owns the solver — the CPU one, or the GPU one on
+//! the editor's own device — takes layout edits and transport commands, and publishes field
+//! snapshots. The UI never waits for it.
+//!
+//! On the GPU the field stays on the GPU: the map view draws it from the solver's buffers
+//! ([`Snapshot::field`]), and the snapshot's arrays (the cursor readout, the legend) come from
+//! a read-back at most [`READBACK_SECONDS`] apart. Switching backends hands the running field
+//! over.
 
 use crate::doc::Layout;
+use crate::gpu::mapview::FieldBuffers;
+use crate::gpu::{GpuContext, GpuSolver};
 use crate::sim::Solver;
 use std::sync::mpsc::{self, Receiver, Sender, TryRecvError};
 use std::sync::{Arc, Mutex};
@@ -24,7 +32,62 @@ pub struct Snapshot {
     pub ms_per_step: f32,
     /// Increases with every published snapshot.
     pub serial: u64,
+    /// Where the field is running.
+    pub backend: Backend,
+    /// On the GPU: the buffers the field lives in, to draw it from.
+    pub field: Option<FieldBuffers>,
+    /// GPU milliseconds per step from timestamp queries (GPU backend, where the adapter has
+    /// them).
+    pub gpu_ms_per_step: Option<f32>,
+    /// The last measurement behind an automatic choice: CPU and GPU ms per step.
+    pub measured: Option<[f32; 2]>,
+    /// Why the GPU is not in use when it was asked for (no device, an error), if so.
+    pub notice: Option<String>,
 }
+
+/// Where the live field runs.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub enum Backend {
+    #[default]
+    Cpu,
+    Gpu,
+}
+
+impl Backend {
+    pub fn label(self) -> &'static str {
+        match self {
+            Backend::Cpu => "CPU",
+            Backend::Gpu => "GPU",
+        }
+    }
+}
+
+/// What the user asked for in the View menu.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
+pub enum BackendChoice {
+    /// The GPU on a hardware adapter; on a software one, whichever measures faster for the
+    /// current grid.
+    #[default]
+    Auto,
+    Cpu,
+    Gpu,
+}
+
+impl BackendChoice {
+    pub const ALL: [BackendChoice; 3] =
+        [BackendChoice::Auto, BackendChoice::Cpu, BackendChoice::Gpu];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            BackendChoice::Auto => "Automatic (fastest)",
+            BackendChoice::Cpu => "CPU",
+            BackendChoice::Gpu => "GPU",
+        }
+    }
+}
+
+/// Longest time between two read-backs of a GPU field (the cursor readout, the legend).
+pub const READBACK_SECONDS: f64 = 0.25;
 
 impl Snapshot {
     /// Velocity at a world point (nearest cell), if inside the grid.
@@ -65,6 +128,8 @@ impl Snapshot {
 
 enum Command {
     Layout(Box<Layout>),
+    Gpu(Box<GpuContext>, BackendChoice),
+    Backend(BackendChoice),
     Play(bool),
     Step,
     Reset,
@@ -100,6 +165,16 @@ impl LiveSim {
             playing: true,
             speed: 1.0,
         }
+    }
+
+    /// Hands the worker a GPU device (the editor's) and says where the field should run.
+    pub fn set_gpu(&self, ctx: GpuContext, choice: BackendChoice) {
+        let _ = self.tx.send(Command::Gpu(Box::new(ctx), choice));
+    }
+
+    /// Where the field should run; a change hands the running field over.
+    pub fn set_backend(&self, choice: BackendChoice) {
+        let _ = self.tx.send(Command::Backend(choice));
     }
 
     /// Sends the edited layout; it takes effect at the worker's next step.
@@ -159,28 +234,238 @@ fn needs_rebuild(old: &Layout, new: &Layout) -> bool {
         || old.sim.boundary != new.sim.boundary
 }
 
-fn publish(solver: &mut Solver, shared: &Mutex<Arc<Snapshot>>, ms: f32, serial: &mut u64) {
-    *serial += 1;
-    let snap = Snapshot {
-        nx: solver.nx,
-        ny: solver.ny,
-        origin: solver.origin,
-        size: [solver.hx * solver.nx as f32, solver.hz * solver.ny as f32],
-        velocity: solver.velocity_field(),
-        curl: {
-            solver.compute_curl();
-            solver.curl.clone()
-        },
-        pressure: solver.p.clone(),
-        time: solver.time,
-        ms_per_step: ms,
-        serial: *serial,
-    };
-    let snap = Arc::new(snap);
-    match shared.lock() {
-        Ok(mut s) => *s = snap,
-        Err(p) => *p.into_inner() = snap,
+/// The solver in use: the CPU's always exists (on the GPU it holds the last read-back, and
+/// takes the field back when the user switches), the GPU's while the field runs there.
+struct Engine {
+    cpu: Solver,
+    gpu: Option<GpuSolver>,
+    ctx: Option<GpuContext>,
+    choice: BackendChoice,
+    measured: Option<[f32; 2]>,
+    notice: Option<String>,
+    serial: u64,
+    /// Mean wall-clock ms per step, recently.
+    ms: f32,
+    gpu_ms: Option<f32>,
+    steps_since_readback: usize,
+    last_readback: Instant,
+}
+
+impl Engine {
+    fn new(layout: &Layout) -> Self {
+        Self {
+            cpu: Solver::new(layout),
+            gpu: None,
+            ctx: None,
+            choice: BackendChoice::Auto,
+            measured: None,
+            notice: None,
+            serial: 0,
+            ms: 0.0,
+            gpu_ms: None,
+            steps_since_readback: 0,
+            last_readback: Instant::now(),
+        }
     }
+
+    /// Steps once on whichever backend runs; on the GPU waits for it, so the worker neither
+    /// queues unbounded work nor misreports the step time.
+    fn step(&mut self) {
+        let t = Instant::now();
+        match (&mut self.gpu, &self.ctx) {
+            (Some(g), Some(ctx)) => {
+                g.step(ctx);
+                if let Err(e) = g.finish(ctx) {
+                    self.fall_back(format!("GPU step failed: {e}"));
+                }
+            }
+            _ => self.cpu.step(),
+        }
+        let step_ms = t.elapsed().as_secs_f32() * 1e3;
+        self.ms = if self.ms == 0.0 {
+            step_ms
+        } else {
+            self.ms * 0.9 + step_ms * 0.1
+        };
+        self.steps_since_readback += 1;
+    }
+
+    /// Moves the field to the CPU after a GPU failure, saying why.
+    fn fall_back(&mut self, why: String) {
+        if let (Some(g), Some(ctx)) = (self.gpu.take(), &self.ctx) {
+            // Best effort: keep what the GPU had if it can still be read.
+            let _ = g.read_into(ctx, &mut self.cpu);
+        }
+        self.notice = Some(why);
+    }
+
+    /// Decides where the field runs for `layout` and moves it there.
+    fn choose(&mut self, layout: &Layout) {
+        let want = match (self.choice, &self.ctx) {
+            (BackendChoice::Cpu, _) => Backend::Cpu,
+            (_, None) => {
+                if self.choice == BackendChoice::Gpu {
+                    self.notice = Some("no GPU device: running on the CPU".into());
+                }
+                Backend::Cpu
+            }
+            (BackendChoice::Gpu, Some(_)) => Backend::Gpu,
+            (BackendChoice::Auto, Some(ctx)) => {
+                if ctx.is_software() {
+                    match measure(layout, ctx) {
+                        Ok(m) => {
+                            self.measured = Some(m);
+                            if m[1] < m[0] {
+                                Backend::Gpu
+                            } else {
+                                Backend::Cpu
+                            }
+                        }
+                        Err(e) => {
+                            self.notice = Some(format!("GPU unusable, running on the CPU: {e}"));
+                            Backend::Cpu
+                        }
+                    }
+                } else {
+                    Backend::Gpu
+                }
+            }
+        };
+        self.move_to(want, layout);
+    }
+
+    /// Hands the running field to `want`'s solver.
+    fn move_to(&mut self, want: Backend, layout: &Layout) {
+        match (want, self.gpu.is_some(), &self.ctx) {
+            (Backend::Gpu, false, Some(ctx)) => {
+                match GpuSolver::from_solver(ctx, layout, &self.cpu) {
+                    Ok(g) => {
+                        g.enable_profiling(ctx);
+                        self.gpu = Some(g);
+                        self.notice = None;
+                        self.ms = 0.0;
+                    }
+                    Err(e) => self.notice = Some(format!("GPU unusable, running on the CPU: {e}")),
+                }
+            }
+            (Backend::Cpu, true, _) => {
+                if let (Some(g), Some(ctx)) = (self.gpu.take(), &self.ctx) {
+                    if let Err(e) = g.read_into(ctx, &mut self.cpu) {
+                        self.notice = Some(format!("could not read the field back: {e}"));
+                    }
+                }
+                self.ms = 0.0;
+                self.gpu_ms = None;
+            }
+            _ => {}
+        }
+    }
+
+    /// A new solver for a changed grid, world, obstacles or boundary (at the same time), or at
+    /// rest after a reset; the automatic choice is measured again for the new grid.
+    fn rebuild(&mut self, layout: &Layout, keep_time: bool) {
+        let time = self.cpu.time;
+        let on_gpu = self.gpu.take().is_some();
+        self.cpu = Solver::new(layout);
+        if keep_time {
+            self.cpu.time = time;
+        }
+        if self.choice == BackendChoice::Auto && self.ctx.as_ref().is_some_and(|c| c.is_software())
+        {
+            self.choose(layout);
+        } else if on_gpu {
+            self.move_to(Backend::Gpu, layout);
+        }
+    }
+
+    fn set_layout(&mut self, layout: &Layout) {
+        self.cpu.set_layout(layout);
+        if let Some(g) = &mut self.gpu {
+            g.set_layout(layout);
+        }
+    }
+
+    /// Publishes a snapshot. On the GPU the arrays come from a read-back, made only when
+    /// `force`d or when the last is older than [`READBACK_SECONDS`]; returns whether it
+    /// published.
+    fn publish(&mut self, shared: &Mutex<Arc<Snapshot>>, force: bool) -> bool {
+        let mut field = None;
+        if let (Some(g), Some(ctx)) = (&self.gpu, &self.ctx) {
+            if !force && self.last_readback.elapsed().as_secs_f64() < READBACK_SECONDS {
+                return false;
+            }
+            if let Ok(times) = g.pass_times(ctx) {
+                if !times.is_empty() && self.steps_since_readback > 0 {
+                    let total: f64 = times.values().sum();
+                    self.gpu_ms = Some((total / self.steps_since_readback as f64) as f32);
+                }
+            }
+            if let Err(e) = g.read_into(ctx, &mut self.cpu) {
+                self.fall_back(format!("GPU read-back failed: {e}"));
+            } else {
+                field = Some(g.field());
+            }
+        }
+        self.last_readback = Instant::now();
+        self.steps_since_readback = 0;
+        self.serial += 1;
+        let solver = &mut self.cpu;
+        let snap = Snapshot {
+            nx: solver.nx,
+            ny: solver.ny,
+            origin: solver.origin,
+            size: [solver.hx * solver.nx as f32, solver.hz * solver.ny as f32],
+            velocity: solver.velocity_field(),
+            curl: {
+                solver.compute_curl();
+                solver.curl.clone()
+            },
+            pressure: solver.p.clone(),
+            time: solver.time,
+            ms_per_step: self.ms,
+            serial: self.serial,
+            backend: if field.is_some() {
+                Backend::Gpu
+            } else {
+                Backend::Cpu
+            },
+            field,
+            gpu_ms_per_step: self.gpu_ms.filter(|_| self.gpu.is_some()),
+            measured: self.measured,
+            notice: self.notice.clone(),
+        };
+        let snap = Arc::new(snap);
+        match shared.lock() {
+            Ok(mut s) => *s = snap,
+            Err(p) => *p.into_inner() = snap,
+        }
+        true
+    }
+}
+
+/// Milliseconds per step of `layout`'s grid on the CPU and on the GPU of `ctx`, each the best
+/// of a few steps after a warm-up, on solvers of their own (the running field is untouched).
+pub fn measure(layout: &Layout, ctx: &GpuContext) -> Result<[f32; 2], crate::gpu::GpuError> {
+    const STEPS: usize = 3;
+    let mut cpu = Solver::new(layout);
+    let mut best = [f32::INFINITY; 2];
+    for k in 0..=STEPS {
+        let t = Instant::now();
+        cpu.step();
+        if k > 0 {
+            best[0] = best[0].min(t.elapsed().as_secs_f32() * 1e3);
+        }
+    }
+    let mut gpu = GpuSolver::new(ctx, layout)?;
+    for k in 0..=STEPS {
+        let t = Instant::now();
+        gpu.step(ctx);
+        gpu.finish(ctx)?;
+        if k > 0 {
+            best[1] = best[1].min(t.elapsed().as_secs_f32() * 1e3);
+        }
+    }
+    Ok(best)
 }
 
 fn worker(
@@ -189,20 +474,19 @@ fn worker(
     shared: Arc<Mutex<Arc<Snapshot>>>,
     repaint: impl Fn(),
 ) {
-    let mut solver = Solver::new(&layout);
+    let mut engine = Engine::new(&layout);
     let mut playing = true;
     let mut speed = 1.0f32;
-    let mut serial = 0u64;
-    let mut ms = 0.0f32;
     let mut owed = 0.0f64; // simulated seconds we are behind real time
     let mut last = Instant::now();
-    publish(&mut solver, &shared, ms, &mut serial);
+    engine.publish(&shared, true);
     repaint();
     loop {
         let mut single_steps = 0usize;
         // Only the newest of several queued layouts matters (a dragged grid size sends one per
         // frame); rebuilding the solver for each would waste seconds at large grids.
         let mut newest: Option<Box<Layout>> = None;
+        let mut changed = false;
         loop {
             let cmd = if playing {
                 match rx.try_recv() {
@@ -220,6 +504,25 @@ fn worker(
             };
             match cmd {
                 Command::Layout(l) => newest = Some(l),
+                Command::Gpu(ctx, choice) => {
+                    engine.ctx = Some(*ctx);
+                    engine.choice = choice;
+                    if let Some(l) = newest.take() {
+                        engine.rebuild(&l, true);
+                        layout = *l;
+                    }
+                    engine.choose(&layout);
+                    changed = true;
+                }
+                Command::Backend(choice) => {
+                    engine.choice = choice;
+                    if let Some(l) = newest.take() {
+                        engine.rebuild(&l, true);
+                        layout = *l;
+                    }
+                    engine.choose(&layout);
+                    changed = true;
+                }
                 Command::Play(p) => {
                     playing = p;
                     last = Instant::now();
@@ -230,10 +533,9 @@ fn worker(
                     if let Some(l) = newest.take() {
                         layout = *l;
                     }
-                    solver = Solver::new(&layout);
+                    engine.rebuild(&layout, false);
                     owed = 0.0;
-                    publish(&mut solver, &shared, ms, &mut serial);
-                    repaint();
+                    changed = true;
                 }
                 Command::Speed(s) => speed = s,
                 Command::Quit => return,
@@ -241,25 +543,26 @@ fn worker(
         }
         if let Some(l) = newest.take() {
             if needs_rebuild(&layout, &l) {
-                let time = solver.time;
-                solver = Solver::new(&l);
-                solver.time = time;
+                engine.rebuild(&l, true);
             } else {
-                solver.set_layout(&l);
+                engine.set_layout(&l);
             }
             layout = *l;
+            changed = true;
         }
         if single_steps > 0 {
-            let t = Instant::now();
             for _ in 0..single_steps {
-                solver.step();
+                engine.step();
             }
-            ms = t.elapsed().as_secs_f32() * 1e3 / single_steps as f32;
-            publish(&mut solver, &shared, ms, &mut serial);
+            engine.publish(&shared, true);
             repaint();
             continue;
         }
         if !playing {
+            if changed {
+                engine.publish(&shared, true);
+                repaint();
+            }
             continue;
         }
         let now = Instant::now();
@@ -277,17 +580,12 @@ fn worker(
             continue;
         }
         while owed >= dt {
-            let t = Instant::now();
-            solver.step();
-            let step_ms = t.elapsed().as_secs_f32() * 1e3;
-            ms = if ms == 0.0 {
-                step_ms
-            } else {
-                ms * 0.9 + step_ms * 0.1
-            };
+            engine.step();
             owed -= dt;
         }
-        publish(&mut solver, &shared, ms, &mut serial);
+        // On the GPU the map draws from the live buffers: every step is worth a frame even
+        // when no snapshot is published.
+        engine.publish(&shared, changed);
         repaint();
     }
 }

@@ -159,6 +159,9 @@ fn draw_wind(
     if mode == WindView::Off || snap.nx == 0 {
         return 0.0;
     }
+    if let (Some(field), true) = (&snap.field, app.gpu_view) {
+        return draw_wind_gpu(app, ctx, painter, cam, rect, snap, field.clone());
+    }
     let stale = app
         .field_texture
         .as_ref()
@@ -201,6 +204,72 @@ fn draw_wind(
         WindView::Glyphs => view::draw_glyphs(painter, cam, rect, &app.doc, snap, scale),
         _ => {}
     }
+    scale
+}
+
+/// The wind drawn on the GPU from the live solver's buffers (see `gpu_view`); the legend's
+/// scale comes from the last read-back.
+fn draw_wind_gpu(
+    app: &mut EditorApp,
+    ctx: &egui::Context,
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+    snap: &super::live::Snapshot,
+    field: crate::gpu::mapview::FieldBuffers,
+) -> f32 {
+    use crate::gpu::mapview::{Frame, Layer, Overlay};
+    let mode = app.settings.wind_view;
+    let scale = match app.gpu_scale {
+        Some((serial, m, scale)) if serial == snap.serial && m == mode => scale,
+        _ => {
+            let scale = view::field_scale(snap, mode);
+            app.gpu_scale = Some((snap.serial, mode, scale));
+            scale
+        }
+    };
+    let (min, max) = app.doc.bounds();
+    // The glyph lattice: every 26 points on screen over the visible part of the world, as the
+    // CPU view places it.
+    let spacing = 26.0;
+    let a = cam.to_screen(rect, min).max(rect.min);
+    let b = cam.to_screen(rect, max).min(rect.max);
+    let count = |from: f32, to: f32| ((to - from - spacing * 0.5) / spacing).ceil().max(0.0) as u32;
+    let first = a + Vec2::splat(spacing * 0.5);
+    let ppp = ctx.pixels_per_point();
+    let frame = Frame {
+        layer: match mode {
+            WindView::Curl => Layer::Curl,
+            WindView::Pressure => Layer::Pressure,
+            _ => Layer::Speed,
+        },
+        overlay: match mode {
+            WindView::Streaks => Overlay::Streaks,
+            WindView::Glyphs => Overlay::Glyphs,
+            _ => Overlay::None,
+        },
+        alpha: if mode == WindView::Speed {
+            230.0 / 255.0
+        } else {
+            120.0 / 255.0
+        },
+        center: cam.center,
+        zoom: cam.zoom,
+        ppp,
+        viewport_px: [rect.width() * ppp, rect.height() * ppp],
+        world_min: min,
+        world_max: max,
+        dt: if app.live.playing {
+            ctx.input(|i| i.stable_dt).min(0.1) * app.live.speed
+        } else {
+            0.0
+        },
+        streaks: app.settings.streak_count as u32,
+        lattice_origin: cam.to_world(rect, first),
+        lattice_step: spacing / cam.zoom,
+        lattice: [count(a.x, b.x), count(a.y, b.y)],
+    };
+    painter.add(super::gpu_view::map_wind(rect, field, frame));
     scale
 }
 

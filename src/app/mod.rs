@@ -4,6 +4,7 @@
 //! simulation runs on a worker thread ([`live::LiveSim`]) and never blocks the UI.
 
 pub mod export;
+mod gpu_view;
 pub mod live;
 mod map;
 mod panels;
@@ -11,7 +12,7 @@ pub mod view;
 
 use crate::doc::{self, Edit, History, Layout};
 use eframe::egui::{self, Pos2, Rect};
-use live::LiveSim;
+use live::{BackendChoice, LiveSim};
 use std::path::{Path, PathBuf};
 use view::{Camera, Streaks, WindView};
 
@@ -95,6 +96,8 @@ pub struct Settings {
     pub snap_step: f32,
     pub streak_count: usize,
     pub show_grid: bool,
+    /// Where the live wind runs (View menu).
+    pub backend: BackendChoice,
 }
 
 impl Default for Settings {
@@ -106,6 +109,7 @@ impl Default for Settings {
             snap_step: 1.0,
             streak_count: 1500,
             show_grid: true,
+            backend: BackendChoice::Auto,
         }
     }
 }
@@ -170,6 +174,13 @@ pub struct EditorApp {
     recovery_path: Option<PathBuf>,
     pub adapter: String,
     frame_ms: f32,
+    /// CPU milliseconds the last frames spent building the UI (smoothed).
+    ui_ms: f32,
+    /// Whether the map can draw a GPU field (the map renderer is installed on eframe's
+    /// device).
+    gpu_view: bool,
+    /// The colour scale of the GPU-drawn view, from the last read-back: (serial, view, scale).
+    gpu_scale: Option<(u64, WindView, f32)>,
     /// The window title last sent to the window.
     sent_title: Option<String>,
     pub cursor_world: Option<doc::Vec2>,
@@ -208,6 +219,9 @@ impl EditorApp {
             recovery_path: None,
             adapter: "no GPU adapter".into(),
             frame_ms: 0.0,
+            ui_ms: 0.0,
+            gpu_view: false,
+            gpu_scale: None,
             sent_title: None,
             cursor_world: None,
             allow_close: false,
@@ -221,6 +235,7 @@ impl EditorApp {
         cc: &eframe::CreationContext<'_>,
         doc: Layout,
         path: Option<PathBuf>,
+        backend: Option<BackendChoice>,
     ) -> Self {
         let mut app = Self::new(doc, path, &cc.egui_ctx);
         if let Some(storage) = cc.storage {
@@ -228,9 +243,11 @@ impl EditorApp {
                 app.settings = s;
             }
         }
+        if let Some(b) = backend {
+            app.settings.backend = b;
+        }
         if let Some(rs) = &cc.wgpu_render_state {
-            let info = rs.adapter.get_info();
-            app.adapter = format!("{} ({:?})", info.name, info.backend);
+            app.attach_gpu(rs);
         }
         app.recovery_path = eframe::storage_dir("windloom").map(|d| d.join("recovery.json"));
         if let Some(p) = &app.recovery_path {
@@ -239,6 +256,29 @@ impl EditorApp {
             }
         }
         app
+    }
+
+    /// Gives the live wind eframe's device: the map renderer is installed on it and the
+    /// field runs there when the backend choice says so (View menu).
+    pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
+        let info = rs.adapter.get_info();
+        self.adapter = format!("{} ({:?})", info.name, info.backend);
+        match crate::gpu::GpuContext::from_parts(&rs.adapter, rs.device.clone(), rs.queue.clone()) {
+            Ok(ctx) => {
+                gpu_view::install(rs);
+                self.gpu_view = true;
+                self.live.set_gpu(ctx, self.settings.backend);
+            }
+            Err(e) => {
+                self.message = Some((format!("the wind stays on the CPU: {e}"), 0.0));
+            }
+        }
+    }
+
+    /// Where the live wind should run; the running field is handed over.
+    pub fn set_backend(&mut self, choice: BackendChoice) {
+        self.settings.backend = choice;
+        self.live.set_backend(choice);
     }
 
     /// Screen position of a world point in the map view (as of the last frame).
@@ -693,6 +733,7 @@ impl EditorApp {
 impl eframe::App for EditorApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
+        let started = std::time::Instant::now();
         let now = ctx.input(|i| i.time);
         let dt = ctx.input(|i| i.stable_dt);
         self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;
@@ -737,6 +778,12 @@ impl eframe::App for EditorApp {
         if self.live.playing {
             ctx.request_repaint();
         }
+        let ui_ms = started.elapsed().as_secs_f32() * 1e3;
+        self.ui_ms = if self.ui_ms == 0.0 {
+            ui_ms
+        } else {
+            self.ui_ms * 0.9 + ui_ms * 0.1
+        };
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
@@ -760,7 +807,7 @@ pub fn gesture_key(key: impl std::hash::Hash) -> u64 {
 
 /// Opens the editor window on `doc`. The wgpu device is created with the features and limits
 /// the simulation passes need, so one device can serve the UI and the wind.
-pub fn run(doc: Layout, path: Option<PathBuf>) -> eframe::Result {
+pub fn run(doc: Layout, path: Option<PathBuf>, backend: Option<BackendChoice>) -> eframe::Result {
     let mut options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1400.0, 860.0])
@@ -770,23 +817,17 @@ pub fn run(doc: Layout, path: Option<PathBuf>) -> eframe::Result {
         ..Default::default()
     };
     if let egui_wgpu::WgpuSetup::CreateNew(create) = &mut options.wgpu_options.wgpu_setup {
-        create.device_descriptor = std::sync::Arc::new(|adapter| {
-            let wanted = wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
-                | wgpu::Features::FLOAT32_FILTERABLE;
-            wgpu::DeviceDescriptor {
-                label: Some("windloom device"),
-                required_features: adapter.features() & wanted,
-                required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
-                ..Default::default()
-            }
-        });
+        create.device_descriptor = std::sync::Arc::new(crate::gpu::device_descriptor);
     }
     eframe::run_native(
         "windloom",
         options,
-        Box::new(move |cc| Ok(Box::new(EditorApp::from_creation_context(cc, doc, path)))),
+        Box::new(move |cc| {
+            Ok(Box::new(EditorApp::from_creation_context(
+                cc, doc, path, backend,
+            )))
+        }),
     )
 }
 
 use eframe::egui_wgpu;
-use eframe::wgpu;

@@ -87,6 +87,15 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                     ui.radio_value(&mut app.settings.wind_view, v, v.label());
                 }
                 ui.separator();
+                ui.label("Wind runs on");
+                let mut choice = app.settings.backend;
+                for b in crate::app::live::BackendChoice::ALL {
+                    ui.radio_value(&mut choice, b, b.label());
+                }
+                if choice != app.settings.backend {
+                    app.set_backend(choice);
+                }
+                ui.separator();
                 ui.checkbox(&mut app.settings.show_grid, "Grid lines");
                 if ui.button("Frame all (F)").clicked() {
                     app.camera = None;
@@ -176,10 +185,18 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 }
             }
             ui.separator();
-            let (time, ms) = app.live.with_snapshot(|s| (s.time, s.ms_per_step));
-            ui.label(format!("t = {time:.2} s"));
-            ui.label(format!("{ms:.1} ms/step"));
-            ui.label(format!("{:.0} fps", 1000.0 / app.frame_ms.max(0.1)));
+            let snap = app.live.snapshot();
+            ui.label(format!("t = {:.2} s", snap.time));
+            let timing = ui.label(format!(
+                "{} {:.1} ms/step · {:.0} fps",
+                snap.backend.label(),
+                snap.ms_per_step,
+                1000.0 / app.frame_ms.max(0.1)
+            ));
+            timing.on_hover_ui(|ui| frame_times(app, &snap, ui));
+            if let Some(n) = &snap.notice {
+                ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
+            }
             ui.separator();
             ui.label(&app.adapter);
             if let Some((msg, at)) = &app.message {
@@ -191,6 +208,41 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
         });
     });
     app.status_rect = r.response.rect;
+}
+
+/// The status bar's timing tooltip: where a frame's time goes.
+fn frame_times(app: &EditorApp, snap: &crate::app::live::Snapshot, ui: &mut egui::Ui) {
+    egui::Grid::new("frame times")
+        .num_columns(2)
+        .show(ui, |ui| {
+            ui.label("frame interval");
+            ui.label(format!("{:.1} ms", app.frame_ms));
+            ui.end_row();
+            ui.label("UI (CPU, this editor's work)");
+            ui.label(format!("{:.2} ms", app.ui_ms));
+            ui.end_row();
+            ui.label(format!("sim step ({}, wall)", snap.backend.label()));
+            ui.label(format!("{:.2} ms", snap.ms_per_step));
+            ui.end_row();
+            ui.label("sim step (GPU timestamps)");
+            ui.label(match snap.gpu_ms_per_step {
+                Some(ms) => format!("{ms:.2} ms"),
+                None => "—".into(),
+            });
+            ui.end_row();
+            if let Some([cpu, gpu]) = snap.measured {
+                ui.label(format!("measured at {}×{}", snap.nx, snap.ny));
+                ui.label(format!("CPU {cpu:.2} ms, GPU {gpu:.2} ms a step"));
+                ui.end_row();
+            }
+            ui.label("wind drawn");
+            ui.label(if snap.field.is_some() && app.gpu_view {
+                "on the GPU, from the solver's buffers"
+            } else {
+                "from CPU snapshots"
+            });
+            ui.end_row();
+        });
 }
 
 pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {

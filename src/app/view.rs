@@ -113,6 +113,20 @@ pub fn signed_colour(t: f32) -> Color32 {
     Color32::from_rgb(r, g, b)
 }
 
+/// The value at the top of view `mode`'s colour scale: the peak speed (at least 1 m/s), or
+/// the peak magnitude of curl or pressure.
+pub fn field_scale(snap: &Snapshot, mode: WindView) -> f32 {
+    match mode {
+        WindView::Curl => snap.curl.iter().fold(1e-6f32, |m, x| m.max(x.abs())),
+        WindView::Pressure => snap.pressure.iter().fold(1e-6f32, |m, x| m.max(x.abs())),
+        _ => snap
+            .velocity
+            .iter()
+            .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
+            .fold(1.0f32, f32::max),
+    }
+}
+
 /// The field as an image for the colour-map views (one pixel per cell), and the value that
 /// maps to the top of the scale.
 pub fn field_image(snap: &Snapshot, mode: WindView) -> Option<(egui::ColorImage, f32)> {

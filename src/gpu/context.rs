@@ -1,7 +1,30 @@
-//! A headless wgpu device for the CLI and the tests. (The editor will hand in eframe's device
-//! instead, so that one device serves the UI and the wind; not wired yet.)
+//! The wgpu device the wind runs on: a headless one for the CLI and the tests, or the
+//! editor's own (eframe's), handed in with [`GpuContext::from_parts`] so that one device serves
+//! the UI and the wind.
+
+/// What the fluid passes and the map view ask of a device: the adapter's own limits (the
+/// largest grids need its buffer sizes), timestamp queries where the adapter has them (per-pass
+/// times), and the texture features the editor's drawing uses. The editor creates eframe's
+/// device with this too.
+pub fn device_descriptor(adapter: &wgpu::Adapter) -> wgpu::DeviceDescriptor<'static> {
+    let wanted = wgpu::Features::TIMESTAMP_QUERY
+        | wgpu::Features::TEXTURE_ADAPTER_SPECIFIC_FORMAT_FEATURES
+        | wgpu::Features::FLOAT32_FILTERABLE;
+    wgpu::DeviceDescriptor {
+        label: Some("windloom device"),
+        required_features: adapter.features() & wanted,
+        required_limits: adapter.limits(),
+        ..Default::default()
+    }
+}
+
+/// Whether an adapter is a software rasteriser (llvmpipe/lavapipe, WARP, SwiftShader).
+pub fn is_software(info: &wgpu::AdapterInfo) -> bool {
+    info.device_type == wgpu::DeviceType::Cpu
+}
 
 /// A device and queue with what the fluid passes need.
+#[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
@@ -35,7 +58,6 @@ impl GpuContext {
         .map_err(|e| GpuError::NoAdapter(e.to_string()))?;
         let info = adapter.get_info();
         let name = format!("{} ({:?}, {:?})", info.name, info.device_type, info.backend);
-        let limits = adapter.limits();
         if !adapter
             .get_downlevel_capabilities()
             .flags
@@ -46,13 +68,9 @@ impl GpuContext {
                 what: "run compute shaders".into(),
             });
         }
-        let (device, queue) = pollster::block_on(adapter.request_device(&wgpu::DeviceDescriptor {
-            label: Some("windloom headless device"),
-            // Optional: per-pass times in `bench --backend gpu` where the adapter has them.
-            required_features: adapter.features() & wgpu::Features::TIMESTAMP_QUERY,
-            required_limits: limits,
-            ..Default::default()
-        }))
+        let (device, queue) = pollster::block_on(
+            adapter.request_device(&device_descriptor(&adapter)),
+        )
         .map_err(|e| GpuError::Device {
             adapter: name.clone(),
             message: e.to_string(),
@@ -62,6 +80,36 @@ impl GpuContext {
             queue,
             adapter: info,
         })
+    }
+
+    /// A context on a device made elsewhere (the editor's, created by eframe with
+    /// [`device_descriptor`]); fails when the adapter cannot run compute shaders.
+    pub fn from_parts(
+        adapter: &wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+    ) -> Result<Self, GpuError> {
+        let info = adapter.get_info();
+        if !adapter
+            .get_downlevel_capabilities()
+            .flags
+            .contains(wgpu::DownlevelFlags::COMPUTE_SHADERS | wgpu::DownlevelFlags::VERTEX_STORAGE)
+        {
+            return Err(GpuError::Unsupported {
+                adapter: format!("{} ({:?}, {:?})", info.name, info.device_type, info.backend),
+                what: "run compute shaders and read storage buffers in vertex shaders".into(),
+            });
+        }
+        Ok(Self {
+            device,
+            queue,
+            adapter: info,
+        })
+    }
+
+    /// Whether the device is a software rasteriser.
+    pub fn is_software(&self) -> bool {
+        is_software(&self.adapter)
     }
 
     /// `name (type, backend)`, as logs and benchmarks print it.

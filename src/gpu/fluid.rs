@@ -1,11 +1,10 @@
 //! The fluid passes on the GPU: each a compute shader in `shaders/`, each the twin of a CPU
 //! solver pass (`src/sim/solver/`), on the CPU's staggered MAC layout in storage buffers.
 //!
-//! Built so far: the AGC arrows' forces, curl, vorticity confinement, divergence, the Jacobi
-//! pressure solve with its warm start, gradient subtraction, semi-Lagrangian advection with
-//! dissipation, and the periodic face sync — with every boundary mode and obstacle masks.
-//! Still on the CPU only: the ambient layers' part of the forces and MacCormack advection;
-//! see `docs/SOLVER.md`.
+//! The passes: forces (AGC splats and ambient layers), curl, vorticity confinement,
+//! divergence, the Jacobi pressure solve with its warm start, gradient subtraction,
+//! semi-Lagrangian and limited MacCormack advection with dissipation, and the periodic face
+//! sync — with every boundary mode and obstacle masks. See `docs/SOLVER.md`.
 
 use crate::sim::Solver;
 use crate::sim::forces::{ArrowSplat, LayerParams};
@@ -279,7 +278,8 @@ impl GpuFluid {
         }
     }
 
-    fn buffer(&self, f: FieldId) -> &wgpu::Buffer {
+    /// The GPU buffer holding field `f` (the editor's map view draws from u, v and p).
+    pub fn buffer(&self, f: FieldId) -> &wgpu::Buffer {
         match f {
             FieldId::U => &self.u,
             FieldId::V => &self.v,
@@ -321,40 +321,8 @@ impl GpuFluid {
         queue: &wgpu::Queue,
         f: FieldId,
     ) -> Result<Vec<f32>, super::GpuError> {
-        let src = self.buffer(f);
-        let size = src.size();
-        let staging = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("read-back"),
-            size,
-            usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
-        let mut enc = device.create_command_encoder(&Default::default());
-        enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
-        queue.submit([enc.finish()]);
-        let (tx, rx) = std::sync::mpsc::channel();
-        staging.map_async(wgpu::MapMode::Read, .., move |r| {
-            let _ = tx.send(r);
-        });
-        let runtime = |message: String| super::GpuError::Runtime {
-            what: "reading a field back".into(),
-            message,
-        };
-        device
-            .poll(wgpu::PollType::wait_indefinitely())
-            .map_err(|e| runtime(e.to_string()))?;
-        rx.recv()
-            .map_err(|e| runtime(e.to_string()))?
-            .map_err(|e| runtime(e.to_string()))?;
-        let data = {
-            let view = staging
-                .slice(..)
-                .get_mapped_range()
-                .map_err(|e| runtime(e.to_string()))?;
-            bytemuck::cast_slice::<u8, f32>(&view).to_vec()
-        };
-        staging.unmap();
-        Ok(data)
+        let bytes = super::read_buffer(device, queue, self.buffer(f))?;
+        Ok(bytemuck::cast_slice::<u8, f32>(&bytes).to_vec())
     }
 
     fn set_params(&mut self, queue: &wgpu::Queue, change: impl FnOnce(&mut Params)) {

@@ -6,7 +6,47 @@
 pub mod bench;
 mod context;
 pub mod fluid;
+pub mod mapview;
 mod solver;
 
-pub use context::{GpuContext, GpuError};
+pub use context::{GpuContext, GpuError, device_descriptor, is_software};
 pub use solver::GpuSolver;
+
+/// Copies `src` (a buffer with `COPY_SRC`) back to the CPU; waits for the GPU.
+pub fn read_buffer(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    src: &wgpu::Buffer,
+) -> Result<Vec<u8>, GpuError> {
+    let size = src.size();
+    let staging = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("read-back"),
+        size,
+        usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
+    queue.submit([enc.finish()]);
+    let (tx, rx) = std::sync::mpsc::channel();
+    staging.map_async(wgpu::MapMode::Read, .., move |r| {
+        let _ = tx.send(r);
+    });
+    let runtime = |message: String| GpuError::Runtime {
+        what: "reading a buffer back".into(),
+        message,
+    };
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| runtime(e.to_string()))?;
+    rx.recv()
+        .map_err(|e| runtime(e.to_string()))?
+        .map_err(|e| runtime(e.to_string()))?;
+    let data = staging
+        .slice(..)
+        .get_mapped_range()
+        .map_err(|e| runtime(e.to_string()))?
+        .to_vec();
+    staging.unmap();
+    Ok(data)
+}

@@ -46,6 +46,49 @@ impl GpuSolver {
         })
     }
 
+    /// Replaces the layout the forces come from (an edit), keeping the running field; as
+    /// [`Solver::set_layout`], grid, world, obstacle and boundary changes need a new solver.
+    pub fn set_layout(&mut self, layout: &Layout) {
+        self.layout = layout.clone();
+        self.ambient = Ambient::new(layout);
+        self.params = layout.sim;
+    }
+
+    /// The buffers the field lives in, for drawing it where it is (the editor's map view).
+    pub fn field(&self) -> super::mapview::FieldBuffers {
+        let l = &self.layout.world;
+        super::mapview::FieldBuffers {
+            u: self.fluid.buffer(FieldId::U).clone(),
+            v: self.fluid.buffer(FieldId::V).clone(),
+            p: self.fluid.buffer(FieldId::P).clone(),
+            nx: self.nx as u32,
+            ny: self.ny as u32,
+            origin: l.origin,
+            cell: [l.size[0] / self.nx as f32, l.size[1] / self.ny as f32],
+        }
+    }
+
+    /// Copies the running field (velocity, pressure, time) into `cpu`, a solver made from the
+    /// same layout: the hand-over back to the CPU, and the editor's throttled read-back.
+    pub fn read_into(&self, ctx: &GpuContext, cpu: &mut Solver) -> Result<(), GpuError> {
+        let (u, v) = self.faces(ctx)?;
+        let p = self.fluid.download(&ctx.device, &ctx.queue, FieldId::P)?;
+        if u.len() != cpu.u.len() || v.len() != cpu.v.len() || p.len() != cpu.p.len() {
+            return Err(GpuError::Runtime {
+                what: "handing the field to the CPU".into(),
+                message: format!(
+                    "the CPU solver's grid is {}x{}, the GPU's {}x{}",
+                    cpu.nx, cpu.ny, self.nx, self.ny
+                ),
+            });
+        }
+        cpu.u = u;
+        cpu.v = v;
+        cpu.p = p;
+        cpu.time = self.time;
+        Ok(())
+    }
+
     /// Records and submits one step (its substeps), without waiting for the GPU.
     pub fn step(&mut self, ctx: &GpuContext) {
         let (device, queue) = (&ctx.device, &ctx.queue);
