@@ -467,6 +467,35 @@ fn editor_window_snapshot_drawn_on_the_gpu() {
     let status = h.state().status_rect;
     h.mask(status);
     h.snapshot("editor_obstacles_gpu");
+
+    // The same field run on the CPU is drawn by the same GPU passes from an uploaded copy:
+    // after a hand-over (bit for bit) the map looks the same.
+    let on_gpu = h.render().expect("renders");
+    h.state_mut().set_backend(BackendChoice::Cpu);
+    let deadline = Instant::now() + Duration::from_secs(60);
+    while h.state().live.snapshot().backend != Backend::Cpu {
+        assert!(Instant::now() < deadline, "no hand-over to the CPU");
+        std::thread::sleep(Duration::from_millis(20));
+    }
+    h.run_steps(3);
+    let on_cpu = h.render().expect("renders");
+    let map = h.state().map_rect;
+    let ppp = h.ctx.pixels_per_point();
+    let mut differ = 0;
+    let mut total = 0;
+    for y in (map.top() * ppp) as u32..(map.bottom() * ppp) as u32 {
+        for x in (map.left() * ppp) as u32..(map.right() * ppp) as u32 {
+            total += 1;
+            let (a, b) = (on_gpu.get_pixel(x, y), on_cpu.get_pixel(x, y));
+            if a.0.iter().zip(b.0).any(|(p, q)| p.abs_diff(q) > 2) {
+                differ += 1;
+            }
+        }
+    }
+    assert!(
+        differ * 1000 <= total,
+        "{differ} of {total} map pixels differ between the GPU-run and CPU-run field"
+    );
 }
 
 /// Switching backends hands the running field over: the field the GPU starts from is the

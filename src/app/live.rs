@@ -25,6 +25,10 @@ pub struct Snapshot {
     pub origin: [f32; 2],
     pub size: [f32; 2],
     pub velocity: Vec<[f32; 2]>,
+    /// Face velocities as the solver stores them (`(nx + 1) × ny` and `nx × (ny + 1)`), so a
+    /// CPU-run field can be drawn by the same GPU passes as a GPU-run one.
+    pub u: Vec<f32>,
+    pub v: Vec<f32>,
     pub curl: Vec<f32>,
     pub pressure: Vec<f32>,
     pub time: f32,
@@ -416,6 +420,8 @@ impl Engine {
             origin: solver.origin,
             size: [solver.hx * solver.nx as f32, solver.hz * solver.ny as f32],
             velocity: solver.velocity_field(),
+            u: solver.u.clone(),
+            v: solver.v.clone(),
             curl: {
                 solver.compute_curl();
                 solver.curl.clone()

@@ -159,8 +159,17 @@ fn draw_wind(
     if mode == WindView::Off || snap.nx == 0 {
         return 0.0;
     }
-    if let (Some(field), true) = (&snap.field, app.gpu_view) {
-        return draw_wind_gpu(app, ctx, painter, cam, rect, snap, field.clone());
+    if app.gpu_view {
+        // On the GPU the field is drawn where it lives; a CPU-run one is copied there first
+        // (three arrays a snapshot, against tessellating thousands of streak segments).
+        let field = match (&snap.field, &app.render_state) {
+            (Some(f), _) => Some(f.clone()),
+            (None, Some(rs)) => app.uploaded.field(rs, snap),
+            (None, None) => None,
+        };
+        if let Some(field) = field {
+            return draw_wind_gpu(app, ctx, painter, cam, rect, snap, field);
+        }
     }
     let stale = app
         .field_texture

@@ -179,6 +179,10 @@ pub struct EditorApp {
     /// Whether the map can draw a GPU field (the map renderer is installed on eframe's
     /// device).
     gpu_view: bool,
+    /// eframe's render state, when the map draws on the GPU.
+    render_state: Option<egui_wgpu::RenderState>,
+    /// A CPU-run field's copy on the GPU, for drawing it there.
+    uploaded: gpu_view::Uploaded,
     /// The colour scale of the GPU-drawn view, from the last read-back: (serial, view, scale).
     gpu_scale: Option<(u64, WindView, f32)>,
     /// The window title last sent to the window.
@@ -221,6 +225,8 @@ impl EditorApp {
             frame_ms: 0.0,
             ui_ms: 0.0,
             gpu_view: false,
+            render_state: None,
+            uploaded: Default::default(),
             gpu_scale: None,
             sent_title: None,
             cursor_world: None,
@@ -267,6 +273,7 @@ impl EditorApp {
             Ok(ctx) => {
                 gpu_view::install(rs);
                 self.gpu_view = true;
+                self.render_state = Some(rs.clone());
                 self.live.set_gpu(ctx, self.settings.backend);
             }
             Err(e) => {

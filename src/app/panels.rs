@@ -236,10 +236,10 @@ fn frame_times(app: &EditorApp, snap: &crate::app::live::Snapshot, ui: &mut egui
                 ui.end_row();
             }
             ui.label("wind drawn");
-            ui.label(if snap.field.is_some() && app.gpu_view {
-                "on the GPU, from the solver's buffers"
-            } else {
-                "from CPU snapshots"
+            ui.label(match (snap.field.is_some(), app.gpu_view) {
+                (true, true) => "on the GPU, from the solver's buffers",
+                (false, true) => "on the GPU, from each snapshot uploaded",
+                _ => "by egui, from CPU snapshots",
             });
             ui.end_row();
         });

@@ -89,6 +89,42 @@ pub struct FieldBuffers {
     pub cell: [f32; 2],
 }
 
+impl FieldBuffers {
+    /// Buffers holding a field computed elsewhere (the CPU solver's faces and pressure), so
+    /// the map view draws a CPU-run field with the same passes as a GPU-run one.
+    pub fn upload(
+        device: &wgpu::Device,
+        (nx, ny): (u32, u32),
+        origin: [f32; 2],
+        cell: [f32; 2],
+        (u, v, p): (&[f32], &[f32], &[f32]),
+    ) -> Self {
+        let buffer = |label: &str, data: &[f32]| {
+            device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some(label),
+                contents: bytemuck::cast_slice(data),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            })
+        };
+        Self {
+            u: buffer("map u", u),
+            v: buffer("map v", v),
+            p: buffer("map p", p),
+            nx,
+            ny,
+            origin,
+            cell,
+        }
+    }
+
+    /// Writes a new state of the same grid into buffers made by [`Self::upload`].
+    pub fn write(&self, queue: &wgpu::Queue, (u, v, p): (&[f32], &[f32], &[f32])) {
+        queue.write_buffer(&self.u, 0, bytemuck::cast_slice(u));
+        queue.write_buffer(&self.v, 0, bytemuck::cast_slice(v));
+        queue.write_buffer(&self.p, 0, bytemuck::cast_slice(p));
+    }
+}
+
 /// Which value the colour map shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Layer {
