@@ -7,6 +7,7 @@ pub mod bake;
 pub mod colour;
 pub mod doc;
 pub mod gpu;
+pub mod grass;
 pub mod io;
 pub mod render;
 pub mod sim;
