@@ -117,6 +117,13 @@ enum Command {
         /// Simulated seconds before the picture is taken.
         #[arg(long, default_value_t = 6.0)]
         time: f32,
+        /// What to draw: the top-down map of the wind, or the grass in 3D (on the GPU).
+        #[arg(long, value_enum, default_value_t = ViewArg::Map)]
+        view: ViewArg,
+        /// The 3D view's camera, "eye_x,eye_y,eye_z,target_x,target_y,target_z" in metres
+        /// (y up); default: the whole world from the south-west, above it.
+        #[arg(long, value_parser = parse_camera, allow_hyphen_values = true)]
+        camera: Option<[f32; 6]>,
     },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
@@ -150,6 +157,16 @@ enum Command {
         /// Print one JSON object instead of a table.
         #[arg(long)]
         json: bool,
+        /// Time the grass instead: about N blades of the layout (default: the bundled meadow)
+        /// drawn at --size offscreen on the GPU.
+        #[arg(long)]
+        grass: Option<usize>,
+        /// Grass model to time.
+        #[arg(long, value_enum, default_value_t = GrassModelArg::Cwd)]
+        model: GrassModelArg,
+        /// Picture size for --grass, WxH.
+        #[arg(long, default_value = "1920x1080", value_parser = parse_grid)]
+        size: [u32; 2],
     },
 }
 
@@ -228,6 +245,33 @@ fn parse_bytes(s: &str) -> Result<u64, String> {
         return Err(err());
     }
     Ok(bytes as u64)
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum ViewArg {
+    Map,
+    Grass,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum GrassModelArg {
+    Cwd,
+}
+
+/// `"1,2,3,4,5,6"` → six finite numbers.
+fn parse_camera(s: &str) -> Result<[f32; 6], String> {
+    let err = || format!("expected eye_x,eye_y,eye_z,target_x,target_y,target_z, got {s:?}");
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f32>().map_err(|_| err()))
+        .collect::<Result<_, _>>()?;
+    let a: [f32; 6] = v.try_into().map_err(|_| err())?;
+    if a.iter().any(|x| !x.is_finite()) || a[..3] == a[3..] {
+        return Err(format!(
+            "{s:?}: the eye and the target must be distinct finite points"
+        ));
+    }
+    Ok(a)
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -385,10 +429,32 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             output,
             size,
             time,
+            view,
+            camera,
         }) => {
             let l = io::load(&layout)?;
             let base = layout.parent().unwrap_or(std::path::Path::new("."));
-            let png = windloom::render::render_png(&l, base, size, time)?;
+            let png = match view {
+                ViewArg::Map => windloom::render::render_png(&l, base, size, time)?,
+                ViewArg::Grass => {
+                    anyhow::ensure!(
+                        (16..=16384).contains(&size[0]) && (16..=16384).contains(&size[1]),
+                        "--size: each side must be 16 to 16384 pixels"
+                    );
+                    let ctx = windloom::gpu::GpuContext::headless()?;
+                    let camera = camera.map(|c| windloom::gpu::grass::Camera {
+                        eye: glam::Vec3::new(c[0], c[1], c[2]),
+                        target: glam::Vec3::new(c[3], c[4], c[5]),
+                        fov_y: 45f32.to_radians(),
+                    });
+                    let pixels = windloom::gpu::grass::picture(&ctx, &l, size, time, camera)?;
+                    let mut png = Vec::new();
+                    image::RgbaImage::from_raw(size[0], size[1], pixels)
+                        .context("picture size")?
+                        .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)?;
+                    png
+                }
+            };
             io::write_atomic(&output, &png)
                 .with_context(|| format!("could not write {}", output.display()))?;
             println!("wrote {}", output.display());
@@ -404,7 +470,41 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             layout,
             advection,
             json,
+            grass,
+            model,
+            size,
         }) => {
+            if let Some(n) = grass {
+                let GrassModelArg::Cwd = model;
+                let l = match &layout {
+                    Some(p) => io::load(p)?,
+                    None => doc::default_layout(),
+                };
+                anyhow::ensure!(
+                    n <= windloom::grass::MAX_BLADES,
+                    "--grass: at most {} blades",
+                    windloom::grass::MAX_BLADES
+                );
+                let ctx = windloom::gpu::GpuContext::headless()?;
+                let r = windloom::gpu::grass::bench(&ctx, &l, n, size, steps.clamp(1, 100))?;
+                if json {
+                    println!("{}", serde_json::to_string(&r)?);
+                } else {
+                    println!(
+                        "{} blades ({}) at {}x{} on {} ({}): median {:.2} ms, min {:.2} ms a frame over {} frames",
+                        r.blades,
+                        r.model,
+                        r.size[0],
+                        r.size[1],
+                        r.adapter,
+                        r.adapter_type,
+                        r.median_ms,
+                        r.min_ms,
+                        r.frames
+                    );
+                }
+                return Ok(ExitCode::SUCCESS);
+            }
             let (mut l, name) = match &layout {
                 Some(p) => (io::load(p)?, p.display().to_string()),
                 None => (

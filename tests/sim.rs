@@ -735,10 +735,11 @@ mod gpu {
             .filter(|n| n.ends_with(".wgsl") && n != "common.wgsl")
             .collect();
         on_disk.sort();
-        on_disk.retain(|n| n != "map_common.wgsl");
+        on_disk.retain(|n| n != "map_common.wgsl" && n != "grass_common.wgsl");
         let mut listed: Vec<String> = SHADERS
             .iter()
             .chain(mapview::SHADERS.iter())
+            .chain(windloom::gpu::grass::SHADERS.iter())
             .map(|(n, _)| format!("{n}.wgsl"))
             .collect();
         listed.sort();
@@ -753,6 +754,11 @@ mod gpu {
                 mapview::SHADERS
                     .iter()
                     .map(|(n, _)| (n, mapview::shader_source(n).unwrap())),
+            )
+            .chain(
+                windloom::gpu::grass::SHADERS
+                    .iter()
+                    .map(|(n, _)| (n, windloom::gpu::grass::shader_source(n).unwrap())),
             );
         for (name, source) in sources {
             let module = naga::front::wgsl::parse_str(&source)
@@ -1153,6 +1159,175 @@ mod gpu {
                 sum > 0.0 && sum <= r["median_ms"].as_f64().unwrap() * 1.5,
                 "{sum} vs {}",
                 r["median_ms"]
+            );
+        }
+    }
+
+    /// The grass passes against the CPU model (`grass::cwd`), and pictures of them.
+    mod grass {
+        use super::{context, example};
+        use windloom::doc::Layout;
+        use windloom::gpu::GpuContext;
+        use windloom::gpu::grass::{Camera, GrassRenderer, SEGMENTS, render_offscreen};
+        use windloom::grass::{cwd, scatter, wind_cell};
+
+        fn layout(density: f32) -> Layout {
+            let mut l = example("meadow.json");
+            l.world.size = [12.0, 8.0];
+            l.world.grid = [24, 16];
+            l.grass.density = density;
+            l
+        }
+
+        /// A wind grid of random directions and speeds up to 40 m/s.
+        fn random_wind(n: usize, seed: u64) -> Vec<[f32; 2]> {
+            let a = super::noise(n, seed, std::f32::consts::PI);
+            let s = super::noise(n, seed + 1, 20.0);
+            a.iter()
+                .zip(&s)
+                .map(|(a, s)| [(s + 20.0) * a.cos(), (s + 20.0) * a.sin()])
+                .collect()
+        }
+
+        /// Each blade's deformed tip as the vertex shader places it matches the CPU model's,
+        /// in random winds up to 40 m/s, at several times (the flutter's clock).
+        #[test]
+        fn gpu_blade_tips_match_the_cpu_model() {
+            let Some(ctx) = context() else { return };
+            let l = layout(30.0);
+            let blades = scatter(&l);
+            assert!(blades.len() > 2000);
+            let (nx, ny) = (24, 16);
+            let cell = [0.5, 0.5];
+            let mut r =
+                GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+            let camera = Camera::overview(&l);
+            let mut worst = (0.0f32, 0.0f32);
+            for (k, time) in [0.0f32, 1.7, 12.25].into_iter().enumerate() {
+                let wind = random_wind(nx * ny, 40 + k as u64);
+                r.set_wind(&ctx.device, &ctx.queue, (nx, ny), [0.0, 0.0], cell, &wind);
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                r.prepare(&ctx.queue, &mut enc, &camera, 1.5, time);
+                ctx.queue.submit([enc.finish()]);
+                let tips = r.read_tips(&ctx.device, &ctx.queue).unwrap();
+                for (b, gpu) in blades.iter().zip(&tips) {
+                    let w = wind[wind_cell(b.pos, [0.0, 0.0], cell, (nx, ny))];
+                    let cpu =
+                        cwd::centreline(b, w, &l.grass, time, SEGMENTS as usize)[SEGMENTS as usize];
+                    let d = (0..3).fold(0.0f32, |m, c| m.max((gpu[c] - cpu.pos[c]).abs()));
+                    worst.0 = worst.0.max(d / b.height);
+                    worst.1 = worst.1.max((gpu[3] - cpu.shade).abs());
+                }
+            }
+            println!(
+                "grass tips: max |GPU − CPU| {:.2e} of the blade height, shade {:.2e}",
+                worst.0, worst.1
+            );
+            assert!(
+                worst.0 <= 1e-3,
+                "tips differ by {} of a blade's height",
+                worst.0
+            );
+            assert!(worst.1 <= 1e-3, "shades differ by {}", worst.1);
+        }
+
+        fn picture(ctx: &GpuContext, speed: f32) -> Vec<u8> {
+            let l = layout(40.0);
+            let blades = scatter(&l);
+            let mut r = GrassRenderer::new(
+                &ctx.device,
+                wgpu::TextureFormat::Rgba8UnormSrgb,
+                &l,
+                &blades,
+            );
+            let wind = vec![[speed * 0.8, speed * -0.6]; 24 * 16];
+            r.set_wind(
+                &ctx.device,
+                &ctx.queue,
+                (24, 16),
+                [0.0, 0.0],
+                [0.5, 0.5],
+                &wind,
+            );
+            let camera = Camera {
+                eye: glam::Vec3::new(2.0, 1.4, 7.5),
+                target: glam::Vec3::new(6.0, 0.2, 4.0),
+                fov_y: 45f32.to_radians(),
+            };
+            render_offscreen(&ctx.device, &ctx.queue, &mut r, &camera, 0.0, [320, 180])
+                .unwrap()
+                .0
+        }
+
+        fn luminance(p: &[u8]) -> f64 {
+            p.chunks(4)
+                .map(|c| {
+                    0.2126 * f64::from(c[0]) + 0.7152 * f64::from(c[1]) + 0.0722 * f64::from(c[2])
+                })
+                .sum::<f64>()
+                / (p.len() / 4) as f64
+        }
+
+        /// Calm, breezy and gale pictures against committed references (mean channel
+        /// difference ≤ 1.5/255, and under 1% of pixels off by more than 24/255); a gale is
+        /// visibly different from calm but darkens the picture by less than 12%.
+        #[test]
+        fn grass_pictures_match_their_references_and_a_gale_stays_lit() {
+            let Some(ctx) = context() else { return };
+            let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
+            let mut pictures = Vec::new();
+            for (name, speed) in [("calm", 0.0), ("breezy", 4.0), ("gale", 30.0)] {
+                let pixels = picture(&ctx, speed);
+                let path = dir.join(format!("grass_{name}.png"));
+                if std::env::var_os("UPDATE_SNAPSHOTS").is_some() {
+                    image::RgbaImage::from_raw(320, 180, pixels.clone())
+                        .unwrap()
+                        .save(&path)
+                        .unwrap();
+                }
+                let reference = image::open(&path)
+                    .unwrap_or_else(|e| {
+                        panic!("{}: {e} (UPDATE_SNAPSHOTS=1 writes it)", path.display())
+                    })
+                    .to_rgba8();
+                let diffs: Vec<u8> = pixels
+                    .iter()
+                    .zip(reference.as_raw())
+                    .map(|(a, b)| a.abs_diff(*b))
+                    .collect();
+                let mean = diffs.iter().map(|&d| f64::from(d)).sum::<f64>() / diffs.len() as f64;
+                let off = diffs
+                    .chunks(4)
+                    .filter(|c| c.iter().any(|&d| d > 24))
+                    .count();
+                println!("grass_{name}: mean difference {mean:.3}, {off} pixels off");
+                assert!(
+                    mean <= 1.5,
+                    "grass_{name}: mean difference {mean} from the reference"
+                );
+                assert!(
+                    off * 100 <= 320 * 180,
+                    "grass_{name}: {off} pixels differ from the reference"
+                );
+                pictures.push(pixels);
+            }
+            let (calm, gale) = (luminance(&pictures[0]), luminance(&pictures[2]));
+            println!(
+                "mean luminance: calm {calm:.1}, breezy {:.1}, gale {gale:.1}",
+                luminance(&pictures[1])
+            );
+            assert!(
+                gale >= calm * 0.88,
+                "a gale darkens the grass too much: {gale} against {calm}"
+            );
+            let changed = pictures[0]
+                .iter()
+                .zip(&pictures[2])
+                .filter(|(a, b)| a != b)
+                .count();
+            assert!(
+                changed > pictures[0].len() / 10,
+                "a gale must change the picture"
             );
         }
     }

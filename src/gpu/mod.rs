@@ -6,6 +6,7 @@
 pub mod bench;
 mod context;
 pub mod fluid;
+pub mod grass;
 pub mod mapview;
 mod solver;
 

@@ -126,3 +126,16 @@ pub fn scatter(layout: &Layout) -> Vec<Blade> {
     }
     blades
 }
+
+/// Eq. 1: the index of the wind cell (row-major, `nx × ny` cells of `cell` metres from
+/// `origin`) a blade at `pos` takes its wind from; blades in one cell share it.
+pub fn wind_cell(
+    pos: [f32; 2],
+    origin: [f32; 2],
+    cell: [f32; 2],
+    (nx, ny): (usize, usize),
+) -> usize {
+    let i = ((pos[0] - origin[0]) / cell[0]).clamp(0.0, (nx - 1) as f32) as usize;
+    let j = ((pos[1] - origin[1]) / cell[1]).clamp(0.0, (ny - 1) as f32) as usize;
+    j * nx + i
+}

@@ -1,0 +1,146 @@
+// Shared by the grass passes (prepended to each by `gpu::grass`): the scene, mirrored by
+// `gpu::grass::Scene` (#[repr(C)], bytemuck), the blades (`grass::Blade`) and the CWD
+// deformation of `src/grass/cwd.rs` — the CPU twin every function here is tested against.
+
+struct Scene {
+    view_proj: mat4x4<f32>,
+    // Camera position; w: the simulation time in seconds (the flutter's clock).
+    eye: vec4<f32>,
+    // Unit vector toward the sun; w: ambient (sky) light.
+    sun: vec4<f32>,
+    // Wind grid: origin and cell size (metres), cells along x and z.
+    origin: vec2<f32>,
+    cell: vec2<f32>,
+    nx: u32,
+    ny: u32,
+    blades: u32,
+    segments: u32,
+    // Eq. 11, eq. 13 and the bend's response (`cwd::WIND_RESPONSE`, `cwd::BEND_MAX`).
+    k1: f32,
+    k2: f32,
+    lambda: f32,
+    response: f32,
+    bend_max: f32,
+    flutter: f32,
+    flutter_hz: f32,
+    saturation: f32,
+    // Eq. 14.
+    c1: f32,
+    c2: f32,
+    m_min: f32,
+    m_max: f32,
+    // World rectangle (the ground).
+    world_min: vec2<f32>,
+    world_max: vec2<f32>,
+    palettes: u32,
+    // 1 when the target stores sRGB (the shader writes linear values then).
+    srgb_target: u32,
+    _pad: vec2<u32>,
+}
+
+struct Blade {
+    pos: vec2<f32>,
+    facing: f32,
+    height: f32,
+    width: f32,
+    stiffness: f32,
+    palette: u32,
+    variation: f32,
+}
+
+// Per blade, per frame (the deform pass): the wind's push `B·v̂` in the blade's frame
+// (side, forward), the length-restoring scale, and eq. 14's wind dimming.
+struct Pose {
+    push: vec2<f32>,
+    scale: f32,
+    dim: f32,
+}
+
+// Segments of the arc-length estimate (`cwd::LENGTH_SEGMENTS`).
+const LENGTH_SEGMENTS: u32 = 16u;
+const TAU: f32 = 6.283185307179586;
+
+@group(0) @binding(0) var<uniform> S: Scene;
+@group(0) @binding(1) var<storage, read> blades: array<Blade>;
+// The wind grid: cell-centred velocity (x, z), m/s, row-major.
+@group(0) @binding(2) var<storage, read> wind: array<vec2<f32>>;
+// Per palette: base then tip colour (linear RGB).
+@group(0) @binding(3) var<storage, read> palettes: array<vec4<f32>>;
+
+// Eq. 1: the blade's wind cell (blades in one cell share its wind).
+fn blade_wind(b: Blade) -> vec2<f32> {
+    let g = (b.pos - S.origin) / S.cell;
+    let i = u32(clamp(g.x, 0.0, f32(S.nx - 1u)));
+    let j = u32(clamp(g.y, 0.0, f32(S.ny - 1u)));
+    return wind[j * S.nx + i];
+}
+
+// Forward (facing) and side unit vectors, world (x, z): `cwd::frame`.
+fn blade_frame(b: Blade) -> mat2x2<f32> {
+    let s = sin(b.facing);
+    let c = cos(b.facing);
+    return mat2x2<f32>(vec2<f32>(c, s), vec2<f32>(-s, c));
+}
+
+// `cwd::push`: the saturated bend with its flutter, toward the wind, in the blade's frame.
+fn blade_push(b: Blade, w: vec2<f32>, time: f32) -> vec2<f32> {
+    let speed = length(w);
+    if (speed <= 0.0) {
+        return vec2<f32>(0.0);
+    }
+    let f = S.response / max(b.stiffness, 1e-3);
+    let bend = S.bend_max * tanh((1.0 - S.lambda) * f * speed / S.bend_max);
+    let phase = b.pos.x * 0.9 + b.pos.y * 1.3 + b.variation * 2.0;
+    let hz = S.flutter_hz * (1.0 + 0.25 * b.variation);
+    let flutter = 1.0 + S.flutter * (bend / S.bend_max) * sin(TAU * hz * time + phase);
+    let fr = blade_frame(b);
+    let d = w / speed;
+    return bend * flutter * vec2<f32>(dot(d, fr[1]), dot(d, fr[0]));
+}
+
+// `cwd::bent`: blade-frame (side, up, forward) point at `t` before the length is restored.
+fn bent(b: Blade, push: vec2<f32>, t: f32) -> vec3<f32> {
+    let h = b.height;
+    let y = t * h;
+    let p = vec3<f32>(0.0, y - S.k1 * y * y, S.k2 * y * y);
+    let r = p.y / h;
+    let s = h * r * r;
+    return vec3<f32>(p.x + s * push.x, max(p.y - s * length(push), 0.0), p.z + s * push.y);
+}
+
+// The deform pass's work for one blade: `cwd::centreline`'s per-blade part.
+fn blade_pose(b: Blade, time: f32) -> Pose {
+    let w = blade_wind(b);
+    let push = blade_push(b, w, time);
+    var len = 0.0;
+    var prev = vec3<f32>(0.0);
+    for (var k = 1u; k <= LENGTH_SEGMENTS; k = k + 1u) {
+        let q = bent(b, push, f32(k) / f32(LENGTH_SEGMENTS));
+        len = len + length(q - prev);
+        prev = q;
+    }
+    let speed = length(w);
+    let dim = S.c1 * S.saturation * tanh(speed / S.saturation);
+    return Pose(push, b.height / max(len, 1e-9), dim);
+}
+
+// World position of the blade's centreline at `t` (y up): `cwd::centreline`'s points.
+fn blade_point(b: Blade, pose: Pose, t: f32) -> vec3<f32> {
+    let q = bent(b, pose.push, t) * pose.scale;
+    let fr = blade_frame(b);
+    let xz = b.pos + q.x * fr[1] + q.z * fr[0];
+    return vec3<f32>(xz.x, q.y, xz.y);
+}
+
+// Eq. 14 with the saturated wind (`cwd::Point::shade`).
+fn blade_shade(height: f32, pose: Pose) -> f32 {
+    return clamp(height - pose.dim + S.c2, S.m_min, S.m_max);
+}
+
+fn encode(c: vec3<f32>) -> vec3<f32> {
+    // Linear → sRGB when the target does not do it.
+    if (S.srgb_target != 0u) {
+        return c;
+    }
+    return select(1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055, c * 12.92, c <= vec3<f32>(0.0031308));
+}

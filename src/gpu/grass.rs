@@ -1,0 +1,693 @@
+//! The grass renderer: blades as GPU instances shaped by the CWD-Sim model (`src/grass/cwd.rs`
+//! is its CPU twin) in the live wind, over a ground plane. Per-blade data is uploaded once; per
+//! frame the CPU writes one small scene uniform (camera, time) and, when it changes, the wind
+//! grid. A compute pass poses every blade (its wind cell, bend, length-restoring scale) and the
+//! vertex shader builds each blade from its index. Passes: `shaders/grass_*.wgsl`, sharing
+//! `grass_common.wgsl`.
+//!
+//! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. Uses glam for the camera.
+
+use super::GpuError;
+use crate::doc::Layout;
+use crate::grass::{Blade, cwd};
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use wgpu::util::DeviceExt;
+
+/// The shared header of the grass passes.
+pub const COMMON: &str = include_str!("../../shaders/grass_common.wgsl");
+
+/// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`].
+pub const SHADERS: [(&str, &str); 3] = [
+    (
+        "grass_deform",
+        include_str!("../../shaders/grass_deform.wgsl"),
+    ),
+    (
+        "grass_blades",
+        include_str!("../../shaders/grass_blades.wgsl"),
+    ),
+    (
+        "grass_ground",
+        include_str!("../../shaders/grass_ground.wgsl"),
+    ),
+];
+
+/// The full WGSL of grass pass `name`.
+pub fn shader_source(name: &str) -> Option<String> {
+    SHADERS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| format!("{COMMON}\n{s}"))
+}
+
+/// The scene; mirrors `struct Scene` in `shaders/grass_common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Scene {
+    pub view_proj: [[f32; 4]; 4],
+    pub eye: [f32; 4],
+    pub sun: [f32; 4],
+    pub origin: [f32; 2],
+    pub cell: [f32; 2],
+    pub nx: u32,
+    pub ny: u32,
+    pub blades: u32,
+    pub segments: u32,
+    pub k1: f32,
+    pub k2: f32,
+    pub lambda: f32,
+    pub response: f32,
+    pub bend_max: f32,
+    pub flutter: f32,
+    pub flutter_hz: f32,
+    pub saturation: f32,
+    pub c1: f32,
+    pub c2: f32,
+    pub m_min: f32,
+    pub m_max: f32,
+    pub world_min: [f32; 2],
+    pub world_max: [f32; 2],
+    pub palettes: u32,
+    pub srgb_target: u32,
+    pub _pad: [u32; 2],
+}
+
+/// A blade's pose this frame; mirrors `struct Pose` in `shaders/grass_common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Pose {
+    pub push: [f32; 2],
+    pub scale: f32,
+    pub dim: f32,
+}
+
+/// Quads per blade.
+pub const SEGMENTS: u32 = 5;
+/// The depth buffer format the renderer draws with.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// A perspective camera looking from `eye` at `target` (world metres, y up).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    pub eye: Vec3,
+    pub target: Vec3,
+    /// Vertical field of view, radians.
+    pub fov_y: f32,
+}
+
+impl Camera {
+    /// A view of the whole world from its south-west (+z, −x) side, above it.
+    pub fn overview(layout: &Layout) -> Self {
+        let (min, max) = layout.bounds();
+        let c = Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0);
+        let r = (max[0] - min[0]).hypot(max[1] - min[1]) / 2.0;
+        Self {
+            eye: c + Vec3::new(-0.55 * r, 0.55 * r, 0.95 * r),
+            target: c,
+            fov_y: 45f32.to_radians(),
+        }
+    }
+
+    /// World → clip space for a picture of `aspect` (width / height).
+    pub fn view_proj(&self, aspect: f32) -> Mat4 {
+        let dist = (self.eye - self.target).length().max(0.01);
+        let proj = Mat4::perspective_rh(self.fov_y, aspect, (dist * 0.002).max(0.01), dist * 20.0);
+        proj * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
+    }
+}
+
+fn entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
+fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+    })
+}
+
+/// Blades, wind and pipelines for one layout's grass.
+pub struct GrassRenderer {
+    scene: Scene,
+    scene_buf: wgpu::Buffer,
+    blades: wgpu::Buffer,
+    wind: wgpu::Buffer,
+    palettes: wgpu::Buffer,
+    /// Per-blade poses, written by the deform pass each frame (bound in the groups below).
+    _poses: wgpu::Buffer,
+    tips: wgpu::Buffer,
+    layout0: wgpu::BindGroupLayout,
+    group0: wgpu::BindGroup,
+    group1_compute: wgpu::BindGroup,
+    group1_draw: wgpu::BindGroup,
+    deform: wgpu::ComputePipeline,
+    tips_pipeline: wgpu::ComputePipeline,
+    blade_pipeline: wgpu::RenderPipeline,
+    ground_pipeline: wgpu::RenderPipeline,
+}
+
+impl GrassRenderer {
+    /// The grass of `layout` (its `blades`, from [`crate::grass::scatter`]) for targets of
+    /// `format` with a [`DEPTH_FORMAT`] depth buffer. The wind starts calm.
+    pub fn new(
+        device: &wgpu::Device,
+        format: wgpu::TextureFormat,
+        layout: &Layout,
+        blades: &[Blade],
+    ) -> Self {
+        use wgpu::ShaderStages as S;
+        let g = &layout.grass;
+        let (min, max) = layout.bounds();
+        let scene = Scene {
+            view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+            eye: [0.0; 4],
+            sun: [0.42, 0.80, 0.43, 0.32],
+            origin: min,
+            cell: [1.0, 1.0],
+            nx: 1,
+            ny: 1,
+            blades: blades.len() as u32,
+            segments: SEGMENTS,
+            k1: g.k1,
+            k2: g.k2,
+            lambda: g.lambda,
+            response: cwd::WIND_RESPONSE,
+            bend_max: cwd::BEND_MAX,
+            flutter: cwd::FLUTTER,
+            flutter_hz: cwd::FLUTTER_HZ,
+            saturation: cwd::SATURATION,
+            c1: g.shadow.c1,
+            c2: g.shadow.c2,
+            m_min: g.shadow.m_min,
+            m_max: g.shadow.m_max,
+            world_min: min,
+            world_max: max,
+            palettes: g.palettes.len().max(1) as u32,
+            srgb_target: u32::from(format.is_srgb()),
+            _pad: [0; 2],
+        };
+        let mut colours: Vec<[f32; 4]> = g
+            .palettes
+            .iter()
+            .flat_map(|p| {
+                [
+                    [p.base[0], p.base[1], p.base[2], 1.0],
+                    [p.tip[0], p.tip[1], p.tip[2], 1.0],
+                ]
+            })
+            .collect();
+        if colours.is_empty() {
+            colours = vec![[0.1, 0.22, 0.05, 1.0], [0.45, 0.65, 0.2, 1.0]];
+        }
+        // Storage buffers may not be empty.
+        let blade_bytes: &[u8] = if blades.is_empty() {
+            &[0; std::mem::size_of::<Blade>()]
+        } else {
+            bytemuck::cast_slice(blades)
+        };
+        let n = blades.len().max(1) as u64;
+        let scene_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("grass scene"),
+            contents: bytemuck::bytes_of(&scene),
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        });
+        let blades_buf = storage(device, "grass blades", blade_bytes);
+        let wind = storage(device, "grass wind", &[0; 8]);
+        let palettes = storage(device, "grass palettes", bytemuck::cast_slice(&colours));
+        let poses = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass poses"),
+            size: n * std::mem::size_of::<Pose>() as u64,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let tips = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass tips"),
+            size: n * 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let all = S::VERTEX | S::FRAGMENT | S::COMPUTE;
+        let ro = wgpu::BufferBindingType::Storage { read_only: true };
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass scene"),
+            entries: &[
+                entry(0, all, wgpu::BufferBindingType::Uniform),
+                entry(1, all, ro),
+                entry(2, all, ro),
+                entry(3, all, ro),
+            ],
+        });
+        let layout_compute = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass poses (compute)"),
+            entries: &[entry(0, S::COMPUTE, rw), entry(1, S::COMPUTE, rw)],
+        });
+        let layout_draw = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass poses (draw)"),
+            entries: &[entry(0, S::VERTEX, ro)],
+        });
+        let group = |layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]| {
+            let entries: Vec<_> = buffers
+                .iter()
+                .enumerate()
+                .map(|(k, b)| wgpu::BindGroupEntry {
+                    binding: k as u32,
+                    resource: b.as_entire_binding(),
+                })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("grass"),
+                layout,
+                entries: &entries,
+            })
+        };
+        let group0 = group(&layout0, &[&scene_buf, &blades_buf, &wind, &palettes]);
+        let group1_compute = group(&layout_compute, &[&poses, &tips]);
+        let group1_draw = group(&layout_draw, &[&poses]);
+        let module = |name: &str| {
+            device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(shader_source(name).expect("listed").into()),
+            })
+        };
+        let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("grass compute"),
+            bind_group_layouts: &[Some(&layout0), Some(&layout_compute)],
+            immediate_size: 0,
+        });
+        let deform_module = module("grass_deform");
+        let compute = |entry_point: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&compute_layout),
+                module: &deform_module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let draw_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("grass draw"),
+            bind_group_layouts: &[Some(&layout0), Some(&layout_draw)],
+            immediate_size: 0,
+        });
+        let render = |name: &str, cull: Option<wgpu::Face>| {
+            let m = module(name);
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(name),
+                layout: Some(&draw_layout),
+                vertex: wgpu::VertexState {
+                    module: &m,
+                    entry_point: Some("vs_main"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                primitive: wgpu::PrimitiveState {
+                    cull_mode: cull,
+                    ..Default::default()
+                },
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: wgpu::MultisampleState::default(),
+                fragment: Some(wgpu::FragmentState {
+                    module: &m,
+                    entry_point: Some("fs_main"),
+                    compilation_options: Default::default(),
+                    targets: &[Some(wgpu::ColorTargetState {
+                        format,
+                        blend: None,
+                        write_mask: wgpu::ColorWrites::ALL,
+                    })],
+                }),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        Self {
+            scene,
+            scene_buf,
+            blades: blades_buf,
+            wind,
+            palettes,
+            _poses: poses,
+            tips,
+            layout0,
+            group0,
+            group1_compute,
+            group1_draw,
+            deform: compute("main"),
+            tips_pipeline: compute("tips_main"),
+            blade_pipeline: render("grass_blades", None),
+            ground_pipeline: render("grass_ground", None),
+        }
+    }
+
+    /// Blades drawn.
+    pub fn blade_count(&self) -> u32 {
+        self.scene.blades
+    }
+
+    /// Sets the wind grid: cell-centred velocities `(x, z)` m/s, `nx × ny`, row-major, over
+    /// cells of `cell` metres from `origin` (a CPU solver's `velocity_field`, or a GPU field
+    /// read into cells).
+    pub fn set_wind(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        (nx, ny): (usize, usize),
+        origin: [f32; 2],
+        cell: [f32; 2],
+        velocity: &[[f32; 2]],
+    ) {
+        assert_eq!(velocity.len(), nx * ny, "a wind grid of nx × ny cells");
+        let bytes: &[u8] = bytemuck::cast_slice(velocity);
+        if bytes.len() as u64 > self.wind.size()
+            || (nx, ny) != (self.scene.nx as usize, self.scene.ny as usize)
+        {
+            self.wind = storage(device, "grass wind", bytes);
+            self.group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("grass"),
+                layout: &self.layout0,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: self.scene_buf.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: self.blades.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: self.wind.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: self.palettes.as_entire_binding(),
+                    },
+                ],
+            });
+        } else {
+            queue.write_buffer(&self.wind, 0, bytes);
+        }
+        self.scene.nx = nx as u32;
+        self.scene.ny = ny as u32;
+        self.scene.origin = origin;
+        self.scene.cell = cell;
+    }
+
+    /// Records this frame's pose pass for `camera` at simulation `time`, drawing into a
+    /// picture of `aspect` (width / height).
+    pub fn prepare(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        camera: &Camera,
+        aspect: f32,
+        time: f32,
+    ) {
+        self.scene.view_proj = camera.view_proj(aspect).to_cols_array_2d();
+        self.scene.eye = [camera.eye.x, camera.eye.y, camera.eye.z, time];
+        queue.write_buffer(&self.scene_buf, 0, bytemuck::bytes_of(&self.scene));
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("grass deform"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.deform);
+        pass.set_bind_group(0, &self.group0, &[]);
+        pass.set_bind_group(1, &self.group1_compute, &[]);
+        pass.dispatch_workgroups(self.scene.blades.div_ceil(64), 1, 1);
+    }
+
+    /// Draws the ground and the blades (the pass needs a [`DEPTH_FORMAT`] depth attachment).
+    pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
+        pass.set_bind_group(0, &self.group0, &[]);
+        pass.set_bind_group(1, &self.group1_draw, &[]);
+        pass.set_pipeline(&self.ground_pipeline);
+        pass.draw(0..6, 0..1);
+        if self.scene.blades > 0 {
+            pass.set_pipeline(&self.blade_pipeline);
+            pass.draw(0..SEGMENTS * 6, 0..self.scene.blades);
+        }
+    }
+
+    /// Every blade's deformed tip (xyz) and its shade (w) as the vertex shader places it,
+    /// after a [`Self::prepare`] (for tests; waits for the GPU).
+    pub fn read_tips(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        let mut enc = device.create_command_encoder(&Default::default());
+        {
+            let mut pass = enc.begin_compute_pass(&Default::default());
+            pass.set_pipeline(&self.tips_pipeline);
+            pass.set_bind_group(0, &self.group0, &[]);
+            pass.set_bind_group(1, &self.group1_compute, &[]);
+            pass.dispatch_workgroups(self.scene.blades.div_ceil(64), 1, 1);
+        }
+        queue.submit([enc.finish()]);
+        let bytes = super::read_buffer(device, queue, &self.tips)?;
+        Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)[..self.scene.blades as usize].to_vec())
+    }
+}
+
+/// One offscreen picture of the grass: RGBA8 (sRGB) pixels, `size` wide and high, and the GPU
+/// time the frame took in milliseconds (wall clock, submitted and waited for).
+pub fn render_offscreen(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    grass: &mut GrassRenderer,
+    camera: &Camera,
+    time: f32,
+    [w, h]: [u32; 2],
+) -> Result<(Vec<u8>, f64), GpuError> {
+    let format = wgpu::TextureFormat::Rgba8UnormSrgb;
+    let extent = wgpu::Extent3d {
+        width: w,
+        height: h,
+        depth_or_array_layers: 1,
+    };
+    let texture = |format, usage| {
+        device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("grass picture"),
+            size: extent,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        })
+    };
+    let target = texture(
+        format,
+        wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+    );
+    let depth = texture(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+    let (view, depth_view) = (
+        target.create_view(&Default::default()),
+        depth.create_view(&Default::default()),
+    );
+    let row = (w * 4).div_ceil(256) * 256;
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("grass picture pixels"),
+        size: u64::from(row * h),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let started = std::time::Instant::now();
+    let mut enc = device.create_command_encoder(&Default::default());
+    grass.prepare(queue, &mut enc, camera, w as f32 / h as f32, time);
+    {
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("grass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    // A pale sky.
+                    load: wgpu::LoadOp::Clear(wgpu::Color {
+                        r: 0.50,
+                        g: 0.66,
+                        b: 0.85,
+                        a: 1.0,
+                    }),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        grass.paint(&mut pass);
+    }
+    queue.submit([enc.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Runtime {
+            what: "drawing the grass".into(),
+            message: e.to_string(),
+        })?;
+    let ms = started.elapsed().as_secs_f64() * 1e3;
+    let mut enc = device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        target.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &out,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        extent,
+    );
+    queue.submit([enc.finish()]);
+    let bytes = super::read_buffer(device, queue, &out)?;
+    let pixels = (0..h as usize)
+        .flat_map(|y| bytes[y * row as usize..][..w as usize * 4].to_vec())
+        .collect();
+    Ok((pixels, ms))
+}
+
+/// The layout's wind after `time` simulated seconds (CPU solver), as the grass's wind grid.
+fn wind_at(layout: &Layout, time: f32) -> crate::sim::Solver {
+    let mut solver = crate::sim::Solver::new(layout);
+    let steps = (time / layout.sim.dt).round().max(0.0) as usize;
+    for _ in 0..steps {
+        solver.step();
+    }
+    solver
+}
+
+/// A picture of `layout`'s grass in its wind after `time` seconds, seen by `camera` (the
+/// [`Camera::overview`] when `None`): RGBA8 sRGB pixels, `size` wide and high. `windloom
+/// render --view grass`.
+pub fn picture(
+    ctx: &super::GpuContext,
+    layout: &Layout,
+    size: [u32; 2],
+    time: f32,
+    camera: Option<Camera>,
+) -> Result<Vec<u8>, GpuError> {
+    let blades = crate::grass::scatter(layout);
+    let mut grass = GrassRenderer::new(
+        &ctx.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        layout,
+        &blades,
+    );
+    let solver = wind_at(layout, time);
+    grass.set_wind(
+        &ctx.device,
+        &ctx.queue,
+        (solver.nx, solver.ny),
+        solver.origin,
+        [solver.hx, solver.hz],
+        &solver.velocity_field(),
+    );
+    let camera = camera.unwrap_or_else(|| Camera::overview(layout));
+    let (pixels, _) = render_offscreen(&ctx.device, &ctx.queue, &mut grass, &camera, time, size)?;
+    Ok(pixels)
+}
+
+/// `windloom bench --grass N`: frame times drawing about `blades` blades of `layout` (its
+/// density raised or lowered to give that many) at `size`, in its wind after 2 s.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct GrassBench {
+    pub adapter: String,
+    pub adapter_type: String,
+    pub model: String,
+    pub blades: u32,
+    pub size: [u32; 2],
+    pub frames: usize,
+    pub median_ms: f64,
+    pub min_ms: f64,
+}
+
+pub fn bench(
+    ctx: &super::GpuContext,
+    layout: &Layout,
+    blades: usize,
+    size: [u32; 2],
+    frames: usize,
+) -> Result<GrassBench, GpuError> {
+    let mut layout = layout.clone();
+    let area = layout.world.size[0] * layout.world.size[1];
+    layout.grass.density = (blades as f32 / area).max(1e-3);
+    let placed = crate::grass::scatter(&layout);
+    let mut grass = GrassRenderer::new(
+        &ctx.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        &layout,
+        &placed,
+    );
+    let solver = wind_at(&layout, 2.0);
+    grass.set_wind(
+        &ctx.device,
+        &ctx.queue,
+        (solver.nx, solver.ny),
+        solver.origin,
+        [solver.hx, solver.hz],
+        &solver.velocity_field(),
+    );
+    let camera = Camera::overview(&layout);
+    // One untimed frame (pipelines, first use of the buffers), then the timed ones.
+    render_offscreen(&ctx.device, &ctx.queue, &mut grass, &camera, 2.0, size)?;
+    let mut times = Vec::with_capacity(frames);
+    for k in 0..frames.max(1) {
+        let (_, ms) = render_offscreen(
+            &ctx.device,
+            &ctx.queue,
+            &mut grass,
+            &camera,
+            2.0 + k as f32 / 60.0,
+            size,
+        )?;
+        times.push(ms);
+    }
+    times.sort_by(f64::total_cmp);
+    Ok(GrassBench {
+        adapter: ctx.adapter.name.clone(),
+        adapter_type: format!("{:?}", ctx.adapter.device_type),
+        model: "cwd".into(),
+        blades: grass.blade_count(),
+        size,
+        frames: times.len(),
+        median_ms: times[times.len() / 2],
+        min_ms: times[0],
+    })
+}
