@@ -35,7 +35,10 @@ struct Scene {
     palettes: u32,
     // 1 when the target stores sRGB (the shader writes linear values then).
     srgb_target: u32,
-    _pad: vec2<u32>,
+    // 1: eqs. 12–14 as the paper prints them (no saturation, no length restored) — only for
+    // the before/after pictures in docs/GRASS.md.
+    literal: u32,
+    _pad: u32,
 }
 
 struct Blade {
@@ -89,12 +92,15 @@ fn blade_push(b: Blade, w: vec2<f32>, time: f32) -> vec2<f32> {
         return vec2<f32>(0.0);
     }
     let f = S.response / max(b.stiffness, 1e-3);
+    let fr = blade_frame(b);
+    let d = w / speed;
+    if (S.literal != 0u) {
+        return (1.0 - S.lambda) * f * speed * vec2<f32>(dot(d, fr[1]), dot(d, fr[0]));
+    }
     let bend = S.bend_max * tanh((1.0 - S.lambda) * f * speed / S.bend_max);
     let phase = b.pos.x * 0.9 + b.pos.y * 1.3 + b.variation * 2.0;
     let hz = S.flutter_hz * (1.0 + 0.25 * b.variation);
     let flutter = 1.0 + S.flutter * (bend / S.bend_max) * sin(TAU * hz * time + phase);
-    let fr = blade_frame(b);
-    let d = w / speed;
     return bend * flutter * vec2<f32>(dot(d, fr[1]), dot(d, fr[0]));
 }
 
@@ -120,6 +126,9 @@ fn blade_pose(b: Blade, time: f32) -> Pose {
         prev = q;
     }
     let speed = length(w);
+    if (S.literal != 0u) {
+        return Pose(push, 1.0, S.c1 * speed);
+    }
     let dim = S.c1 * S.saturation * tanh(speed / S.saturation);
     return Pose(push, b.height / max(len, 1e-9), dim);
 }

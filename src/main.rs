@@ -19,6 +19,8 @@ Examples:
   windloom bake layouts/meadow.json --out bake/ --format exr --format fga
   windloom bake layouts/obstacles.json --out bake/ --frames 48 --fps 24 --loop
   windloom render layouts/obstacles.json -o obstacles.png --size 1600x1200 --time 8
+  windloom render layouts/meadow.json --view grass -o grass.png --camera \"40,1.6,52,48,0.2,40\"
+  windloom bench --grass 1000000 --model cwd --json
   windloom bench --backend cpu --grid 1000 --iterations 20 --steps 30 --json";
 
 /// Author wind over a top-down map of a level, simulate it, and export it for game engines.
@@ -124,6 +126,10 @@ enum Command {
         /// (y up); default: the whole world from the south-west, above it.
         #[arg(long, value_parser = parse_camera, allow_hyphen_values = true)]
         camera: Option<[f32; 6]>,
+        /// With --view grass: bend the blades by eqs. 12–14 exactly as the CWD-Sim paper prints
+        /// them (to see the strong-wind problem windloom's reading solves).
+        #[arg(long)]
+        paper_literal: bool,
     },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
@@ -431,6 +437,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             time,
             view,
             camera,
+            paper_literal,
         }) => {
             let l = io::load(&layout)?;
             let base = layout.parent().unwrap_or(std::path::Path::new("."));
@@ -447,7 +454,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         target: glam::Vec3::new(c[3], c[4], c[5]),
                         fov_y: 45f32.to_radians(),
                     });
-                    let pixels = windloom::gpu::grass::picture(&ctx, &l, size, time, camera)?;
+                    let pixels =
+                        windloom::gpu::grass::picture(&ctx, &l, size, time, camera, paper_literal)?;
                     let mut png = Vec::new();
                     image::RgbaImage::from_raw(size[0], size[1], pixels)
                         .context("picture size")?

@@ -70,7 +70,9 @@ pub struct Scene {
     pub world_max: [f32; 2],
     pub palettes: u32,
     pub srgb_target: u32,
-    pub _pad: [u32; 2],
+    /// 1: the paper's equations as printed (pictures of its failure only).
+    pub literal: u32,
+    pub _pad: u32,
 }
 
 /// A blade's pose this frame; mirrors `struct Pose` in `shaders/grass_common.wgsl`.
@@ -202,7 +204,8 @@ impl GrassRenderer {
             world_max: max,
             palettes: g.palettes.len().max(1) as u32,
             srgb_target: u32::from(format.is_srgb()),
-            _pad: [0; 2],
+            literal: 0,
+            _pad: 0,
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -363,6 +366,12 @@ impl GrassRenderer {
             blade_pipeline: render("grass_blades", None),
             ground_pipeline: render("grass_ground", None),
         }
+    }
+
+    /// Draws eqs. 12–14 as the paper prints them — unbounded bend, no length restored, eq. 14
+    /// with the raw speed — to show the problem our reading solves (`docs/GRASS.md`).
+    pub fn set_paper_literal(&mut self, literal: bool) {
+        self.scene.literal = u32::from(literal);
     }
 
     /// Blades drawn.
@@ -602,6 +611,7 @@ pub fn picture(
     size: [u32; 2],
     time: f32,
     camera: Option<Camera>,
+    paper_literal: bool,
 ) -> Result<Vec<u8>, GpuError> {
     let blades = crate::grass::scatter(layout);
     let mut grass = GrassRenderer::new(
@@ -610,6 +620,7 @@ pub fn picture(
         layout,
         &blades,
     );
+    grass.set_paper_literal(paper_literal);
     let solver = wind_at(layout, time);
     grass.set_wind(
         &ctx.device,
