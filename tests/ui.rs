@@ -578,3 +578,61 @@ fn switching_backends_keeps_the_running_field() {
         "the CPU takes the GPU's field back, bit for bit"
     );
 }
+
+/// The 3D grass view: drawn on eframe's device in the live wind, its blades rebuilt when a
+/// grass edit changes them (and back on undo), with its own snapshot.
+#[test]
+fn the_3d_grass_view_answers_grass_edits() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .with_max_steps(16)
+        .wgpu_setup(windloom_wgpu_setup())
+        .build_eframe(|cc| {
+            let mut app = EditorApp::new(example("meadow.json"), None, &cc.egui_ctx);
+            app.live.set_playing(false);
+            app.settings.central = windloom::app::Central::Grass;
+            app.attach_gpu(
+                cc.wgpu_render_state
+                    .as_ref()
+                    .expect("kittest's wgpu renderer"),
+            );
+            app
+        });
+    step_and_wait(h.state(), 60, Backend::Cpu);
+    h.run_steps(3);
+    let all = windloom::grass::scatter(&h.state().doc).len() as u32;
+    let g = &h.state().grass_view;
+    assert_eq!(
+        g.total_blades, all,
+        "the view holds every blade of the layout"
+    );
+    assert!(g.blades > 0 && g.blades <= all);
+    let status = h.state().status_rect;
+    h.mask(status);
+    h.snapshot("editor_grass");
+
+    // Halving the density (an undoable edit, as the inspector makes it) rebuilds the blades.
+    let mut grass = h.state().doc.grass.clone();
+    grass.density /= 2.0;
+    let ctx = h.ctx.clone();
+    assert!(
+        h.state_mut()
+            .edit(&ctx, windloom::doc::Edit::SetGrass(grass))
+    );
+    h.run_steps(2);
+    let half = h.state().grass_view.total_blades;
+    assert!(
+        (half as f32 - all as f32 / 2.0).abs() < all as f32 * 0.05,
+        "{half} blades after halving {all}"
+    );
+    h.state_mut().undo();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().grass_view.total_blades,
+        all,
+        "undo brings the blades back"
+    );
+}

@@ -91,3 +91,208 @@ impl CallbackTrait for MapCallback {
         }
     }
 }
+
+/// Blades the 3D view draws on a software adapter.
+pub const SOFTWARE_BLADE_BUDGET: u32 = 40_000;
+
+/// An orbit camera for the 3D view: around a point on the ground, by yaw, pitch and distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orbit {
+    pub target: glam::Vec3,
+    /// Radians: yaw around +y from +x toward +z, pitch above the ground.
+    pub yaw: f32,
+    pub pitch: f32,
+    pub distance: f32,
+}
+
+impl Orbit {
+    /// Looking at the middle of the world from its south-west, the whole world in view.
+    pub fn frame_all(doc: &crate::doc::Layout) -> Self {
+        let (min, max) = doc.bounds();
+        let r = (max[0] - min[0]).hypot(max[1] - min[1]) / 2.0;
+        Self {
+            target: glam::Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0),
+            yaw: 2.07,
+            pitch: 0.55,
+            distance: r * 1.7,
+        }
+    }
+
+    pub fn camera(&self) -> crate::gpu::grass::Camera {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        let eye = self.target + glam::Vec3::new(cy * cp, sp, sy * cp) * self.distance;
+        crate::gpu::grass::Camera {
+            eye,
+            target: self.target,
+            fov_y: 45f32.to_radians(),
+        }
+    }
+}
+
+/// The editor's 3D view of the grass in the live wind: drawn by
+/// [`crate::gpu::grass::GrassRenderer`] on eframe's device into a texture of the view's size,
+/// shown as an egui image. The blades are rebuilt when the grass, world or obstacles change;
+/// the wind grid is rewritten when a new snapshot arrives.
+pub struct GrassView {
+    grass: Option<crate::gpu::grass::GrassRenderer>,
+    built_for: Option<(
+        crate::doc::GrassParams,
+        crate::doc::World,
+        Vec<crate::doc::Obstacle>,
+    )>,
+    target: Option<(crate::gpu::grass::Target, egui::TextureId)>,
+    wind_serial: u64,
+    pub orbit: Option<Orbit>,
+    /// Blades drawn (of all the layout has), and the last frame's GPU milliseconds
+    /// (submission to completion).
+    pub blades: u32,
+    pub total_blades: u32,
+    pub frame_ms: std::sync::Arc<std::sync::Mutex<f32>>,
+}
+
+impl Default for GrassView {
+    fn default() -> Self {
+        Self {
+            grass: None,
+            built_for: None,
+            target: None,
+            wind_serial: u64::MAX,
+            orbit: None,
+            blades: 0,
+            total_blades: 0,
+            frame_ms: Default::default(),
+        }
+    }
+}
+
+impl GrassView {
+    pub fn show(
+        &mut self,
+        ui: &mut egui::Ui,
+        rs: &egui_wgpu::RenderState,
+        doc: &crate::doc::Layout,
+        snap: &Snapshot,
+    ) {
+        use crate::gpu::grass::{GrassRenderer, Target};
+        let (rect, response) =
+            ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
+        let orbit = self.orbit.get_or_insert_with(|| Orbit::frame_all(doc));
+        // Orbit with the left button, pan with the right or middle, zoom with the wheel;
+        // double-click (or Home) frames the world again.
+        if response.dragged_by(egui::PointerButton::Primary) {
+            let d = response.drag_delta();
+            orbit.yaw += d.x * 0.008;
+            orbit.pitch = (orbit.pitch + d.y * 0.006).clamp(0.03, 1.5);
+        }
+        if response.dragged_by(egui::PointerButton::Secondary)
+            || response.dragged_by(egui::PointerButton::Middle)
+        {
+            let d = response.drag_delta() * orbit.distance / rect.height().max(1.0);
+            let (sy, cy) = orbit.yaw.sin_cos();
+            let right = glam::Vec3::new(-sy, 0.0, cy);
+            let toward = glam::Vec3::new(cy, 0.0, sy);
+            orbit.target += right * -d.x + toward * -d.y;
+        }
+        if response.hovered() {
+            let scroll = ui.input(|i| i.smooth_scroll_delta.y + i.zoom_delta().ln() * 200.0);
+            orbit.distance = (orbit.distance * (-scroll / 300.0).exp()).clamp(0.5, 1e5);
+        }
+        if response.double_clicked()
+            || (response.hovered() && ui.input(|i| i.key_pressed(egui::Key::Home)))
+        {
+            *orbit = Orbit::frame_all(doc);
+        }
+        let camera = orbit.camera();
+
+        let key = (doc.grass.clone(), doc.world.clone(), doc.obstacles.clone());
+        if self.built_for.as_ref() != Some(&key) {
+            let mut blades = crate::grass::scatter(doc);
+            // A software rasteriser draws about 2.6 µs a blade (docs/PERFORMANCE.md): keep the
+            // view interactive there by drawing an even random sample.
+            let software = crate::gpu::is_software(&rs.adapter.get_info());
+            if software {
+                crate::grass::shuffle(&mut blades, doc.grass.seed);
+            }
+            let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
+            grass.set_budget(software.then_some(SOFTWARE_BLADE_BUDGET));
+            self.total_blades = blades.len() as u32;
+            self.blades = grass.blade_count();
+            self.grass = Some(grass);
+            self.built_for = Some(key);
+            self.wind_serial = u64::MAX;
+        }
+        let Some(grass) = &mut self.grass else { return };
+        if snap.serial != self.wind_serial
+            && snap.nx > 0
+            && snap.velocity.len() == snap.nx * snap.ny
+        {
+            let cell = [snap.size[0] / snap.nx as f32, snap.size[1] / snap.ny as f32];
+            grass.set_wind(
+                &rs.device,
+                &rs.queue,
+                (snap.nx, snap.ny),
+                snap.origin,
+                cell,
+                &snap.velocity,
+            );
+            self.wind_serial = snap.serial;
+        }
+        let ppp = ui.ctx().pixels_per_point();
+        let size = [
+            (rect.width() * ppp).round().max(1.0) as u32,
+            (rect.height() * ppp).round().max(1.0) as u32,
+        ];
+        if self.target.as_ref().is_none_or(|(t, _)| t.size != size) {
+            let t = Target::new(&rs.device, size);
+            let mut renderer = rs.renderer.write();
+            let id = match self.target.take() {
+                Some((_, id)) => {
+                    renderer.update_egui_texture_from_wgpu_texture(
+                        &rs.device,
+                        &t.encoded_view,
+                        wgpu::FilterMode::Linear,
+                        id,
+                    );
+                    id
+                }
+                None => renderer.register_native_texture(
+                    &rs.device,
+                    &t.encoded_view,
+                    wgpu::FilterMode::Linear,
+                ),
+            };
+            self.target = Some((t, id));
+        }
+        let Some((target, id)) = &self.target else {
+            return;
+        };
+        let mut enc = rs
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("grass view"),
+            });
+        grass.record(&rs.queue, &mut enc, target, &camera, snap.time);
+        let started = std::time::Instant::now();
+        rs.queue.submit([enc.finish()]);
+        let slot = self.frame_ms.clone();
+        rs.queue.on_submitted_work_done(move || {
+            if let Ok(mut ms) = slot.lock() {
+                *ms = started.elapsed().as_secs_f32() * 1e3;
+            }
+        });
+        ui.painter().image(
+            *id,
+            rect,
+            egui::Rect::from_min_max(egui::Pos2::ZERO, egui::pos2(1.0, 1.0)),
+            egui::Color32::WHITE,
+        );
+        ui.painter().text(
+            rect.left_top() + egui::vec2(10.0, 10.0),
+            egui::Align2::LEFT_TOP,
+            "Drag to orbit, right-drag to pan, wheel to zoom, double-click to frame all",
+            egui::FontId::proportional(13.0),
+            egui::Color32::from_black_alpha(170),
+        );
+    }
+}

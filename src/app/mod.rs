@@ -86,6 +86,30 @@ pub enum Sel {
     Ambient(u32),
 }
 
+/// What the central area shows.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum Central {
+    /// The top-down map (authoring).
+    #[default]
+    Map,
+    /// The grass in 3D in the live wind.
+    Grass,
+    /// Both, side by side.
+    Split,
+}
+
+impl Central {
+    pub const ALL: [Central; 3] = [Central::Map, Central::Grass, Central::Split];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Central::Map => "Map",
+            Central::Grass => "3D grass",
+            Central::Split => "Map + 3D",
+        }
+    }
+}
+
 /// Settings that persist between runs.
 #[derive(Debug, Clone, serde::Serialize, serde::Deserialize)]
 #[serde(default)]
@@ -98,6 +122,8 @@ pub struct Settings {
     pub show_grid: bool,
     /// Where the live wind runs (View menu).
     pub backend: BackendChoice,
+    /// Map, 3D grass, or both (View menu, toolbar).
+    pub central: Central,
 }
 
 impl Default for Settings {
@@ -110,6 +136,7 @@ impl Default for Settings {
             streak_count: 1500,
             show_grid: true,
             backend: BackendChoice::Auto,
+            central: Central::Map,
         }
     }
 }
@@ -183,6 +210,8 @@ pub struct EditorApp {
     render_state: Option<egui_wgpu::RenderState>,
     /// A CPU-run field's copy on the GPU, for drawing it there.
     uploaded: gpu_view::Uploaded,
+    /// The 3D grass view.
+    pub grass_view: gpu_view::GrassView,
     /// The colour scale of the GPU-drawn view, from the last read-back: (serial, view, scale).
     gpu_scale: Option<(u64, WindView, f32)>,
     /// The window title last sent to the window.
@@ -227,6 +256,7 @@ impl EditorApp {
             gpu_view: false,
             render_state: None,
             uploaded: Default::default(),
+            grass_view: Default::default(),
             gpu_scale: None,
             sent_title: None,
             cursor_world: None,
@@ -278,6 +308,21 @@ impl EditorApp {
             }
             Err(e) => {
                 self.message = Some((format!("the wind stays on the CPU: {e}"), 0.0));
+            }
+        }
+    }
+
+    /// The 3D grass view, or why there is none.
+    fn grass(&mut self, ui: &mut egui::Ui) {
+        match self.render_state.clone() {
+            Some(rs) => {
+                let snap = self.live.snapshot();
+                self.grass_view.show(ui, &rs, &self.doc, &snap);
+            }
+            None => {
+                ui.centered_and_justified(|ui| {
+                    ui.label("The 3D grass view needs a GPU device (wgpu), and none is in use.");
+                });
             }
         }
     }
@@ -765,7 +810,19 @@ impl eframe::App for EditorApp {
         panels::inspector_panel(self, ui);
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE.fill(egui::Color32::from_gray(24)))
-            .show(ui, |ui| map::map_view(self, ui));
+            .show(ui, |ui| match self.settings.central {
+                Central::Map => map::map_view(self, ui),
+                Central::Grass => self.grass(ui),
+                Central::Split => {
+                    let half = ui.available_width() / 2.0;
+                    ui.horizontal_top(|ui| {
+                        ui.spacing_mut().item_spacing.x = 0.0;
+                        let h = ui.available_height();
+                        ui.allocate_ui(egui::vec2(half, h), |ui| map::map_view(self, ui));
+                        ui.allocate_ui(ui.available_size(), |ui| self.grass(ui));
+                    });
+                }
+            });
         panels::dialogs(self, &ctx);
         self.export.ui(&ctx, &self.doc);
 

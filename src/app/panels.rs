@@ -83,6 +83,10 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 ui.checkbox(&mut app.settings.snap, "Snap to grid");
             });
             ui.menu_button("View", |ui| {
+                for c in crate::app::Central::ALL {
+                    ui.radio_value(&mut app.settings.central, c, c.label());
+                }
+                ui.separator();
                 for v in WindView::ALL {
                     ui.radio_value(&mut app.settings.wind_view, v, v.label());
                 }
@@ -165,6 +169,16 @@ fn toolbar(app: &mut EditorApp, ui: &mut egui::Ui) {
         })
         .response
         .labelled_by(l.id);
+    ui.separator();
+    for c in crate::app::Central::ALL {
+        if ui
+            .selectable_label(app.settings.central == c, c.label())
+            .on_hover_text("What the central area shows")
+            .clicked()
+        {
+            app.settings.central = c;
+        }
+    }
 }
 
 pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
@@ -196,6 +210,20 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             timing.on_hover_ui(|ui| frame_times(app, &snap, ui));
             if let Some(n) = &snap.notice {
                 ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
+            }
+            if app.settings.central != crate::app::Central::Map && app.grass_view.blades > 0 {
+                ui.separator();
+                let ms = app.grass_view.frame_ms.lock().map(|m| *m).unwrap_or(0.0);
+                let g = &app.grass_view;
+                if g.blades < g.total_blades {
+                    ui.label(format!(
+                        "{} of {} blades · grass {ms:.1} ms",
+                        g.blades, g.total_blades
+                    ))
+                    .on_hover_text("A software adapter draws an even sample of the blades");
+                } else {
+                    ui.label(format!("{} blades · grass {ms:.1} ms", g.blades));
+                }
             }
             ui.separator();
             ui.label(&app.adapter);

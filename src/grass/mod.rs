@@ -139,3 +139,13 @@ pub fn wind_cell(
     let j = ((pos[1] - origin[1]) / cell[1]).clamp(0.0, (ny - 1) as f32) as usize;
     j * nx + i
 }
+
+/// Puts `blades` in a seeded random order (Fisher–Yates), so that any leading part of them is
+/// an even sample of the field — what a renderer on a blade budget draws.
+pub fn shuffle(blades: &mut [Blade], seed: u64) {
+    for k in (1..blades.len()).rev() {
+        let r = hash01(k as u32, 0x5eed, seed);
+        let j = ((r * (k + 1) as f32) as usize).min(k);
+        blades.swap(k, j);
+    }
+}
