@@ -1814,6 +1814,65 @@ mod grass {
         );
     }
 
+    /// The 3D view's extras: every obstacle a closed prism (walls all round, a triangulated top
+    /// covering its area), every enabled arrow on the ground with its head.
+    #[test]
+    fn the_3d_scene_has_every_obstacle_and_arrow() {
+        use windloom::doc::Shape;
+        use windloom::grass::scene::{OBSTACLE_HEIGHT, arrows, solids};
+        let l = example("obstacles.json");
+        let v = solids(&l);
+        let ring = |s: &Shape| match s {
+            Shape::Circle { .. } => 32,
+            Shape::Polygon { points } => points.len(),
+        };
+        let want: usize = l
+            .obstacles
+            .iter()
+            .map(|o| 6 * ring(&o.shape) + 3 * (ring(&o.shape) - 2))
+            .sum();
+        assert_eq!(v.len(), want, "walls and a whole top for each obstacle");
+        assert!(
+            v.iter()
+                .all(|p| p.pos[1] == 0.0 || p.pos[1] == OBSTACLE_HEIGHT)
+        );
+        // The tops' triangles cover the obstacles' areas.
+        let tops: f32 = v
+            .chunks(3)
+            .filter(|t| t.iter().all(|p| p.pos[1] == OBSTACLE_HEIGHT))
+            .map(|t| {
+                let (a, b, c) = (t[0].pos, t[1].pos, t[2].pos);
+                ((b[0] - a[0]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[0] - a[0])).abs() / 2.0
+            })
+            .sum();
+        let areas: f32 = l
+            .obstacles
+            .iter()
+            .map(|o| match &o.shape {
+                Shape::Circle { radius, .. } => {
+                    16.0 * radius * radius * (std::f32::consts::TAU / 32.0).sin()
+                }
+                Shape::Polygon { points } => windloom::doc::polygon_area(points).abs(),
+            })
+            .sum();
+        assert!(
+            (tops - areas).abs() < 1e-3 * areas,
+            "tops {tops} m² for {areas} m² of obstacles"
+        );
+        let edges: usize = l
+            .trees
+            .iter()
+            .filter(|t| t.enabled)
+            .map(|t| t.root.arrows().len())
+            .sum();
+        let roots = l.trees.iter().filter(|t| t.enabled).count();
+        assert_eq!(
+            arrows(&l).len(),
+            4 * roots + 6 * edges,
+            "a cross per root, a shaft and head per arrow"
+        );
+    }
+
     #[test]
     fn placement_is_deterministic_dense_as_asked_and_clear_of_obstacles() {
         let mut l = example("obstacles.json");

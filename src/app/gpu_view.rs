@@ -142,6 +142,8 @@ pub struct GrassView {
         Vec<crate::doc::Obstacle>,
     )>,
     target: Option<(crate::gpu::grass::Target, egui::TextureId)>,
+    scene_for: Option<(Vec<crate::doc::Tree>, Vec<crate::doc::Obstacle>)>,
+    footprint_for: Option<([f32; 2], [f32; 2])>,
     wind_serial: u64,
     pub orbit: Option<Orbit>,
     /// Blades drawn (of all the layout has), and the last frame's GPU milliseconds
@@ -157,6 +159,8 @@ impl Default for GrassView {
             grass: None,
             built_for: None,
             target: None,
+            scene_for: None,
+            footprint_for: None,
             wind_serial: u64::MAX,
             orbit: None,
             blades: 0,
@@ -167,12 +171,15 @@ impl Default for GrassView {
 }
 
 impl GrassView {
+    /// Draws the view into the rest of `ui`; `footprint` is the map view's visible world
+    /// rectangle (min, max), when the map is shown too.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
         rs: &egui_wgpu::RenderState,
         doc: &crate::doc::Layout,
         snap: &Snapshot,
+        footprint: Option<([f32; 2], [f32; 2])>,
     ) {
         use crate::gpu::grass::{GrassRenderer, Target};
         let (rect, response) =
@@ -198,6 +205,24 @@ impl GrassView {
             let scroll = ui.input(|i| i.smooth_scroll_delta.y + i.zoom_delta().ln() * 200.0);
             orbit.distance = (orbit.distance * (-scroll / 300.0).exp()).clamp(0.5, 1e5);
         }
+        // Keys while the pointer is over the view: arrows orbit, +/- zoom.
+        if response.hovered() {
+            let (yaw, pitch, zoom) = ui.input(|i| {
+                let k = |key| f32::from(u8::from(i.key_down(key)));
+                (
+                    k(egui::Key::ArrowRight) - k(egui::Key::ArrowLeft),
+                    k(egui::Key::ArrowUp) - k(egui::Key::ArrowDown),
+                    k(egui::Key::Plus) + k(egui::Key::Equals) - k(egui::Key::Minus),
+                )
+            });
+            if yaw != 0.0 || pitch != 0.0 || zoom != 0.0 {
+                let dt = ui.input(|i| i.stable_dt).min(0.1);
+                orbit.yaw += yaw * dt * 1.2;
+                orbit.pitch = (orbit.pitch + pitch * dt * 0.8).clamp(0.03, 1.5);
+                orbit.distance = (orbit.distance * (-zoom * dt * 1.5).exp()).clamp(0.5, 1e5);
+                ui.ctx().request_repaint();
+            }
+        }
         if response.double_clicked()
             || (response.hovered() && ui.input(|i| i.key_pressed(egui::Key::Home)))
         {
@@ -216,6 +241,7 @@ impl GrassView {
             }
             let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
             grass.set_budget(software.then_some(SOFTWARE_BLADE_BUDGET));
+            self.scene_for = None;
             self.total_blades = blades.len() as u32;
             self.blades = grass.blade_count();
             self.grass = Some(grass);
@@ -223,6 +249,22 @@ impl GrassView {
             self.wind_serial = u64::MAX;
         }
         let Some(grass) = &mut self.grass else { return };
+        // Obstacles and arrows: rebuilt when the trees or obstacles change.
+        let scene_key = (doc.trees.clone(), doc.obstacles.clone());
+        if self.scene_for.as_ref() != Some(&scene_key) {
+            grass.set_scene(
+                &rs.device,
+                &crate::grass::scene::solids(doc),
+                &crate::grass::scene::arrows(doc),
+            );
+            self.scene_for = Some(scene_key);
+        }
+        if self.footprint_for != footprint {
+            let lines =
+                footprint.map_or_else(Vec::new, |(a, b)| crate::grass::scene::footprint(a, b));
+            grass.set_footprint(&rs.device, &lines);
+            self.footprint_for = footprint;
+        }
         if snap.serial != self.wind_serial
             && snap.nx > 0
             && snap.velocity.len() == snap.nx * snap.ny
@@ -290,7 +332,7 @@ impl GrassView {
         ui.painter().text(
             rect.left_top() + egui::vec2(10.0, 10.0),
             egui::Align2::LEFT_TOP,
-            "Drag to orbit, right-drag to pan, wheel to zoom, double-click to frame all",
+            "Drag or arrow keys to orbit, right-drag to pan, wheel or +/- to zoom, double-click to frame all",
             egui::FontId::proportional(13.0),
             egui::Color32::from_black_alpha(170),
         );

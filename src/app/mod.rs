@@ -317,7 +317,21 @@ impl EditorApp {
         match self.render_state.clone() {
             Some(rs) => {
                 let snap = self.live.snapshot();
-                self.grass_view.show(ui, &rs, &self.doc, &snap);
+                // The map's visible part, when the map is beside the 3D view.
+                let footprint = (self.settings.central == Central::Split)
+                    .then(|| {
+                        self.camera.map(|c| {
+                            let a = c.to_world(self.map_rect, self.map_rect.min);
+                            let b = c.to_world(self.map_rect, self.map_rect.max);
+                            let (lo, hi) = self.doc.bounds();
+                            (
+                                [a[0].max(lo[0]), a[1].max(lo[1])],
+                                [b[0].min(hi[0]), b[1].min(hi[1])],
+                            )
+                        })
+                    })
+                    .flatten();
+                self.grass_view.show(ui, &rs, &self.doc, &snap, footprint);
             }
             None => {
                 ui.centered_and_justified(|ui| {

@@ -440,3 +440,58 @@ pub fn polygon_area(points: &[Vec2]) -> f32 {
     }
     a * 0.5
 }
+
+/// Ear-clipping triangulation of a simple polygon; calls `tri` with vertex indices.
+pub fn for_each_ear(points: &[Vec2], mut tri: impl FnMut(usize, usize, usize)) {
+    let n = points.len();
+    if n < 3 {
+        return;
+    }
+    let ccw = polygon_area(points) > 0.0;
+    let mut idx: Vec<usize> = (0..n).collect();
+    let cross =
+        |a: Vec2, b: Vec2, c: Vec2| (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+    let mut guard = 0;
+    while idx.len() > 3 && guard < n * n {
+        guard += 1;
+        let m = idx.len();
+        let mut clipped = false;
+        for k in 0..m {
+            let (ia, ib, ic) = (idx[(k + m - 1) % m], idx[k], idx[(k + 1) % m]);
+            let (a, b, c) = (points[ia], points[ib], points[ic]);
+            let convex = if ccw {
+                cross(a, b, c) > 0.0
+            } else {
+                cross(a, b, c) < 0.0
+            };
+            if !convex {
+                continue;
+            }
+            let inside = idx.iter().any(|&q| {
+                if q == ia || q == ib || q == ic {
+                    return false;
+                }
+                let p = points[q];
+                let (d1, d2, d3) = (cross(a, b, p), cross(b, c, p), cross(c, a, p));
+                if ccw {
+                    d1 > 0.0 && d2 > 0.0 && d3 > 0.0
+                } else {
+                    d1 < 0.0 && d2 < 0.0 && d3 < 0.0
+                }
+            });
+            if inside {
+                continue;
+            }
+            tri(ia, ib, ic);
+            idx.remove(k);
+            clipped = true;
+            break;
+        }
+        if !clipped {
+            break;
+        }
+    }
+    if idx.len() == 3 {
+        tri(idx[0], idx[1], idx[2]);
+    }
+}

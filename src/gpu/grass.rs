@@ -9,6 +9,7 @@
 
 use super::GpuError;
 use crate::doc::Layout;
+use crate::grass::scene::SceneVertex;
 use crate::grass::{Blade, cwd};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -18,7 +19,11 @@ use wgpu::util::DeviceExt;
 pub const COMMON: &str = include_str!("../../shaders/grass_common.wgsl");
 
 /// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`].
-pub const SHADERS: [(&str, &str); 3] = [
+pub const SHADERS: [(&str, &str); 4] = [
+    (
+        "grass_scene",
+        include_str!("../../shaders/grass_scene.wgsl"),
+    ),
     (
         "grass_deform",
         include_str!("../../shaders/grass_deform.wgsl"),
@@ -166,6 +171,25 @@ pub struct GrassRenderer {
     tips_pipeline: wgpu::ComputePipeline,
     blade_pipeline: wgpu::RenderPipeline,
     ground_pipeline: wgpu::RenderPipeline,
+    solid_pipeline: wgpu::RenderPipeline,
+    line_pipeline: wgpu::RenderPipeline,
+    /// Obstacles as solids, the arrows, and the map's footprint (vertex buffer, count).
+    solids: Option<(wgpu::Buffer, u32)>,
+    lines: Option<(wgpu::Buffer, u32)>,
+    footprint: Option<(wgpu::Buffer, u32)>,
+}
+
+const TRIANGLES: wgpu::PrimitiveTopology = wgpu::PrimitiveTopology::TriangleList;
+
+fn vertices(device: &wgpu::Device, v: &[SceneVertex]) -> Option<(wgpu::Buffer, u32)> {
+    (!v.is_empty()).then(|| {
+        let b = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("grass scene"),
+            contents: bytemuck::cast_slice(v),
+            usage: wgpu::BufferUsages::VERTEX,
+        });
+        (b, v.len() as u32)
+    })
 }
 
 impl GrassRenderer {
@@ -314,7 +338,15 @@ impl GrassRenderer {
             bind_group_layouts: &[Some(&layout0), Some(&layout_draw)],
             immediate_size: 0,
         });
-        let render = |name: &str, cull: Option<wgpu::Face>| {
+        let scene_vertex = wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<SceneVertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4],
+        };
+        let render = |name: &str,
+                      fs: &str,
+                      topology: wgpu::PrimitiveTopology,
+                      buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
             let m = module(name);
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(name),
@@ -323,10 +355,10 @@ impl GrassRenderer {
                     module: &m,
                     entry_point: Some("vs_main"),
                     compilation_options: Default::default(),
-                    buffers: &[],
+                    buffers,
                 },
                 primitive: wgpu::PrimitiveState {
-                    cull_mode: cull,
+                    topology,
                     ..Default::default()
                 },
                 depth_stencil: Some(wgpu::DepthStencilState {
@@ -339,7 +371,7 @@ impl GrassRenderer {
                 multisample: wgpu::MultisampleState::default(),
                 fragment: Some(wgpu::FragmentState {
                     module: &m,
-                    entry_point: Some("fs_main"),
+                    entry_point: Some(fs),
                     compilation_options: Default::default(),
                     targets: &[Some(wgpu::ColorTargetState {
                         format,
@@ -366,8 +398,23 @@ impl GrassRenderer {
             group1_draw,
             deform: compute("main"),
             tips_pipeline: compute("tips_main"),
-            blade_pipeline: render("grass_blades", None),
-            ground_pipeline: render("grass_ground", None),
+            blade_pipeline: render("grass_blades", "fs_main", TRIANGLES, &[]),
+            ground_pipeline: render("grass_ground", "fs_main", TRIANGLES, &[]),
+            solid_pipeline: render(
+                "grass_scene",
+                "fs_solid",
+                TRIANGLES,
+                &[Some(scene_vertex.clone())],
+            ),
+            line_pipeline: render(
+                "grass_scene",
+                "fs_line",
+                wgpu::PrimitiveTopology::LineList,
+                &[Some(scene_vertex)],
+            ),
+            solids: None,
+            lines: None,
+            footprint: None,
         }
     }
 
@@ -375,6 +422,23 @@ impl GrassRenderer {
     /// with the raw speed — to show the problem our reading solves (`docs/GRASS.md`).
     pub fn set_paper_literal(&mut self, literal: bool) {
         self.scene.literal = u32::from(literal);
+    }
+
+    /// What the view shows besides grass: obstacles as solids and the arrows (a triangle list
+    /// and a line list from [`crate::grass::scene`]).
+    pub fn set_scene(
+        &mut self,
+        device: &wgpu::Device,
+        solids: &[SceneVertex],
+        lines: &[SceneVertex],
+    ) {
+        self.solids = vertices(device, solids);
+        self.lines = vertices(device, lines);
+    }
+
+    /// The map view's footprint on the ground (a line list; empty: none).
+    pub fn set_footprint(&mut self, device: &wgpu::Device, lines: &[SceneVertex]) {
+        self.footprint = vertices(device, lines);
     }
 
     /// Blades drawn.
@@ -466,6 +530,16 @@ impl GrassRenderer {
         pass.set_bind_group(1, &self.group1_draw, &[]);
         pass.set_pipeline(&self.ground_pipeline);
         pass.draw(0..6, 0..1);
+        if let Some((b, n)) = &self.solids {
+            pass.set_pipeline(&self.solid_pipeline);
+            pass.set_vertex_buffer(0, b.slice(..));
+            pass.draw(0..*n, 0..1);
+        }
+        for (b, n) in self.lines.iter().chain(&self.footprint) {
+            pass.set_pipeline(&self.line_pipeline);
+            pass.set_vertex_buffer(0, b.slice(..));
+            pass.draw(0..*n, 0..1);
+        }
         if self.scene.blades > 0 {
             pass.set_pipeline(&self.blade_pipeline);
             pass.draw(0..SEGMENTS * 6, 0..self.blade_count());
@@ -677,6 +751,11 @@ pub fn picture(
         &blades,
     );
     grass.set_paper_literal(paper_literal);
+    grass.set_scene(
+        &ctx.device,
+        &crate::grass::scene::solids(layout),
+        &crate::grass::scene::arrows(layout),
+    );
     let solver = wind_at(layout, time);
     grass.set_wind(
         &ctx.device,

@@ -10,6 +10,7 @@
 //!   (strong wind neither flattens nor blackens a blade).
 
 pub mod cwd;
+pub mod scene;
 
 use crate::doc::{Layout, Shape};
 
