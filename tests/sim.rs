@@ -1231,6 +1231,31 @@ mod gpu {
             assert!(worst.1 <= 1e-3, "shades differ by {}", worst.1);
         }
 
+        /// With the GPU running the field, the grass's wind grid is made on the GPU from the
+        /// solver's faces: it equals the CPU's cell-centred velocity exactly.
+        #[test]
+        fn the_wind_grid_from_a_gpu_field_equals_the_cpu_cells() {
+            let Some(ctx) = context() else { return };
+            let cpu = super::random_solver(windloom::doc::Boundary::Open, 21);
+            let mut fluid = example("obstacles.json");
+            fluid.world.grid = [40, 28];
+            let gpu = windloom::gpu::GpuSolver::from_solver(&ctx, &fluid, &cpu).unwrap();
+            let l = layout(5.0);
+            let mut r = GrassRenderer::new(
+                &ctx.device,
+                wgpu::TextureFormat::Rgba8Unorm,
+                &l,
+                &scatter(&l),
+            );
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            r.wind_from_field(&ctx.device, &ctx.queue, &mut enc, &gpu.field());
+            ctx.queue.submit([enc.finish()]);
+            let wind = r.read_wind(&ctx.device, &ctx.queue).unwrap();
+            let want = cpu.velocity_field();
+            assert!(want.iter().any(|v| v[0] != 0.0), "a field to compare");
+            assert_eq!(wind, want, "the GPU's cells are the CPU's, bit for bit");
+        }
+
         fn picture(ctx: &GpuContext, speed: f32) -> Vec<u8> {
             let l = layout(40.0);
             let blades = scatter(&l);

@@ -412,16 +412,17 @@ fn windloom_wgpu_setup() -> eframe::egui_wgpu::WgpuSetup {
     setup
 }
 
-/// Steps the paused worker `n` times and waits until the snapshot shows them, on `backend`.
-fn step_and_wait(app: &EditorApp, n: usize, backend: Backend) {
-    let before = app.live.snapshot().time;
-    let dt = app.doc.sim.dt;
+/// Steps the paused worker `n` times and waits until the snapshot shows them, on `backend`,
+/// drawing frames meanwhile (the UI thread submits the simulation's GPU work).
+fn step_and_wait(h: &mut Harness<'_, EditorApp>, n: usize, backend: Backend) {
+    let before = h.state().live.snapshot().time;
+    let dt = h.state().doc.sim.dt;
     for _ in 0..n {
-        app.live.step_once();
+        h.state().live.step_once();
     }
     let deadline = Instant::now() + Duration::from_secs(240);
     loop {
-        let s = app.live.snapshot();
+        let s = h.state().live.snapshot();
         if s.backend == backend && s.time >= before + n as f32 * dt - 1e-3 {
             return;
         }
@@ -433,7 +434,8 @@ fn step_and_wait(app: &EditorApp, n: usize, backend: Backend) {
             s.backend,
             s.notice
         );
-        std::thread::sleep(Duration::from_millis(20));
+        h.step();
+        std::thread::sleep(Duration::from_millis(5));
     }
 }
 
@@ -460,7 +462,7 @@ fn editor_window_snapshot_drawn_on_the_gpu() {
             app
         });
     h.state_mut().settings.wind_view = windloom::app::view::WindView::Glyphs;
-    step_and_wait(h.state(), 120, Backend::Gpu);
+    step_and_wait(&mut h, 120, Backend::Gpu);
     let snap = h.state().live.snapshot();
     assert!(snap.field.is_some(), "the map draws from the GPU's buffers");
     h.run_steps(3);
@@ -475,6 +477,7 @@ fn editor_window_snapshot_drawn_on_the_gpu() {
     let deadline = Instant::now() + Duration::from_secs(60);
     while h.state().live.snapshot().backend != Backend::Cpu {
         assert!(Instant::now() < deadline, "no hand-over to the CPU");
+        h.step();
         std::thread::sleep(Duration::from_millis(20));
     }
     h.run_steps(3);
@@ -601,7 +604,7 @@ fn the_3d_grass_view_answers_grass_edits() {
             );
             app
         });
-    step_and_wait(h.state(), 60, Backend::Cpu);
+    step_and_wait(&mut h, 60, Backend::Cpu);
     h.run_steps(3);
     let all = windloom::grass::scatter(&h.state().doc).len() as u32;
     let g = &h.state().grass_view;

@@ -265,7 +265,8 @@ impl GrassView {
             grass.set_footprint(&rs.device, &lines);
             self.footprint_for = footprint;
         }
-        if snap.serial != self.wind_serial
+        if snap.field.is_none()
+            && snap.serial != self.wind_serial
             && snap.nx > 0
             && snap.velocity.len() == snap.nx * snap.ny
         {
@@ -314,6 +315,11 @@ impl GrassView {
             .create_command_encoder(&wgpu::CommandEncoderDescriptor {
                 label: Some("grass view"),
             });
+        if let Some(field) = &snap.field {
+            // The GPU runs the field: the grass reads it there, every frame.
+            grass.wind_from_field(&rs.device, &rs.queue, &mut enc, field);
+            self.wind_serial = u64::MAX;
+        }
         grass.record(&rs.queue, &mut enc, target, &camera, snap.time);
         let started = std::time::Instant::now();
         rs.queue.submit([enc.finish()]);

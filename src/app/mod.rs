@@ -86,6 +86,10 @@ pub enum Sel {
     Ambient(u32),
 }
 
+/// Command buffers from the simulation thread, each with the acknowledgement it waits for.
+type GpuSubmissions =
+    std::sync::mpsc::Receiver<(eframe::wgpu::CommandBuffer, std::sync::mpsc::SyncSender<()>)>;
+
 /// What the central area shows.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Central {
@@ -187,6 +191,10 @@ pub struct EditorApp {
     /// The status bar's rectangle in the last frame (tests mask it: it shows timings).
     pub status_rect: Rect,
     pub settings: Settings,
+    /// GPU work the simulation thread hands the UI thread to submit (declared before `live`
+    /// so that it is dropped first: a worker waiting on it then gives up instead of blocking
+    /// the join).
+    gpu_submissions: Option<GpuSubmissions>,
     pub live: LiveSim,
     streaks: Streaks,
     field_texture: Option<(u64, WindView, egui::TextureHandle, f32)>,
@@ -208,6 +216,8 @@ pub struct EditorApp {
     gpu_view: bool,
     /// eframe's render state, when the map draws on the GPU.
     render_state: Option<egui_wgpu::RenderState>,
+    /// For waking the UI from other threads.
+    repaint: egui::Context,
     /// A CPU-run field's copy on the GPU, for drawing it there.
     uploaded: gpu_view::Uploaded,
     /// The 3D grass view.
@@ -239,6 +249,7 @@ impl EditorApp {
             map_rect: Rect::NOTHING,
             status_rect: Rect::NOTHING,
             settings: Settings::default(),
+            gpu_submissions: None,
             live,
             streaks: Streaks::new(),
             field_texture: None,
@@ -255,6 +266,7 @@ impl EditorApp {
             ui_ms: 0.0,
             gpu_view: false,
             render_state: None,
+            repaint: ctx.clone(),
             uploaded: Default::default(),
             grass_view: Default::default(),
             gpu_scale: None,
@@ -301,6 +313,20 @@ impl EditorApp {
         self.adapter = format!("{} ({:?})", info.name, info.backend);
         match crate::gpu::GpuContext::from_parts(&rs.adapter, rs.device.clone(), rs.queue.clone()) {
             Ok(ctx) => {
+                // wgpu reconfigures the window's surface (on a resize) only while no other
+                // thread submits to its queue, and panics otherwise: the simulation thread's
+                // GPU work is therefore submitted here, on the UI thread, which it wakes and
+                // waits for.
+                let (tx, rx) = std::sync::mpsc::channel();
+                let wake = self.repaint.clone();
+                let ctx = ctx.with_submitter(std::sync::Arc::new(move |cb| {
+                    let (ack, done) = std::sync::mpsc::sync_channel(1);
+                    if tx.send((cb, ack)).is_ok() {
+                        wake.request_repaint();
+                        let _ = done.recv_timeout(std::time::Duration::from_secs(10));
+                    }
+                }));
+                self.gpu_submissions = Some(rx);
                 gpu_view::install(rs);
                 self.gpu_view = true;
                 self.render_state = Some(rs.clone());
@@ -337,6 +363,16 @@ impl EditorApp {
                 ui.centered_and_justified(|ui| {
                     ui.label("The 3D grass view needs a GPU device (wgpu), and none is in use.");
                 });
+            }
+        }
+    }
+
+    /// Submits the GPU work the simulation thread has handed over, in order.
+    fn submit_gpu_work(&self) {
+        if let (Some(rx), Some(rs)) = (&self.gpu_submissions, &self.render_state) {
+            while let Ok((cb, ack)) = rx.try_recv() {
+                rs.queue.submit([cb]);
+                let _ = ack.send(());
             }
         }
     }
@@ -800,6 +836,7 @@ impl eframe::App for EditorApp {
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         let started = std::time::Instant::now();
+        self.submit_gpu_work();
         let now = ctx.input(|i| i.time);
         let dt = ctx.input(|i| i.stable_dt);
         self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;
@@ -856,6 +893,7 @@ impl eframe::App for EditorApp {
         if self.live.playing {
             ctx.request_repaint();
         }
+        self.submit_gpu_work();
         let ui_ms = started.elapsed().as_secs_f32() * 1e3;
         self.ui_ms = if self.ui_ms == 0.0 {
             ui_ms

@@ -23,12 +23,18 @@ pub fn is_software(info: &wgpu::AdapterInfo) -> bool {
     info.device_type == wgpu::DeviceType::Cpu
 }
 
+/// Submits command buffers on another thread's behalf (see [`GpuContext::submit`]).
+pub type Submitter = std::sync::Arc<dyn Fn(wgpu::CommandBuffer) + Send + Sync>;
+
 /// A device and queue with what the fluid passes need.
 #[derive(Clone)]
 pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter: wgpu::AdapterInfo,
+    /// Who submits this context's work: the queue directly, or — on the editor's device, whose
+    /// surface wgpu reconfigures only while no other thread submits — the UI thread.
+    submitter: Option<Submitter>,
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -79,6 +85,7 @@ impl GpuContext {
             device,
             queue,
             adapter: info,
+            submitter: None,
         })
     }
 
@@ -104,7 +111,25 @@ impl GpuContext {
             device,
             queue,
             adapter: info,
+            submitter: None,
         })
+    }
+
+    /// This context with its submissions made by `submitter` (which must submit them, in
+    /// order, before returning or soon after).
+    pub fn with_submitter(mut self, submitter: Submitter) -> Self {
+        self.submitter = Some(submitter);
+        self
+    }
+
+    /// Submits `cb`: to the queue, or through the submitter when there is one.
+    pub fn submit(&self, cb: wgpu::CommandBuffer) {
+        match &self.submitter {
+            Some(s) => s(cb),
+            None => {
+                self.queue.submit([cb]);
+            }
+        }
     }
 
     /// Whether the device is a software rasteriser.

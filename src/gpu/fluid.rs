@@ -321,7 +321,23 @@ impl GpuFluid {
         queue: &wgpu::Queue,
         f: FieldId,
     ) -> Result<Vec<f32>, super::GpuError> {
-        let bytes = super::read_buffer(device, queue, self.buffer(f))?;
+        self.download_via(
+            device,
+            &|cb| {
+                queue.submit([cb]);
+            },
+            f,
+        )
+    }
+
+    /// [`Self::download`], its copy submitted by `submit`.
+    pub fn download_via(
+        &self,
+        device: &wgpu::Device,
+        submit: &dyn Fn(wgpu::CommandBuffer),
+        f: FieldId,
+    ) -> Result<Vec<f32>, super::GpuError> {
+        let bytes = super::read_buffer_via(device, submit, self.buffer(f))?;
         Ok(bytemuck::cast_slice::<u8, f32>(&bytes).to_vec())
     }
 
@@ -434,6 +450,7 @@ impl GpuFluid {
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
+        submit: &dyn Fn(wgpu::CommandBuffer),
     ) -> Result<std::collections::BTreeMap<&'static str, f64>, super::GpuError> {
         let mut guard = self.profiler.lock().unwrap_or_else(|e| e.into_inner());
         let mut times = std::collections::BTreeMap::new();
@@ -451,7 +468,7 @@ impl GpuFluid {
         let mut enc = device.create_command_encoder(&Default::default());
         enc.resolve_query_set(&p.set, 0..2 * n, &p.resolve, 0);
         enc.copy_buffer_to_buffer(&p.resolve, 0, &p.read, 0, u64::from(2 * n) * 8);
-        queue.submit([enc.finish()]);
+        submit(enc.finish());
         let (tx, rx) = std::sync::mpsc::channel();
         p.read.map_async(wgpu::MapMode::Read, .., move |r| {
             let _ = tx.send(r);

@@ -19,7 +19,8 @@ use wgpu::util::DeviceExt;
 pub const COMMON: &str = include_str!("../../shaders/grass_common.wgsl");
 
 /// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`].
-pub const SHADERS: [(&str, &str); 4] = [
+pub const SHADERS: [(&str, &str); 5] = [
+    ("grass_wind", include_str!("../../shaders/grass_wind.wgsl")),
     (
         "grass_scene",
         include_str!("../../shaders/grass_scene.wgsl"),
@@ -38,12 +39,16 @@ pub const SHADERS: [(&str, &str); 4] = [
     ),
 ];
 
-/// The full WGSL of grass pass `name`.
+/// The full WGSL of grass pass `name` (the common header, then the pass; `grass_wind` alone:
+/// it writes the wind grid the header declares read-only).
 pub fn shader_source(name: &str) -> Option<String> {
-    SHADERS
-        .iter()
-        .find(|(n, _)| *n == name)
-        .map(|(_, s)| format!("{COMMON}\n{s}"))
+    SHADERS.iter().find(|(n, _)| *n == name).map(|(n, s)| {
+        if *n == "grass_wind" {
+            s.to_string()
+        } else {
+            format!("{COMMON}\n{s}")
+        }
+    })
 }
 
 /// The scene; mirrors `struct Scene` in `shaders/grass_common.wgsl`.
@@ -177,6 +182,11 @@ pub struct GrassRenderer {
     solids: Option<(wgpu::Buffer, u32)>,
     lines: Option<(wgpu::Buffer, u32)>,
     footprint: Option<(wgpu::Buffer, u32)>,
+    /// The faces → wind grid pass for a GPU-run field, its grid uniform, and its bind group
+    /// for the field last bound.
+    wind_pipeline: wgpu::ComputePipeline,
+    wind_grid: wgpu::Buffer,
+    wind_group: Option<(super::mapview::FieldBuffers, wgpu::BindGroup)>,
 }
 
 const TRIANGLES: wgpu::PrimitiveTopology = wgpu::PrimitiveTopology::TriangleList;
@@ -415,6 +425,21 @@ impl GrassRenderer {
             solids: None,
             lines: None,
             footprint: None,
+            wind_pipeline: device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("grass_wind"),
+                layout: None,
+                module: &module("grass_wind"),
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            }),
+            wind_grid: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("grass wind grid"),
+                size: 16,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            wind_group: None,
         }
     }
 
@@ -465,40 +490,117 @@ impl GrassRenderer {
         velocity: &[[f32; 2]],
     ) {
         assert_eq!(velocity.len(), nx * ny, "a wind grid of nx × ny cells");
-        let bytes: &[u8] = bytemuck::cast_slice(velocity);
-        if bytes.len() as u64 > self.wind.size()
-            || (nx, ny) != (self.scene.nx as usize, self.scene.ny as usize)
-        {
-            self.wind = storage(device, "grass wind", bytes);
+        self.ensure_wind(device, (nx, ny), origin, cell);
+        queue.write_buffer(&self.wind, 0, bytemuck::cast_slice(velocity));
+    }
+
+    /// Sizes the wind grid for `nx × ny` cells (a new buffer and bind group if it changes).
+    fn ensure_wind(
+        &mut self,
+        device: &wgpu::Device,
+        (nx, ny): (usize, usize),
+        origin: [f32; 2],
+        cell: [f32; 2],
+    ) {
+        let bytes = (nx * ny * 8) as u64;
+        if bytes != self.wind.size() {
+            self.wind = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("grass wind"),
+                size: bytes.max(8),
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST
+                    | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            self.wind_group = None;
+            let entries = [
+                self.scene_buf.as_entire_binding(),
+                self.blades.as_entire_binding(),
+                self.wind.as_entire_binding(),
+                self.palettes.as_entire_binding(),
+            ];
+            let entries: Vec<_> = entries
+                .into_iter()
+                .enumerate()
+                .map(|(k, resource)| wgpu::BindGroupEntry {
+                    binding: k as u32,
+                    resource,
+                })
+                .collect();
             self.group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("grass"),
                 layout: &self.layout0,
-                entries: &[
-                    wgpu::BindGroupEntry {
-                        binding: 0,
-                        resource: self.scene_buf.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 1,
-                        resource: self.blades.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 2,
-                        resource: self.wind.as_entire_binding(),
-                    },
-                    wgpu::BindGroupEntry {
-                        binding: 3,
-                        resource: self.palettes.as_entire_binding(),
-                    },
-                ],
+                entries: &entries,
             });
-        } else {
-            queue.write_buffer(&self.wind, 0, bytes);
         }
         self.scene.nx = nx as u32;
         self.scene.ny = ny as u32;
         self.scene.origin = origin;
         self.scene.cell = cell;
+    }
+
+    /// Records the wind grid taken from a GPU-run field's faces (`grass_wind.wgsl`), so the
+    /// grass follows the GPU solver with no read-back.
+    pub fn wind_from_field(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        field: &super::mapview::FieldBuffers,
+    ) {
+        let (nx, ny) = (field.nx as usize, field.ny as usize);
+        self.ensure_wind(device, (nx, ny), field.origin, field.cell);
+        queue.write_buffer(
+            &self.wind_grid,
+            0,
+            bytemuck::cast_slice(&[field.nx, field.ny, 0, 0]),
+        );
+        if self.wind_group.as_ref().is_none_or(|(f, _)| f != field) {
+            let layout = self.wind_pipeline.get_bind_group_layout(0);
+            let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("grass wind from field"),
+                layout: &layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: self.wind_grid.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: field.u.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: field.v.as_entire_binding(),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 3,
+                        resource: self.wind.as_entire_binding(),
+                    },
+                ],
+            });
+            self.wind_group = Some((field.clone(), group));
+        }
+        let Some((_, group)) = &self.wind_group else {
+            return;
+        };
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("grass wind from field"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.wind_pipeline);
+        pass.set_bind_group(0, group, &[]);
+        pass.dispatch_workgroups(field.nx.div_ceil(8), field.ny.div_ceil(8), 1);
+    }
+
+    /// The wind grid, read back (for tests; waits for the GPU).
+    pub fn read_wind(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 2]>, GpuError> {
+        let bytes = super::read_buffer(device, queue, &self.wind)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
     }
 
     /// Records this frame's pose pass for `camera` at simulation `time`, drawing into a

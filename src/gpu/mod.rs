@@ -10,13 +10,28 @@ pub mod grass;
 pub mod mapview;
 mod solver;
 
-pub use context::{GpuContext, GpuError, device_descriptor, is_software};
+pub use context::{GpuContext, GpuError, Submitter, device_descriptor, is_software};
 pub use solver::GpuSolver;
 
 /// Copies `src` (a buffer with `COPY_SRC`) back to the CPU; waits for the GPU.
 pub fn read_buffer(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
+    src: &wgpu::Buffer,
+) -> Result<Vec<u8>, GpuError> {
+    read_buffer_via(
+        device,
+        &|cb| {
+            queue.submit([cb]);
+        },
+        src,
+    )
+}
+
+/// [`read_buffer`], its copy submitted by `submit`.
+pub fn read_buffer_via(
+    device: &wgpu::Device,
+    submit: &dyn Fn(wgpu::CommandBuffer),
     src: &wgpu::Buffer,
 ) -> Result<Vec<u8>, GpuError> {
     let size = src.size();
@@ -28,7 +43,7 @@ pub fn read_buffer(
     });
     let mut enc = device.create_command_encoder(&Default::default());
     enc.copy_buffer_to_buffer(src, 0, &staging, 0, size);
-    queue.submit([enc.finish()]);
+    submit(enc.finish());
     let (tx, rx) = std::sync::mpsc::channel();
     staging.map_async(wgpu::MapMode::Read, .., move |r| {
         let _ = tx.send(r);

@@ -72,7 +72,9 @@ impl GpuSolver {
     /// same layout: the hand-over back to the CPU, and the editor's throttled read-back.
     pub fn read_into(&self, ctx: &GpuContext, cpu: &mut Solver) -> Result<(), GpuError> {
         let (u, v) = self.faces(ctx)?;
-        let p = self.fluid.download(&ctx.device, &ctx.queue, FieldId::P)?;
+        let p = self
+            .fluid
+            .download_via(&ctx.device, &|cb| ctx.submit(cb), FieldId::P)?;
         if u.len() != cpu.u.len() || v.len() != cpu.v.len() || p.len() != cpu.p.len() {
             return Err(GpuError::Runtime {
                 what: "handing the field to the CPU".into(),
@@ -118,7 +120,7 @@ impl GpuSolver {
                 .record_substep(device, queue, &mut enc, dt, iterations, keep, maccormack);
             // One encoder a substep, no read-back: the parameters all passes read are written
             // once before it runs.
-            queue.submit([enc.finish()]);
+            ctx.submit(enc.finish());
             self.time += dt;
         }
     }
@@ -133,7 +135,8 @@ impl GpuSolver {
         &self,
         ctx: &GpuContext,
     ) -> Result<std::collections::BTreeMap<&'static str, f64>, GpuError> {
-        self.fluid.pass_times(&ctx.device, &ctx.queue)
+        self.fluid
+            .pass_times(&ctx.device, &ctx.queue, &|cb| ctx.submit(cb))
     }
 
     /// Waits until the GPU has finished every submitted step.
@@ -150,8 +153,10 @@ impl GpuSolver {
     /// The face velocities `(u, v)` read back from the GPU.
     pub fn faces(&self, ctx: &GpuContext) -> Result<(Vec<f32>, Vec<f32>), GpuError> {
         Ok((
-            self.fluid.download(&ctx.device, &ctx.queue, FieldId::U)?,
-            self.fluid.download(&ctx.device, &ctx.queue, FieldId::V)?,
+            self.fluid
+                .download_via(&ctx.device, &|cb| ctx.submit(cb), FieldId::U)?,
+            self.fluid
+                .download_via(&ctx.device, &|cb| ctx.submit(cb), FieldId::V)?,
         ))
     }
 
