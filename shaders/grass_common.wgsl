@@ -38,7 +38,8 @@ struct Scene {
     // 1: eqs. 12–14 as the paper prints them (no saturation, no length restored) — only for
     // the before/after pictures in docs/GRASS.md.
     literal: u32,
-    _pad: u32,
+    // Opacity of the map backdrop over the ground (0: no backdrop).
+    backdrop: f32,
 }
 
 struct Blade {

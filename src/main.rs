@@ -454,8 +454,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         target: glam::Vec3::new(c[3], c[4], c[5]),
                         fov_y: 45f32.to_radians(),
                     });
-                    let pixels =
-                        windloom::gpu::grass::picture(&ctx, &l, size, time, camera, paper_literal)?;
+                    let pixels = windloom::gpu::grass::picture(
+                        &ctx,
+                        &l,
+                        base,
+                        size,
+                        time,
+                        camera,
+                        paper_literal,
+                    )?;
                     let mut png = Vec::new();
                     image::RgbaImage::from_raw(size[0], size[1], pixels)
                         .context("picture size")?

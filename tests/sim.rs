@@ -1256,6 +1256,72 @@ mod gpu {
             assert_eq!(wind, want, "the GPU's cells are the CPU's, bit for bit");
         }
 
+        /// A layout's map backdrop colours the ground under the grass (`render --view grass`).
+        #[test]
+        fn the_ground_shows_the_map_backdrop() {
+            let Some(ctx) = context() else { return };
+            let dir = tempfile::tempdir().unwrap();
+            // Left half red, right half blue.
+            let img = image::RgbaImage::from_fn(64, 64, |x, _| {
+                if x < 32 {
+                    image::Rgba([230, 20, 20, 255])
+                } else {
+                    image::Rgba([20, 20, 230, 255])
+                }
+            });
+            img.save(dir.path().join("level.png")).unwrap();
+            let mut l = layout(0.01);
+            l.world.size = [10.0, 10.0];
+            l.world.map = Some(windloom::doc::MapBackdrop {
+                image: "level.png".into(),
+                opacity: 1.0,
+            });
+            let camera = Camera {
+                eye: glam::Vec3::new(5.0, 14.0, 9.0),
+                target: glam::Vec3::new(5.0, 0.0, 5.0),
+                fov_y: 45f32.to_radians(),
+            };
+            let (w, h) = (160u32, 120u32);
+            let px = windloom::gpu::grass::picture(
+                &ctx,
+                &l,
+                dir.path(),
+                [w, h],
+                0.0,
+                Some(camera),
+                false,
+            )
+            .unwrap();
+            let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
+            let (left, right) = (at(w / 4, h / 2), at(3 * w / 4, h / 2));
+            println!("ground left {left:?}, right {right:?}");
+            assert!(
+                left[0] > 120 && left[2] < 60,
+                "the red half shows on the left: {left:?}"
+            );
+            assert!(
+                right[2] > 120 && right[0] < 60,
+                "the blue half on the right: {right:?}"
+            );
+            // Without the backdrop, soil.
+            l.world.map = None;
+            let px = windloom::gpu::grass::picture(
+                &ctx,
+                &l,
+                dir.path(),
+                [w, h],
+                0.0,
+                Some(camera),
+                false,
+            )
+            .unwrap();
+            let soil = &px[(((h / 2) * w + w / 4) * 4) as usize..][..3];
+            assert!(
+                soil[0] < 120 && soil[2] < 60,
+                "plain ground is soil: {soil:?}"
+            );
+        }
+
         fn picture(ctx: &GpuContext, speed: f32) -> Vec<u8> {
             let l = layout(40.0);
             let blades = scatter(&l);

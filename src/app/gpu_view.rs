@@ -180,6 +180,7 @@ impl GrassView {
         doc: &crate::doc::Layout,
         snap: &Snapshot,
         footprint: Option<([f32; 2], [f32; 2])>,
+        base: &std::path::Path,
     ) {
         use crate::gpu::grass::{GrassRenderer, Target};
         let (rect, response) =
@@ -241,6 +242,19 @@ impl GrassView {
             }
             let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
             grass.set_budget(software.then_some(SOFTWARE_BLADE_BUDGET));
+            if let Some(map) = &doc.world.map {
+                // The backdrop, as the map shows it (unreadable: plain soil; the map view says
+                // why).
+                if let Ok(img) = image::open(base.join(&map.image)) {
+                    let img = img.to_rgba8();
+                    let size = [img.width(), img.height()];
+                    grass.set_backdrop(
+                        &rs.device,
+                        &rs.queue,
+                        Some((img.as_raw(), size, map.opacity)),
+                    );
+                }
+            }
             self.scene_for = None;
             self.total_blades = blades.len() as u32;
             self.blades = grass.blade_count();

@@ -357,7 +357,14 @@ impl EditorApp {
                         })
                     })
                     .flatten();
-                self.grass_view.show(ui, &rs, &self.doc, &snap, footprint);
+                let base = self
+                    .path
+                    .as_ref()
+                    .and_then(|p| p.parent())
+                    .map(|d| d.to_path_buf())
+                    .unwrap_or_default();
+                self.grass_view
+                    .show(ui, &rs, &self.doc, &snap, footprint, &base);
             }
             None => {
                 ui.centered_and_justified(|ui| {

@@ -885,6 +885,55 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
             changed |= num(ui, "k1 (gravity)", &mut g.k1, 0.0..=10.0, 0.005, "");
             changed |= num(ui, "k2 (forward)", &mut g.k2, 0.0..=10.0, 0.005, "");
             changed |= num(ui, "λ (stiffness)", &mut g.lambda, 0.0..=1.0, 0.01, "");
+            changed |= num(ui, "Height min", &mut g.height[0], 0.01..=100.0, 0.01, " m");
+            changed |= num(ui, "Height max", &mut g.height[1], 0.01..=100.0, 0.01, " m");
+            changed |= num(ui, "Width min", &mut g.width[0], 0.001..=10.0, 0.001, " m");
+            changed |= num(ui, "Width max", &mut g.width[1], 0.001..=10.0, 0.001, " m");
+            changed |= num(
+                ui,
+                "Stiffness min",
+                &mut g.stiffness[0],
+                0.01..=1000.0,
+                0.01,
+                "",
+            );
+            changed |= num(
+                ui,
+                "Stiffness max",
+                &mut g.stiffness[1],
+                0.01..=1000.0,
+                0.01,
+                "",
+            );
+            changed |= num(
+                ui,
+                "Shadow c1 (wind)",
+                &mut g.shadow.c1,
+                0.0..=10.0,
+                0.005,
+                "",
+            );
+            changed |= num(
+                ui,
+                "Shadow c2 (lift)",
+                &mut g.shadow.c2,
+                0.0..=10.0,
+                0.01,
+                "",
+            );
+            changed |= num(ui, "Shadow min", &mut g.shadow.m_min, 0.0..=10.0, 0.01, "");
+            changed |= num(ui, "Shadow max", &mut g.shadow.m_max, 0.0..=10.0, 0.01, "");
+            changed |= row(ui, "Seed", |ui| ui.add(egui::DragValue::new(&mut g.seed)));
+            for p in &mut g.palettes {
+                changed |= row(ui, &format!("Palette {}", p.name), |ui| {
+                    ui.horizontal(|ui| {
+                        let a = ui.color_edit_button_rgb(&mut p.base).on_hover_text("base");
+                        let b = ui.color_edit_button_rgb(&mut p.tip).on_hover_text("tip");
+                        a.union(b)
+                    })
+                    .inner
+                });
+            }
             let l = ui.label("Model");
             egui::ComboBox::from_id_salt("grass model")
                 .selected_text(format!("{:?}", g.model))

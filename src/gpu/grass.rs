@@ -82,7 +82,8 @@ pub struct Scene {
     pub srgb_target: u32,
     /// 1: the paper's equations as printed (pictures of its failure only).
     pub literal: u32,
-    pub _pad: u32,
+    /// Opacity of the map backdrop over the ground (0: none).
+    pub backdrop: f32,
 }
 
 /// A blade's pose this frame; mirrors `struct Pose` in `shaders/grass_common.wgsl`.
@@ -187,6 +188,55 @@ pub struct GrassRenderer {
     wind_pipeline: wgpu::ComputePipeline,
     wind_grid: wgpu::Buffer,
     wind_group: Option<(super::mapview::FieldBuffers, wgpu::BindGroup)>,
+    /// The map backdrop laid over the ground (a blank 1×1 until one is set).
+    backdrop_layout: wgpu::BindGroupLayout,
+    backdrop_group: wgpu::BindGroup,
+}
+
+fn backdrop_texture(device: &wgpu::Device, [w, h]: [u32; 2]) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("grass backdrop"),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8UnormSrgb,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
+fn backdrop_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    texture: &wgpu::Texture,
+) -> wgpu::BindGroup {
+    let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+        label: Some("grass backdrop"),
+        mag_filter: wgpu::FilterMode::Linear,
+        min_filter: wgpu::FilterMode::Linear,
+        ..Default::default()
+    });
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("grass backdrop"),
+        layout,
+        entries: &[
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: wgpu::BindingResource::TextureView(
+                    &texture.create_view(&Default::default()),
+                ),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+        ],
+    })
 }
 
 const TRIANGLES: wgpu::PrimitiveTopology = wgpu::PrimitiveTopology::TriangleList;
@@ -241,7 +291,7 @@ impl GrassRenderer {
             palettes: g.palettes.len().max(1) as u32,
             srgb_target: u32::from(format.is_srgb()),
             literal: 0,
-            _pad: 0,
+            backdrop: 0.0,
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -353,6 +403,32 @@ impl GrassRenderer {
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4],
         };
+        let backdrop_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass backdrop"),
+            entries: &[
+                wgpu::BindGroupLayoutEntry {
+                    binding: 0,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let ground_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("grass ground"),
+            bind_group_layouts: &[Some(&layout0), Some(&layout_draw), Some(&backdrop_layout)],
+            immediate_size: 0,
+        });
         let render = |name: &str,
                       fs: &str,
                       topology: wgpu::PrimitiveTopology,
@@ -360,7 +436,11 @@ impl GrassRenderer {
             let m = module(name);
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(name),
-                layout: Some(&draw_layout),
+                layout: Some(if name == "grass_ground" {
+                    &ground_layout
+                } else {
+                    &draw_layout
+                }),
                 vertex: wgpu::VertexState {
                     module: &m,
                     entry_point: Some("vs_main"),
@@ -440,6 +520,12 @@ impl GrassRenderer {
                 mapped_at_creation: false,
             }),
             wind_group: None,
+            backdrop_group: backdrop_group(
+                device,
+                &backdrop_layout,
+                &backdrop_texture(device, [1, 1]),
+            ),
+            backdrop_layout,
         }
     }
 
@@ -459,6 +545,38 @@ impl GrassRenderer {
     ) {
         self.solids = vertices(device, solids);
         self.lines = vertices(device, lines);
+    }
+
+    /// Lays the layout's map backdrop over the ground: `rgba` (sRGB, 8 bits, `size` pixels,
+    /// stretched over the world as on the map) at `opacity`; `None` removes it.
+    pub fn set_backdrop(
+        &mut self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        image: Option<(&[u8], [u32; 2], f32)>,
+    ) {
+        let Some((rgba, [w, h], opacity)) = image else {
+            self.scene.backdrop = 0.0;
+            return;
+        };
+        assert_eq!(
+            rgba.len(),
+            (w * h * 4) as usize,
+            "RGBA8 pixels of the given size"
+        );
+        let texture = backdrop_texture(device, [w, h]);
+        queue.write_texture(
+            texture.as_image_copy(),
+            rgba,
+            wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(4 * w),
+                rows_per_image: Some(h),
+            },
+            texture.size(),
+        );
+        self.backdrop_group = backdrop_group(device, &self.backdrop_layout, &texture);
+        self.scene.backdrop = opacity;
     }
 
     /// The map view's footprint on the ground (a line list; empty: none).
@@ -631,6 +749,7 @@ impl GrassRenderer {
         pass.set_bind_group(0, &self.group0, &[]);
         pass.set_bind_group(1, &self.group1_draw, &[]);
         pass.set_pipeline(&self.ground_pipeline);
+        pass.set_bind_group(2, &self.backdrop_group, &[]);
         pass.draw(0..6, 0..1);
         if let Some((b, n)) = &self.solids {
             pass.set_pipeline(&self.solid_pipeline);
@@ -840,6 +959,7 @@ fn wind_at(layout: &Layout, time: f32) -> crate::sim::Solver {
 pub fn picture(
     ctx: &super::GpuContext,
     layout: &Layout,
+    base: &std::path::Path,
     size: [u32; 2],
     time: f32,
     camera: Option<Camera>,
@@ -853,6 +973,21 @@ pub fn picture(
         &blades,
     );
     grass.set_paper_literal(paper_literal);
+    if let Some(map) = &layout.world.map {
+        let path = base.join(&map.image);
+        let img = image::open(&path)
+            .map_err(|e| GpuError::Runtime {
+                what: format!("reading the map backdrop {}", path.display()),
+                message: e.to_string(),
+            })?
+            .to_rgba8();
+        let size = [img.width(), img.height()];
+        grass.set_backdrop(
+            &ctx.device,
+            &ctx.queue,
+            Some((img.as_raw(), size, map.opacity)),
+        );
+    }
     grass.set_scene(
         &ctx.device,
         &crate::grass::scene::solids(layout),
