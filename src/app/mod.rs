@@ -5,6 +5,7 @@
 
 pub mod export;
 mod gpu_view;
+mod inspector;
 pub mod live;
 mod map;
 mod panels;
@@ -865,7 +866,7 @@ impl eframe::App for EditorApp {
         panels::menu_bar(self, ui);
         panels::status_bar(self, ui);
         panels::layers_panel(self, ui);
-        panels::inspector_panel(self, ui);
+        inspector::inspector_panel(self, ui);
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE.fill(egui::Color32::from_gray(24)))
             .show(ui, |ui| match self.settings.central {

@@ -8,6 +8,7 @@
 //! (`app::gpu_view`) calls [`MapRenderer::prepare`] and [`MapRenderer::paint`] from an
 //! `egui_wgpu::CallbackTrait`.
 
+use super::buffer_entry as entry;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
@@ -205,23 +206,6 @@ fn colour_table() -> Vec<u32> {
         .map(|k| pack(crate::colour::speed_rgb(k as f32 / 255.0)))
         .chain((0..256).map(|k| pack(crate::colour::signed_rgb(k as f32 / 127.5 - 1.0))))
         .collect()
-}
-
-fn entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    ty: wgpu::BufferBindingType,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
-    }
 }
 
 impl MapRenderer {

@@ -13,6 +13,24 @@ mod solver;
 pub use context::{GpuContext, GpuError, Submitter, device_descriptor, is_software};
 pub use solver::GpuSolver;
 
+/// A bind-group-layout entry for a buffer at `binding` (the passes' explicit layouts).
+pub(crate) fn buffer_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+    ty: wgpu::BufferBindingType,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Buffer {
+            ty,
+            has_dynamic_offset: false,
+            min_binding_size: None,
+        },
+        count: None,
+    }
+}
+
 /// Copies `src` (a buffer with `COPY_SRC`) back to the CPU; waits for the GPU.
 pub fn read_buffer(
     device: &wgpu::Device,

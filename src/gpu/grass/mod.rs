@@ -6,8 +6,17 @@
 //! `grass_common.wgsl`.
 //!
 //! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. Uses glam for the camera.
+//! `target.rs`: the colour + depth target and whole frames into it; `headless.rs`: pictures
+//! and the benchmark for the CLI.
+
+mod headless;
+mod target;
+
+pub use headless::{GrassBench, bench, picture};
+pub use target::{Target, render_offscreen};
 
 use super::GpuError;
+use super::buffer_entry as entry;
 use crate::doc::Layout;
 use crate::grass::scene::SceneVertex;
 use crate::grass::{Blade, cwd};
@@ -16,26 +25,29 @@ use glam::{Mat4, Vec3};
 use wgpu::util::DeviceExt;
 
 /// The shared header of the grass passes.
-pub const COMMON: &str = include_str!("../../shaders/grass_common.wgsl");
+pub const COMMON: &str = include_str!("../../../shaders/grass_common.wgsl");
 
 /// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`].
 pub const SHADERS: [(&str, &str); 5] = [
-    ("grass_wind", include_str!("../../shaders/grass_wind.wgsl")),
+    (
+        "grass_wind",
+        include_str!("../../../shaders/grass_wind.wgsl"),
+    ),
     (
         "grass_scene",
-        include_str!("../../shaders/grass_scene.wgsl"),
+        include_str!("../../../shaders/grass_scene.wgsl"),
     ),
     (
         "grass_deform",
-        include_str!("../../shaders/grass_deform.wgsl"),
+        include_str!("../../../shaders/grass_deform.wgsl"),
     ),
     (
         "grass_blades",
-        include_str!("../../shaders/grass_blades.wgsl"),
+        include_str!("../../../shaders/grass_blades.wgsl"),
     ),
     (
         "grass_ground",
-        include_str!("../../shaders/grass_ground.wgsl"),
+        include_str!("../../../shaders/grass_ground.wgsl"),
     ),
 ];
 
@@ -127,23 +139,6 @@ impl Camera {
         let dist = (self.eye - self.target).length().max(0.01);
         let proj = Mat4::perspective_rh(self.fov_y, aspect, (dist * 0.002).max(0.01), dist * 20.0);
         proj * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
-    }
-}
-
-fn entry(
-    binding: u32,
-    visibility: wgpu::ShaderStages,
-    ty: wgpu::BufferBindingType,
-) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility,
-        ty: wgpu::BindingType::Buffer {
-            ty,
-            has_dynamic_offset: false,
-            min_binding_size: None,
-        },
-        count: None,
     }
 }
 
@@ -786,291 +781,4 @@ impl GrassRenderer {
         let bytes = super::read_buffer(device, queue, &self.tips)?;
         Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)[..self.scene.blades as usize].to_vec())
     }
-}
-
-/// Sky colour behind the grass (linear).
-const SKY: wgpu::Color = wgpu::Color {
-    r: 0.50,
-    g: 0.66,
-    b: 0.85,
-    a: 1.0,
-};
-
-/// A colour and depth target the grass draws into: offscreen pictures, and the editor's 3D view
-/// (which shows the colour texture as an image).
-pub struct Target {
-    pub texture: wgpu::Texture,
-    pub view: wgpu::TextureView,
-    /// The colour texture viewed as plain `Rgba8Unorm`: sampling gives the sRGB-encoded bytes,
-    /// which is what egui's painter expects of an image.
-    pub encoded_view: wgpu::TextureView,
-    depth_view: wgpu::TextureView,
-    pub size: [u32; 2],
-}
-
-impl Target {
-    /// The colour format (sRGB: pictures and egui both read it as such).
-    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-
-    pub fn new(device: &wgpu::Device, [w, h]: [u32; 2]) -> Self {
-        let extent = wgpu::Extent3d {
-            width: w.max(1),
-            height: h.max(1),
-            depth_or_array_layers: 1,
-        };
-        let texture = |format, usage| {
-            device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("grass target"),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format,
-                usage,
-                view_formats: if format == Self::FORMAT {
-                    &[wgpu::TextureFormat::Rgba8Unorm]
-                } else {
-                    &[]
-                },
-            })
-        };
-        let colour = texture(
-            Self::FORMAT,
-            wgpu::TextureUsages::RENDER_ATTACHMENT
-                | wgpu::TextureUsages::COPY_SRC
-                | wgpu::TextureUsages::TEXTURE_BINDING,
-        );
-        let depth = texture(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        Self {
-            view: colour.create_view(&Default::default()),
-            encoded_view: colour.create_view(&wgpu::TextureViewDescriptor {
-                format: Some(wgpu::TextureFormat::Rgba8Unorm),
-                ..Default::default()
-            }),
-            depth_view: depth.create_view(&Default::default()),
-            texture: colour,
-            size: [extent.width, extent.height],
-        }
-    }
-}
-
-impl GrassRenderer {
-    /// Records a whole frame into `target`: the pose pass, then sky, ground and blades.
-    pub fn record(
-        &mut self,
-        queue: &wgpu::Queue,
-        enc: &mut wgpu::CommandEncoder,
-        target: &Target,
-        camera: &Camera,
-        time: f32,
-    ) {
-        let [w, h] = target.size;
-        self.prepare(queue, enc, camera, w as f32 / h as f32, time);
-        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("grass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target.view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(SKY),
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &target.depth_view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        self.paint(&mut pass);
-    }
-}
-
-/// One offscreen picture of the grass: RGBA8 (sRGB) pixels, `size` wide and high, and the time
-/// the frame took in milliseconds (wall clock, submitted and waited for).
-pub fn render_offscreen(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    grass: &mut GrassRenderer,
-    camera: &Camera,
-    time: f32,
-    [w, h]: [u32; 2],
-) -> Result<(Vec<u8>, f64), GpuError> {
-    let target = Target::new(device, [w, h]);
-    let row = (w * 4).div_ceil(256) * 256;
-    let out = device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("grass picture pixels"),
-        size: u64::from(row * h),
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-        mapped_at_creation: false,
-    });
-    let started = std::time::Instant::now();
-    let mut enc = device.create_command_encoder(&Default::default());
-    grass.record(queue, &mut enc, &target, camera, time);
-    queue.submit([enc.finish()]);
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Runtime {
-            what: "drawing the grass".into(),
-            message: e.to_string(),
-        })?;
-    let ms = started.elapsed().as_secs_f64() * 1e3;
-    let mut enc = device.create_command_encoder(&Default::default());
-    enc.copy_texture_to_buffer(
-        target.texture.as_image_copy(),
-        wgpu::TexelCopyBufferInfo {
-            buffer: &out,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: Some(row),
-                rows_per_image: Some(h),
-            },
-        },
-        target.texture.size(),
-    );
-    queue.submit([enc.finish()]);
-    let bytes = super::read_buffer(device, queue, &out)?;
-    let pixels = (0..h as usize)
-        .flat_map(|y| bytes[y * row as usize..][..w as usize * 4].to_vec())
-        .collect();
-    Ok((pixels, ms))
-}
-
-/// The layout's wind after `time` simulated seconds (CPU solver), as the grass's wind grid.
-fn wind_at(layout: &Layout, time: f32) -> crate::sim::Solver {
-    let mut solver = crate::sim::Solver::new(layout);
-    let steps = (time / layout.sim.dt).round().max(0.0) as usize;
-    for _ in 0..steps {
-        solver.step();
-    }
-    solver
-}
-
-/// A picture of `layout`'s grass in its wind after `time` seconds, seen by `camera` (the
-/// [`Camera::overview`] when `None`): RGBA8 sRGB pixels, `size` wide and high. `windloom
-/// render --view grass`.
-pub fn picture(
-    ctx: &super::GpuContext,
-    layout: &Layout,
-    base: &std::path::Path,
-    size: [u32; 2],
-    time: f32,
-    camera: Option<Camera>,
-    paper_literal: bool,
-) -> Result<Vec<u8>, GpuError> {
-    let blades = crate::grass::scatter(layout);
-    let mut grass = GrassRenderer::new(
-        &ctx.device,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        layout,
-        &blades,
-    );
-    grass.set_paper_literal(paper_literal);
-    if let Some(map) = &layout.world.map {
-        let path = base.join(&map.image);
-        let img = image::open(&path)
-            .map_err(|e| GpuError::Runtime {
-                what: format!("reading the map backdrop {}", path.display()),
-                message: e.to_string(),
-            })?
-            .to_rgba8();
-        let size = [img.width(), img.height()];
-        grass.set_backdrop(
-            &ctx.device,
-            &ctx.queue,
-            Some((img.as_raw(), size, map.opacity)),
-        );
-    }
-    grass.set_scene(
-        &ctx.device,
-        &crate::grass::scene::solids(layout),
-        &crate::grass::scene::arrows(layout),
-    );
-    let solver = wind_at(layout, time);
-    grass.set_wind(
-        &ctx.device,
-        &ctx.queue,
-        (solver.nx, solver.ny),
-        solver.origin,
-        [solver.hx, solver.hz],
-        &solver.velocity_field(),
-    );
-    let camera = camera.unwrap_or_else(|| Camera::overview(layout));
-    let (pixels, _) = render_offscreen(&ctx.device, &ctx.queue, &mut grass, &camera, time, size)?;
-    Ok(pixels)
-}
-
-/// `windloom bench --grass N`: frame times drawing about `blades` blades of `layout` (its
-/// density raised or lowered to give that many) at `size`, in its wind after 2 s.
-#[derive(Debug, Clone, serde::Serialize)]
-pub struct GrassBench {
-    pub adapter: String,
-    pub adapter_type: String,
-    pub model: String,
-    pub blades: u32,
-    pub size: [u32; 2],
-    pub frames: usize,
-    pub median_ms: f64,
-    pub min_ms: f64,
-}
-
-pub fn bench(
-    ctx: &super::GpuContext,
-    layout: &Layout,
-    blades: usize,
-    size: [u32; 2],
-    frames: usize,
-) -> Result<GrassBench, GpuError> {
-    let mut layout = layout.clone();
-    let area = layout.world.size[0] * layout.world.size[1];
-    layout.grass.density = (blades as f32 / area).max(1e-3);
-    let placed = crate::grass::scatter(&layout);
-    let mut grass = GrassRenderer::new(
-        &ctx.device,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        &layout,
-        &placed,
-    );
-    let solver = wind_at(&layout, 2.0);
-    grass.set_wind(
-        &ctx.device,
-        &ctx.queue,
-        (solver.nx, solver.ny),
-        solver.origin,
-        [solver.hx, solver.hz],
-        &solver.velocity_field(),
-    );
-    let camera = Camera::overview(&layout);
-    // One untimed frame (pipelines, first use of the buffers), then the timed ones.
-    render_offscreen(&ctx.device, &ctx.queue, &mut grass, &camera, 2.0, size)?;
-    let mut times = Vec::with_capacity(frames);
-    for k in 0..frames.max(1) {
-        let (_, ms) = render_offscreen(
-            &ctx.device,
-            &ctx.queue,
-            &mut grass,
-            &camera,
-            2.0 + k as f32 / 60.0,
-            size,
-        )?;
-        times.push(ms);
-    }
-    times.sort_by(f64::total_cmp);
-    Ok(GrassBench {
-        adapter: ctx.adapter.name.clone(),
-        adapter_type: format!("{:?}", ctx.adapter.device_type),
-        model: "cwd".into(),
-        blades: grass.blade_count(),
-        size,
-        frames: times.len(),
-        median_ms: times[times.len() / 2],
-        min_ms: times[0],
-    })
 }

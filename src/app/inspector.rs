@@ -1,0 +1,495 @@
+//! The inspector: the selection's properties (a point, a tree, an obstacle, an ambient layer)
+//! or, with nothing selected, the layout's world, simulation and grass. Every change is an
+//! `Edit`; a drag or a typed value is one undo step.
+
+use super::{EditorApp, Sel};
+use crate::doc::{self, AmbientKind, Edit, Emission, Shape, TimeWindow, TreeProps};
+use eframe::egui::{self, RichText};
+
+/// One grid row: a label and the widget it names (for screen readers and tests too).
+fn row(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut egui::Ui) -> egui::Response) -> bool {
+    let l = ui.label(label);
+    let r = add(ui).labelled_by(l.id);
+    ui.end_row();
+    r.changed()
+}
+
+/// A labelled number field in a grid.
+fn num(
+    ui: &mut egui::Ui,
+    label: &str,
+    v: &mut f32,
+    range: std::ops::RangeInclusive<f32>,
+    speed: f64,
+    suffix: &str,
+) -> bool {
+    row(ui, label, |ui| {
+        ui.add(
+            egui::DragValue::new(v)
+                .range(range)
+                .speed(speed)
+                .suffix(suffix),
+        )
+    })
+}
+
+pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
+    let ctx = ui.ctx().clone();
+    egui::Panel::right("inspector")
+        .resizable(true)
+        .default_size(290.0)
+        .show(ui, |ui| {
+            egui::ScrollArea::vertical().show(ui, |ui| {
+                ui.heading("Inspector");
+                ui.add_space(4.0);
+                match app.selection.first().copied() {
+                    Some(Sel::Node(id)) if app.selection.len() == 1 => {
+                        node_inspector(app, &ctx, ui, id)
+                    }
+                    Some(Sel::Tree(id)) => {
+                        if let Some(root) =
+                            app.doc.trees.iter().find(|t| t.id == id).map(|t| t.root.id)
+                        {
+                            node_inspector(app, &ctx, ui, root);
+                        }
+                    }
+                    Some(Sel::Obstacle(id)) if app.selection.len() == 1 => {
+                        obstacle_inspector(app, &ctx, ui, id)
+                    }
+                    Some(Sel::Ambient(id)) => ambient_inspector(app, &ctx, ui, id),
+                    Some(_) => {
+                        ui.label(format!("{} items selected", app.selection.len()));
+                        ui.weak("Delete (Del) or duplicate (Ctrl+D) them, or drag to move.");
+                    }
+                    None => layout_inspector(app, &ctx, ui),
+                }
+            });
+        });
+}
+
+fn node_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, id: u32) {
+    let Some(tree) = app
+        .doc
+        .trees
+        .iter()
+        .find(|t| t.root.find(id).is_some())
+        .cloned()
+    else {
+        return;
+    };
+    let node = tree.root.find(id).cloned().expect("found above");
+    let is_root = tree.root.id == id;
+    ui.label(
+        RichText::new(if is_root {
+            "Root point"
+        } else {
+            "Arrow end point"
+        })
+        .strong(),
+    );
+    let (mut strength, mut radius) = (node.strength, node.radius);
+    let mut pos = node.pos;
+    let mut changed = false;
+    egui::Grid::new("node").num_columns(2).show(ui, |ui| {
+        changed |= row(ui, "Strength", |ui| {
+            ui.add(
+                egui::Slider::new(&mut strength, 0.0..=40.0)
+                    .suffix(" m/s")
+                    .clamping(egui::SliderClamping::Never),
+            )
+        });
+        changed |= row(ui, "Radius", |ui| {
+            ui.add(
+                egui::Slider::new(&mut radius, 0.5..=40.0)
+                    .suffix(" m")
+                    .clamping(egui::SliderClamping::Never),
+            )
+        });
+        changed |= num(ui, "x", &mut pos[0], -1e5..=1e5, 0.1, " m");
+        changed |= num(ui, "z", &mut pos[1], -1e5..=1e5, 0.1, " m");
+    });
+    if is_root {
+        ui.weak("The root's strength and radius are used for new arrows dragged out of it.");
+    }
+    if changed {
+        let mut edits = vec![Edit::SetNode {
+            id,
+            strength,
+            radius,
+        }];
+        if pos != node.pos {
+            edits.push(Edit::MoveNode { id, pos });
+        }
+        app.edit_merged(ctx, Edit::Batch(edits), ("node", id));
+    }
+    ui.separator();
+    tree_inspector(app, ctx, ui, &tree);
+}
+
+fn tree_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, tree: &doc::Tree) {
+    ui.label(RichText::new(format!("Tree “{}”", tree.name)).strong());
+    let mut p = TreeProps::of(tree);
+    let mut changed = false;
+    egui::Grid::new("tree").num_columns(2).show(ui, |ui| {
+        changed |= row(ui, "Name", |ui| ui.text_edit_singleline(&mut p.name));
+        changed |= row(ui, "Enabled", |ui| ui.checkbox(&mut p.enabled, ""));
+        ui.label("Active");
+        let mut windowed = matches!(p.window, TimeWindow::Between { .. });
+        if ui.checkbox(&mut windowed, "only between").changed() {
+            p.window = if windowed {
+                TimeWindow::Between {
+                    start: 0.0,
+                    end: 10.0,
+                }
+            } else {
+                TimeWindow::Always
+            };
+            changed = true;
+        }
+        ui.end_row();
+        if let TimeWindow::Between { start, end } = &mut p.window {
+            changed |= num(ui, "  start", start, 0.0..=1e6, 0.1, " s");
+            let lo = *start + 0.01;
+            changed |= num(ui, "  end", end, lo..=1e6, 0.1, " s");
+        }
+        ui.label("Emission");
+        let mut pulsed = matches!(p.emission, Emission::Pulsed { .. });
+        if ui.checkbox(&mut pulsed, "pulsed").changed() {
+            p.emission = if pulsed {
+                Emission::Pulsed {
+                    period: 3.0,
+                    duty: 0.5,
+                }
+            } else {
+                Emission::Continuous
+            };
+            changed = true;
+        }
+        ui.end_row();
+        if let Emission::Pulsed { period, duty } = &mut p.emission {
+            changed |= num(ui, "  period", period, 0.05..=1e5, 0.05, " s");
+            changed |= row(ui, "  duty", |ui| {
+                ui.add(egui::Slider::new(duty, 0.01..=1.0))
+            });
+        }
+        changed |= num(
+            ui,
+            "Pulse speed",
+            &mut p.propagation_speed,
+            0.1..=1e5,
+            0.5,
+            " m/s",
+        );
+    });
+    if changed {
+        app.edit_merged(
+            ctx,
+            Edit::SetTreeProps {
+                id: tree.id,
+                props: p,
+            },
+            ("tree", tree.id),
+        );
+    }
+}
+
+fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, id: u32) {
+    let Some(mut o) = app.doc.obstacles.iter().find(|o| o.id == id).cloned() else {
+        return;
+    };
+    ui.label(RichText::new("Obstacle").strong());
+    let mut changed = false;
+    egui::Grid::new("obstacle").num_columns(2).show(ui, |ui| {
+        changed |= row(ui, "Name", |ui| ui.text_edit_singleline(&mut o.name));
+        match &mut o.shape {
+            Shape::Circle { center, radius } => {
+                changed |= num(ui, "Centre x", &mut center[0], -1e5..=1e5, 0.1, " m");
+                changed |= num(ui, "Centre z", &mut center[1], -1e5..=1e5, 0.1, " m");
+                changed |= num(ui, "Radius", radius, 0.05..=1e5, 0.05, " m");
+            }
+            Shape::Polygon { points } => {
+                for (k, p) in points.iter_mut().enumerate() {
+                    let l = ui.label(format!("Corner {}", k + 1));
+                    ui.horizontal(|ui| {
+                        changed |= ui
+                            .add(egui::DragValue::new(&mut p[0]).speed(0.1).prefix("x "))
+                            .labelled_by(l.id)
+                            .changed();
+                        changed |= ui
+                            .add(egui::DragValue::new(&mut p[1]).speed(0.1).prefix("z "))
+                            .labelled_by(l.id)
+                            .changed();
+                    });
+                    ui.end_row();
+                }
+            }
+        }
+    });
+    if changed {
+        app.edit_merged(ctx, Edit::SetObstacle { obstacle: o }, ("obstacle", id));
+    }
+}
+
+fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, id: u32) {
+    let Some(mut l) = app.doc.ambient.iter().find(|a| a.id == id).cloned() else {
+        return;
+    };
+    ui.label(RichText::new(format!("Ambient layer ({})", l.kind.type_name())).strong());
+    let mut changed = false;
+    egui::Grid::new("ambient").num_columns(2).show(ui, |ui| {
+        changed |= row(ui, "Name", |ui| ui.text_edit_singleline(&mut l.name));
+        changed |= row(ui, "Enabled", |ui| ui.checkbox(&mut l.enabled, ""));
+        match &mut l.kind {
+            AmbientKind::Directional {
+                direction_deg,
+                main,
+                turbulence,
+                pulse_magnitude,
+                pulse_frequency,
+            } => {
+                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
+                changed |= num(ui, "Main", main, 0.0..=500.0, 0.05, " m/s");
+                changed |= num(ui, "Turbulence", turbulence, 0.0..=500.0, 0.05, " m/s");
+                changed |= num(ui, "Gust size", pulse_magnitude, 0.0..=10.0, 0.01, "");
+                changed |= num(ui, "Gusts per s", pulse_frequency, 0.0..=100.0, 0.01, " Hz");
+            }
+            AmbientKind::Noise {
+                direction_deg,
+                scale,
+                speed,
+                strength,
+            } => {
+                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
+                changed |= num(ui, "Scale", scale, 0.1..=1e5, 0.1, " m");
+                changed |= num(ui, "Scroll speed", speed, 0.0..=1000.0, 0.05, " m/s");
+                changed |= num(ui, "Strength", strength, 0.0..=500.0, 0.05, " m/s");
+            }
+            AmbientKind::Fft {
+                direction_deg,
+                wind_speed,
+                amplitude,
+                resolution,
+                tile_size,
+                seed,
+            } => {
+                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
+                changed |= num(ui, "Wind speed", wind_speed, 0.1..=500.0, 0.05, " m/s");
+                changed |= num(ui, "Amplitude", amplitude, 0.0..=500.0, 0.05, " m/s");
+                let l = ui.label("Resolution");
+                egui::ComboBox::from_id_salt("fft res")
+                    .selected_text(resolution.to_string())
+                    .show_ui(ui, |ui| {
+                        for r in [16u32, 32, 64, 128, 256] {
+                            changed |= ui.selectable_value(resolution, r, r.to_string()).changed();
+                        }
+                    })
+                    .response
+                    .labelled_by(l.id);
+                ui.end_row();
+                changed |= num(ui, "Tile size", tile_size, 1.0..=1e5, 0.5, " m");
+                changed |= row(ui, "Seed", |ui| ui.add(egui::DragValue::new(seed)));
+            }
+            AmbientKind::Sine {
+                direction_deg,
+                amplitude,
+                wavelength,
+                frequency,
+            } => {
+                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
+                changed |= num(ui, "Amplitude", amplitude, 0.0..=500.0, 0.05, " m/s");
+                changed |= num(ui, "Wavelength", wavelength, 0.1..=1e5, 0.1, " m");
+                changed |= num(ui, "Frequency", frequency, -100.0..=100.0, 0.01, " Hz");
+            }
+        }
+    });
+    if changed {
+        app.edit_merged(ctx, Edit::SetAmbient { layer: l }, ("ambient", id));
+    }
+}
+
+fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
+    let l = ui.label(RichText::new("Layout name").strong());
+    let mut name = app.doc.name.clone();
+    if ui
+        .text_edit_singleline(&mut name)
+        .labelled_by(l.id)
+        .changed()
+    {
+        app.edit_merged(ctx, Edit::Rename(name), "rename");
+    }
+    ui.add_space(6.0);
+    ui.label(RichText::new("World").strong());
+    let mut w = app.doc.world.clone();
+    let mut changed = false;
+    egui::Grid::new("world").num_columns(2).show(ui, |ui| {
+        changed |= num(
+            ui,
+            "Width",
+            &mut w.size[0],
+            1.0..=doc::GRID_AXIS_MAX as f32 * 100.0,
+            0.5,
+            " m",
+        );
+        changed |= num(
+            ui,
+            "Depth",
+            &mut w.size[1],
+            1.0..=doc::GRID_AXIS_MAX as f32 * 100.0,
+            0.5,
+            " m",
+        );
+        let l = ui.label("Grid");
+        ui.horizontal(|ui| {
+            changed |= ui
+                .add(egui::DragValue::new(&mut w.grid[0]).range(doc::GRID_AXIS_MIN..=2048))
+                .labelled_by(l.id)
+                .changed();
+            ui.label("×");
+            changed |= ui
+                .add(egui::DragValue::new(&mut w.grid[1]).range(doc::GRID_AXIS_MIN..=2048))
+                .labelled_by(l.id)
+                .changed();
+        });
+        ui.end_row();
+        if let Some(map) = &mut w.map {
+            changed |= row(ui, "Map opacity", |ui| {
+                ui.add(egui::Slider::new(&mut map.opacity, 0.0..=1.0))
+            });
+        }
+    });
+    if changed {
+        app.edit_merged(ctx, Edit::SetWorld(w), "world");
+    }
+    ui.add_space(6.0);
+    ui.label(RichText::new("Simulation").strong());
+    let mut s = app.doc.sim;
+    let mut changed = false;
+    egui::Grid::new("sim").num_columns(2).show(ui, |ui| {
+        changed |= row(ui, "Pressure iterations", |ui| {
+            ui.add(egui::Slider::new(&mut s.pressure_iterations, 1..=200))
+        });
+        changed |= row(ui, "Vorticity", |ui| {
+            ui.add(egui::Slider::new(&mut s.vorticity, 0.0..=20.0))
+        });
+        changed |= row(ui, "Dissipation", |ui| {
+            ui.add(egui::Slider::new(&mut s.velocity_dissipation, 0.0..=5.0))
+        });
+        changed |= row(ui, "Arrow response", |ui| {
+            ui.add(egui::Slider::new(&mut s.arrow_response, 0.1..=30.0).suffix(" /s"))
+        });
+        let l = ui.label("Boundary");
+        egui::ComboBox::from_id_salt("boundary")
+            .selected_text(format!("{:?}", s.boundary))
+            .show_ui(ui, |ui| {
+                for b in [
+                    doc::Boundary::Open,
+                    doc::Boundary::Closed,
+                    doc::Boundary::Periodic,
+                ] {
+                    changed |= ui
+                        .selectable_value(&mut s.boundary, b, format!("{b:?}"))
+                        .changed();
+                }
+            })
+            .response
+            .labelled_by(l.id);
+        ui.end_row();
+        let l = ui.label("Advection");
+        egui::ComboBox::from_id_salt("advection")
+            .selected_text(format!("{:?}", s.advection))
+            .show_ui(ui, |ui| {
+                for a in [doc::Advection::SemiLagrangian, doc::Advection::MacCormack] {
+                    changed |= ui
+                        .selectable_value(&mut s.advection, a, format!("{a:?}"))
+                        .changed();
+                }
+            })
+            .response
+            .labelled_by(l.id);
+        ui.end_row();
+    });
+    if changed {
+        app.edit_merged(ctx, Edit::SetSim(s), "sim");
+    }
+    ui.add_space(6.0);
+    egui::CollapsingHeader::new(RichText::new("Grass").strong()).show(ui, |ui| {
+        let mut g = app.doc.grass.clone();
+        let mut changed = false;
+        egui::Grid::new("grass").num_columns(2).show(ui, |ui| {
+            changed |= num(ui, "Density", &mut g.density, 0.1..=100_000.0, 1.0, " /m²");
+            changed |= num(ui, "k1 (gravity)", &mut g.k1, 0.0..=10.0, 0.005, "");
+            changed |= num(ui, "k2 (forward)", &mut g.k2, 0.0..=10.0, 0.005, "");
+            changed |= num(ui, "λ (stiffness)", &mut g.lambda, 0.0..=1.0, 0.01, "");
+            changed |= num(ui, "Height min", &mut g.height[0], 0.01..=100.0, 0.01, " m");
+            changed |= num(ui, "Height max", &mut g.height[1], 0.01..=100.0, 0.01, " m");
+            changed |= num(ui, "Width min", &mut g.width[0], 0.001..=10.0, 0.001, " m");
+            changed |= num(ui, "Width max", &mut g.width[1], 0.001..=10.0, 0.001, " m");
+            changed |= num(
+                ui,
+                "Stiffness min",
+                &mut g.stiffness[0],
+                0.01..=1000.0,
+                0.01,
+                "",
+            );
+            changed |= num(
+                ui,
+                "Stiffness max",
+                &mut g.stiffness[1],
+                0.01..=1000.0,
+                0.01,
+                "",
+            );
+            changed |= num(
+                ui,
+                "Shadow c1 (wind)",
+                &mut g.shadow.c1,
+                0.0..=10.0,
+                0.005,
+                "",
+            );
+            changed |= num(
+                ui,
+                "Shadow c2 (lift)",
+                &mut g.shadow.c2,
+                0.0..=10.0,
+                0.01,
+                "",
+            );
+            changed |= num(ui, "Shadow min", &mut g.shadow.m_min, 0.0..=10.0, 0.01, "");
+            changed |= num(ui, "Shadow max", &mut g.shadow.m_max, 0.0..=10.0, 0.01, "");
+            changed |= row(ui, "Seed", |ui| ui.add(egui::DragValue::new(&mut g.seed)));
+            for p in &mut g.palettes {
+                changed |= row(ui, &format!("Palette {}", p.name), |ui| {
+                    ui.horizontal(|ui| {
+                        let a = ui.color_edit_button_rgb(&mut p.base).on_hover_text("base");
+                        let b = ui.color_edit_button_rgb(&mut p.tip).on_hover_text("tip");
+                        a.union(b)
+                    })
+                    .inner
+                });
+            }
+            let l = ui.label("Model");
+            egui::ComboBox::from_id_salt("grass model")
+                .selected_text(format!("{:?}", g.model))
+                .show_ui(ui, |ui| {
+                    for m in [
+                        doc::GrassModel::CwdQuadratic,
+                        doc::GrassModel::BezierPhysics,
+                    ] {
+                        changed |= ui
+                            .selectable_value(&mut g.model, m, format!("{m:?}"))
+                            .changed();
+                    }
+                })
+                .response
+                .labelled_by(l.id);
+            ui.end_row();
+        });
+        if changed {
+            app.edit_merged(ctx, Edit::SetGrass(g), "grass");
+        }
+    });
+    ui.add_space(6.0);
+    ui.weak("Select a point, tree, obstacle or layer to edit it.");
+}

@@ -1,0 +1,159 @@
+//! The colour and depth target the grass draws into, and whole frames into it.
+
+use super::{Camera, DEPTH_FORMAT, GrassRenderer};
+use crate::gpu::GpuError;
+
+/// Sky colour behind the grass (linear).
+const SKY: wgpu::Color = wgpu::Color {
+    r: 0.50,
+    g: 0.66,
+    b: 0.85,
+    a: 1.0,
+};
+
+/// A colour and depth target the grass draws into: offscreen pictures, and the editor's 3D view
+/// (which shows the colour texture as an image).
+pub struct Target {
+    pub texture: wgpu::Texture,
+    pub view: wgpu::TextureView,
+    /// The colour texture viewed as plain `Rgba8Unorm`: sampling gives the sRGB-encoded bytes,
+    /// which is what egui's painter expects of an image.
+    pub encoded_view: wgpu::TextureView,
+    depth_view: wgpu::TextureView,
+    pub size: [u32; 2],
+}
+
+impl Target {
+    /// The colour format (sRGB: pictures and egui both read it as such).
+    pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+    pub fn new(device: &wgpu::Device, [w, h]: [u32; 2]) -> Self {
+        let extent = wgpu::Extent3d {
+            width: w.max(1),
+            height: h.max(1),
+            depth_or_array_layers: 1,
+        };
+        let texture = |format, usage| {
+            device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("grass target"),
+                size: extent,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: if format == Self::FORMAT {
+                    &[wgpu::TextureFormat::Rgba8Unorm]
+                } else {
+                    &[]
+                },
+            })
+        };
+        let colour = texture(
+            Self::FORMAT,
+            wgpu::TextureUsages::RENDER_ATTACHMENT
+                | wgpu::TextureUsages::COPY_SRC
+                | wgpu::TextureUsages::TEXTURE_BINDING,
+        );
+        let depth = texture(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
+        Self {
+            view: colour.create_view(&Default::default()),
+            encoded_view: colour.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(wgpu::TextureFormat::Rgba8Unorm),
+                ..Default::default()
+            }),
+            depth_view: depth.create_view(&Default::default()),
+            texture: colour,
+            size: [extent.width, extent.height],
+        }
+    }
+}
+
+impl GrassRenderer {
+    /// Records a whole frame into `target`: the pose pass, then sky, ground and blades.
+    pub fn record(
+        &mut self,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        target: &Target,
+        camera: &Camera,
+        time: f32,
+    ) {
+        let [w, h] = target.size;
+        self.prepare(queue, enc, camera, w as f32 / h as f32, time);
+        let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("grass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &target.view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(SKY),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: &target.depth_view,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(1.0),
+                    store: wgpu::StoreOp::Discard,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        self.paint(&mut pass);
+    }
+}
+
+/// One offscreen picture of the grass: RGBA8 (sRGB) pixels, `size` wide and high, and the time
+/// the frame took in milliseconds (wall clock, submitted and waited for).
+pub fn render_offscreen(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    grass: &mut GrassRenderer,
+    camera: &Camera,
+    time: f32,
+    [w, h]: [u32; 2],
+) -> Result<(Vec<u8>, f64), GpuError> {
+    let target = Target::new(device, [w, h]);
+    let row = (w * 4).div_ceil(256) * 256;
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("grass picture pixels"),
+        size: u64::from(row * h),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let started = std::time::Instant::now();
+    let mut enc = device.create_command_encoder(&Default::default());
+    grass.record(queue, &mut enc, &target, camera, time);
+    queue.submit([enc.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Runtime {
+            what: "drawing the grass".into(),
+            message: e.to_string(),
+        })?;
+    let ms = started.elapsed().as_secs_f64() * 1e3;
+    let mut enc = device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        target.texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &out,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        target.texture.size(),
+    );
+    queue.submit([enc.finish()]);
+    let bytes = crate::gpu::read_buffer(device, queue, &out)?;
+    let pixels = (0..h as usize)
+        .flat_map(|y| bytes[y * row as usize..][..w as usize * 4].to_vec())
+        .collect();
+    Ok((pixels, ms))
+}
