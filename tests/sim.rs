@@ -1964,6 +1964,86 @@ mod grass {
         );
     }
 
+    /// The Bezier physics blades (issue 12's CPU twin): length and ground kept in any wind,
+    /// back to rest when the wind drops, bent downwind, the same at 30 and 144 fps.
+    mod bezier {
+        use super::blades;
+        use windloom::grass::bezier::State;
+
+        fn run(b: &windloom::grass::Blade, wind: [f32; 2], seconds: f32, fps: f32) -> State {
+            let mut s = State::rest(b);
+            for _ in 0..(seconds * fps).round() as usize {
+                s.advance(b, wind, 1.0 / fps);
+            }
+            s
+        }
+
+        #[test]
+        fn length_and_ground_are_kept_in_any_wind() {
+            for b in blades() {
+                for speed in [0.0f32, 3.0, 10.0, 40.0] {
+                    let mut s = State::rest(&b);
+                    for k in 0..240 {
+                        let a = k as f32 * 0.05;
+                        s.advance(&b, [speed * a.cos(), speed * a.sin()], 1.0 / 60.0);
+                        let l = s.length(64);
+                        assert!(
+                            (l - b.height).abs() <= 0.02 * b.height,
+                            "{speed} m/s: length {l} of {}",
+                            b.height
+                        );
+                        assert!(s.v2[1] >= 0.0 && s.v1[1] >= 0.0, "above the ground");
+                    }
+                }
+            }
+        }
+
+        #[test]
+        fn calm_air_brings_a_blade_back_to_rest() {
+            for b in blades() {
+                let calm = run(&b, [0.0, 0.0], 4.0, 60.0);
+                let mut s = run(&b, [12.0, -5.0], 3.0, 60.0);
+                assert!(
+                    (0..3).any(|c| (s.v2[c] - calm.v2[c]).abs() > 0.01),
+                    "the wind moved it"
+                );
+                for _ in 0..240 {
+                    s.advance(&b, [0.0, 0.0], 1.0 / 60.0);
+                }
+                let d = (0..3).fold(0.0f32, |m, c| m.max((s.v2[c] - calm.v2[c]).abs()));
+                assert!(d < 1e-3 * b.height.max(1.0), "back to rest within {d} m");
+                // At rest it stands: gravity bends it, recovery holds it up.
+                assert!(
+                    calm.v2[1] > 0.6 * b.height,
+                    "a calm blade stands: tip at {}",
+                    calm.v2[1]
+                );
+            }
+        }
+
+        #[test]
+        fn wind_bends_the_tip_downwind() {
+            for b in blades() {
+                let calm = run(&b, [0.0, 0.0], 3.0, 60.0);
+                let dir = [0.6f32, -0.8];
+                let windy = run(&b, [8.0 * dir[0], 8.0 * dir[1]], 3.0, 60.0);
+                let moved =
+                    (windy.v2[0] - calm.v2[0]) * dir[0] + (windy.v2[2] - calm.v2[2]) * dir[1];
+                assert!(moved > 0.01 * b.height, "the tip moves downwind: {moved}");
+            }
+        }
+
+        #[test]
+        fn the_same_wind_gives_the_same_motion_at_30_and_144_fps() {
+            for b in blades() {
+                let a = run(&b, [6.0, 2.0], 2.0, 30.0);
+                let c = run(&b, [6.0, 2.0], 2.0, 144.0);
+                let d = (0..3).fold(0.0f32, |m, k| m.max((a.v2[k] - c.v2[k]).abs()));
+                assert!(d < 1e-4, "30 and 144 fps differ by {d} m");
+            }
+        }
+    }
+
     #[test]
     fn placement_is_deterministic_dense_as_asked_and_clear_of_obstacles() {
         let mut l = example("obstacles.json");

@@ -9,6 +9,7 @@
 //!   `../shared/reference/wind-model.md` reads it, with the paper's open problem solved
 //!   (strong wind neither flattens nor blackens a blade).
 
+pub mod bezier;
 pub mod cwd;
 pub mod scene;
 
