@@ -1231,6 +1231,63 @@ mod gpu {
             assert!(worst.1 <= 1e-3, "shades differ by {}", worst.1);
         }
 
+        /// The Bezier physics pass against its CPU twin (`grass::bezier`): random blades in
+        /// random winds up to 40 m/s, 30 frames at 60 fps, control points within 1e-3 m.
+        #[test]
+        fn gpu_bezier_blades_match_the_cpu_model() {
+            use windloom::gpu::grass::BezierPass;
+            use windloom::grass::bezier::State;
+            let Some(ctx) = context() else { return };
+            let l = layout(8.0);
+            let blades = scatter(&l);
+            let (nx, ny) = (24, 16);
+            let cell = [0.5, 0.5];
+            let wind = random_wind(nx * ny, 77);
+            let mut r =
+                GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+            r.set_wind(&ctx.device, &ctx.queue, (nx, ny), [0.0, 0.0], cell, &wind);
+            let mut bz = BezierPass::new(&ctx.device, &r, &blades);
+            let camera = Camera::overview(&l);
+            let frames = 30;
+            for _ in 0..frames {
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                r.prepare(&ctx.queue, &mut enc, &camera, 1.5, 0.0);
+                bz.advance(&ctx.queue, &mut enc, &r, 1.0 / 60.0);
+                ctx.queue.submit([enc.finish()]);
+            }
+            let gpu = bz.read(&ctx.device, &ctx.queue).unwrap();
+            let mut worst = 0.0f32;
+            let mut moved = 0;
+            for (b, g) in blades.iter().zip(&gpu) {
+                let w = wind[wind_cell(b.pos, [0.0, 0.0], cell, (nx, ny))];
+                let mut s = State::rest(b);
+                for _ in 0..frames {
+                    s.advance(b, w, 1.0 / 60.0);
+                }
+                for c in 0..3 {
+                    worst = worst
+                        .max((g.v1[c] - s.v1[c]).abs())
+                        .max((g.v2[c] - s.v2[c]).abs());
+                }
+                let mut calm = State::rest(b);
+                for _ in 0..frames {
+                    calm.advance(b, [0.0, 0.0], 1.0 / 60.0);
+                }
+                if (0..3).any(|c| (s.v2[c] - calm.v2[c]).abs() > 0.01) {
+                    moved += 1;
+                }
+            }
+            println!(
+                "bezier: max |GPU − CPU| {worst:.2e} m over {} blades ({moved} moved)",
+                blades.len()
+            );
+            assert!(moved > blades.len() / 2, "the wind moved the blades");
+            assert!(
+                worst <= 1e-3,
+                "the GPU's blades differ from the CPU's by {worst} m"
+            );
+        }
+
         /// With the GPU running the field, the grass's wind grid is made on the GPU from the
         /// solver's faces: it equals the CPU's cell-centred velocity exactly.
         #[test]

@@ -75,9 +75,11 @@ impl State {
 
     /// Advances by `dt` seconds of wind `wind` (world x, z; m/s) at the root.
     pub fn advance(&mut self, blade: &Blade, wind: [f32; 2], dt: f32) {
+        // As the GPU pass counts them, so both make the same steps.
         self.carry += dt;
-        while self.carry >= STEP {
-            self.carry -= STEP;
+        let steps = (self.carry / STEP).floor();
+        self.carry -= steps * STEP;
+        for _ in 0..steps as u32 {
             self.step(blade, wind, STEP);
         }
     }

@@ -9,9 +9,11 @@
 //! `target.rs`: the colour + depth target and whole frames into it; `headless.rs`: pictures
 //! and the benchmark for the CLI.
 
+mod bezier;
 mod headless;
 mod target;
 
+pub use bezier::BezierPass;
 pub use headless::{GrassBench, bench, picture};
 pub use target::{Target, render_offscreen};
 
@@ -28,7 +30,11 @@ use wgpu::util::DeviceExt;
 pub const COMMON: &str = include_str!("../../../shaders/grass_common.wgsl");
 
 /// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`].
-pub const SHADERS: [(&str, &str); 5] = [
+pub const SHADERS: [(&str, &str); 6] = [
+    (
+        "grass_bezier",
+        include_str!("../../../shaders/grass_bezier.wgsl"),
+    ),
     (
         "grass_wind",
         include_str!("../../../shaders/grass_wind.wgsl"),
@@ -577,6 +583,11 @@ impl GrassRenderer {
     /// The map view's footprint on the ground (a line list; empty: none).
     pub fn set_footprint(&mut self, device: &wgpu::Device, lines: &[SceneVertex]) {
         self.footprint = vertices(device, lines);
+    }
+
+    /// The scene, blades, wind and palettes bind group and its layout (group 0 of every pass).
+    pub(super) fn scene_group(&self) -> (&wgpu::BindGroupLayout, &wgpu::BindGroup) {
+        (&self.layout0, &self.group0)
     }
 
     /// Blades drawn.

@@ -1,0 +1,83 @@
+// Grass, compute: Jahrmann & Wimmer's physics blades (issue 12) — each blade's Bezier control
+// points advanced by `steps` fixed steps: gravity (environmental and front), recovery toward
+// the rest tip, wind from the blade's wind cell (eq. 1) weighted by direction alignment and
+// height ratio, then state validation (tip above the ground, guide from the tip's lean, the
+// length restored from an 8-chord measure). CPU twin: `grass::bezier::State::step`.
+
+struct BezierState {
+    v0: vec4<f32>,
+    v1: vec4<f32>,
+    v2: vec4<f32>,
+}
+
+struct Physics {
+    steps: u32,
+    dt: f32,
+    recovery: f32,
+    wind_k: f32,
+}
+
+@group(1) @binding(0) var<storage, read_write> states: array<BezierState>;
+@group(1) @binding(1) var<uniform> PH: Physics;
+
+const GRAVITY: f32 = 9.81;
+const LENGTH_CHORDS: u32 = 8u;
+
+fn bezier_point(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, t: f32) -> vec3<f32> {
+    return v0 * ((1.0 - t) * (1.0 - t)) + v1 * (2.0 * (1.0 - t) * t) + v2 * (t * t);
+}
+
+fn curve_length(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>) -> f32 {
+    var l = 0.0;
+    for (var k = 1u; k <= LENGTH_CHORDS; k = k + 1u) {
+        let a = bezier_point(v0, v1, v2, f32(k) / f32(LENGTH_CHORDS));
+        let b = bezier_point(v0, v1, v2, f32(k - 1u) / f32(LENGTH_CHORDS));
+        l = l + length(a - b);
+    }
+    return l;
+}
+
+@compute @workgroup_size(64)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    let k = id.x;
+    if (k >= S.blades) {
+        return;
+    }
+    let b = blades[k];
+    let up = vec3<f32>(0.0, 1.0, 0.0);
+    let h = b.height;
+    let front = vec3<f32>(cos(b.facing), 0.0, sin(b.facing));
+    let g = vec3<f32>(0.0, -GRAVITY, 0.0) + front * (0.25 * GRAVITY);
+    let w2 = blade_wind(b);
+    let wind = vec3<f32>(w2.x, 0.0, w2.y);
+    let speed = length(wind);
+    let v0 = states[k].v0.xyz;
+    var v1 = states[k].v1.xyz;
+    var v2 = states[k].v2.xyz;
+    let iv2 = v0 + up * h;
+    for (var n = 0u; n < PH.steps; n = n + 1u) {
+        let r = (iv2 - v2) * (b.stiffness * PH.recovery);
+        let lean = v2 - v0;
+        var w = vec3<f32>(0.0);
+        if (speed > 0.0 && length(lean) > 0.0) {
+            let fd = 1.0 - abs(dot(wind / speed, lean / length(lean)));
+            let fr = dot(lean, up) / h;
+            w = wind * (PH.wind_k * fd * fr);
+        }
+        v2 = v2 + (g + r + w) * PH.dt;
+        // Validation.
+        v2 = v2 - up * min(dot(up, v2 - v0), 0.0);
+        let d = v2 - v0;
+        let lproj = length(d - up * dot(d, up));
+        v1 = v0 + up * (h * max(1.0 - lproj / h, 0.05 * max(lproj / h, 1.0)));
+        let l = curve_length(v0, v1, v2);
+        if (l > 0.0) {
+            let s = h / l;
+            let v1c = v0 + (v1 - v0) * s;
+            v2 = v1c + (v2 - v1) * s;
+            v1 = v1c;
+        }
+    }
+    states[k].v1 = vec4<f32>(v1, 0.0);
+    states[k].v2 = vec4<f32>(v2, 0.0);
+}
