@@ -1,10 +1,22 @@
-// Grass, render: every blade an instance, its geometry made here from its index — `segments`
-// quads up the deformed centreline (`grass_common.wgsl`'s `blade_point`), the width pinched
-// toward the tip with per-blade variation; a base-to-tip palette gradient with per-blade
-// hue and brightness variation, eq. 14's self-shadow, and sun and sky light. No per-blade mesh
-// exists on the CPU. CPU twin of the shape: `grass::cwd::centreline`.
+// Grass, render: the blades of one LOD level, drawn indirectly — instance `i` is blade
+// `visible[i]` of this level's list (compacted by `grass_cull.wgsl`). Each blade is a triangle
+// strip made here from its index: `segments` rows up the deformed curve of either model
+// (`grass_shape.wgsl`'s `curve_point`) ending at the tip, the width pinched toward the tip with
+// per-blade variation and narrowed as distance culling fades the blade out (widened where
+// the field is thinned); a base-to-tip palette gradient with per-blade hue and brightness
+// variation, eq. 14's self-shadow, and sun and sky light. No per-blade mesh exists on the CPU.
+// CPU twins of the shape: `grass::cwd::centreline`, `grass::bezier::State::point`,
+// `grass::cull::distance_width`.
 
-@group(1) @binding(0) var<storage, read> poses: array<Pose>;
+struct Level {
+    segments: u32,
+    level: u32,
+    _pad: vec2<u32>,
+}
+
+@group(2) @binding(0) var<storage, read> visible: array<u32>;
+@group(2) @binding(1) var<uniform> C: Cull;
+@group(2) @binding(2) var<uniform> L: Level;
 
 struct BladeOut {
     @builtin(position) clip: vec4<f32>,
@@ -13,26 +25,25 @@ struct BladeOut {
     @location(2) world: vec3<f32>,
 }
 
+// Vertices a blade of `segments` rows takes (`2·segments + 1`: left and right up each row, the
+// tip last).
 @vertex
-fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) k: u32) -> BladeOut {
+fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> BladeOut {
+    let k = visible[i];
     let b = blades[k];
-    let pose = poses[k];
-    let seg = vi / 6u;
-    let corner = array<vec2<f32>, 6>(
-        vec2<f32>(0.0, -1.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, -1.0),
-        vec2<f32>(1.0, -1.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 1.0),
-    )[vi % 6u];
-    let n = f32(S.segments);
-    let t = (f32(seg) + corner.x) / n;
-    let p = blade_point(b, pose, t);
+    let n = f32(L.segments);
+    let t = min(f32(vi / 2u) / n, 1.0);
+    let across = select(-1.0, 1.0, (vi & 1u) == 1u);
+    let p = curve_point(k, b, t);
     // Along the blade, and across it (the blade's side, in the ground plane).
-    let ahead = blade_point(b, pose, min(t + 0.5 / n, 1.0)) - blade_point(b, pose, max(t - 0.5 / n, 0.0));
+    let ahead = curve_point(k, b, min(t + 0.5 / n, 1.0)) - curve_point(k, b, max(t - 0.5 / n, 0.0));
     let fr = blade_frame(b);
     let side = vec3<f32>(fr[1].x, 0.0, fr[1].y);
     // Tip pinch: full width low down, narrowing to a point, shape varying per blade.
     let pinch = 1.0 - pow(t, 1.4 + 0.6 * b.variation);
-    let half = 0.5 * b.width * pinch;
-    let pos = p + side * (corner.y * half);
+    let root = vec3<f32>(b.pos.x, 0.0, b.pos.y);
+    let half = 0.5 * b.width * pinch * distance_width(C, k, distance(root, S.eye.xyz));
+    let pos = p + side * (across * half);
     var out: BladeOut;
     out.clip = S.view_proj * vec4<f32>(pos, 1.0);
     out.world = pos;
@@ -42,7 +53,7 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) k: u32) -> B
     // Per-blade brightness and a slight hue shift toward yellow or blue-green.
     let v = b.variation;
     let tint = vec3<f32>(1.0 + 0.08 * v, 1.0 + 0.04 * v, 1.0 - 0.10 * v) * (1.0 + 0.12 * v);
-    out.colour = mix(base, tip, t) * tint * blade_shade(p.y, pose);
+    out.colour = mix(base, tip, t) * tint * curve_shade(k, b, p.y);
     return out;
 }
 

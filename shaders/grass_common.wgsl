@@ -40,6 +40,28 @@ struct Scene {
     literal: u32,
     // Opacity of the map backdrop over the ground (0: no backdrop).
     backdrop: f32,
+    // The pushing sphere: centre (xyz) and radius (w; 0: none).
+    sphere: vec4<f32>,
+    // The trail grid (`grass::trail`): origin and texel size (metres), texels along x and z.
+    trail_origin: vec2<f32>,
+    trail_cell: vec2<f32>,
+    trail_nx: u32,
+    trail_ny: u32,
+    // 0: the CWD model; 1: the Bezier physics blades.
+    model: u32,
+    // 1 when the trail holds anything (0: the grass skips reading it).
+    trail_on: u32,
+    // This frame's step (seconds) and the trail's lifetime.
+    dt: f32,
+    lifetime: f32,
+    _pad: vec2<f32>,
+}
+
+// A Bezier blade's control points (`gpu::grass::BezierState`): root, guide, tip.
+struct BezierState {
+    v0: vec4<f32>,
+    v1: vec4<f32>,
+    v2: vec4<f32>,
 }
 
 struct Blade {
@@ -70,6 +92,52 @@ const TAU: f32 = 6.283185307179586;
 @group(0) @binding(2) var<storage, read> wind: array<vec2<f32>>;
 // Per palette: base then tip colour (linear RGB).
 @group(0) @binding(3) var<storage, read> palettes: array<vec4<f32>>;
+// The trail's remaining life per texel (r32float, `grass::trail`).
+@group(0) @binding(4) var trail: texture_2d<f32>;
+
+// Blade `k` of a dispatch of 64-wide workgroups laid out in two dimensions (a dimension holds
+// at most 65,535 workgroups: 4.2 M blades).
+fn blade_index(wid: vec3<u32>, nwg: vec3<u32>, lid: u32) -> u32 {
+    return (wid.y * nwg.x + wid.x) * 64u + lid;
+}
+
+// `Trail::life_at`: bilinear between texel centres, clamped at the edges.
+fn trail_life(p: vec2<f32>) -> f32 {
+    let g = (p - S.trail_origin) / S.trail_cell - vec2<f32>(0.5);
+    let g0 = floor(g);
+    let f = g - g0;
+    let hi = vec2<i32>(i32(S.trail_nx) - 1, i32(S.trail_ny) - 1);
+    let i0 = clamp(vec2<i32>(g0), vec2<i32>(0), hi);
+    let i1 = clamp(vec2<i32>(g0) + vec2<i32>(1), vec2<i32>(0), hi);
+    let a = textureLoad(trail, vec2<i32>(i0.x, i0.y), 0).r * (1.0 - f.x) + textureLoad(trail, vec2<i32>(i1.x, i0.y), 0).r * f.x;
+    let b = textureLoad(trail, vec2<i32>(i0.x, i1.y), 0).r * (1.0 - f.x) + textureLoad(trail, vec2<i32>(i1.x, i1.y), 0).r * f.x;
+    return a * (1.0 - f.y) + b * f.y;
+}
+
+// `Trail::crush_at`: the crush (x) and the direction crushed blades lie in (yz), down the
+// trail's gradient or `fallback` where it is flat.
+fn trail_crush(p: vec2<f32>, fallback: vec2<f32>) -> vec3<f32> {
+    if (S.trail_on == 0u) {
+        return vec3<f32>(0.0, fallback);
+    }
+    let v = clamp(trail_life(p), 0.0, 1.0);
+    let c = v * v * (3.0 - 2.0 * v);
+    if (c <= 0.0) {
+        return vec3<f32>(0.0, fallback);
+    }
+    let hx = vec2<f32>(S.trail_cell.x, 0.0);
+    let hy = vec2<f32>(0.0, S.trail_cell.y);
+    let g = vec2<f32>(trail_life(p + hx) - trail_life(p - hx), trail_life(p + hy) - trail_life(p - hy));
+    let l = length(g);
+    if (l > 1e-4) {
+        return vec3<f32>(c, -g / l);
+    }
+    return vec3<f32>(c, fallback);
+}
+
+fn bezier_point(v0: vec3<f32>, v1: vec3<f32>, v2: vec3<f32>, t: f32) -> vec3<f32> {
+    return v0 * ((1.0 - t) * (1.0 - t)) + v1 * (2.0 * (1.0 - t) * t) + v2 * (t * t);
+}
 
 // Eq. 1: the blade's wind cell (blades in one cell share its wind).
 fn blade_wind(b: Blade) -> vec2<f32> {
@@ -115,10 +183,25 @@ fn bent(b: Blade, push: vec2<f32>, t: f32) -> vec3<f32> {
     return vec3<f32>(p.x + s * push.x, max(p.y - s * length(push), 0.0), p.z + s * push.y);
 }
 
-// The deform pass's work for one blade: `cwd::centreline`'s per-blade part.
+// The bend a fully crushed blade gets (`cwd::CRUSH_BEND`).
+const CRUSH_BEND: f32 = 0.92;
+
+// `cwd::crushed`: the wind's push blended with the trail's crush toward world `toward`.
+fn blade_crushed(b: Blade, push: vec2<f32>, crush: vec3<f32>) -> vec2<f32> {
+    let c = crush.x;
+    if (c <= 0.0) {
+        return push;
+    }
+    let fr = blade_frame(b);
+    let t = vec2<f32>(dot(crush.yz, fr[1]), dot(crush.yz, fr[0]));
+    return (1.0 - c) * push + c * CRUSH_BEND * t;
+}
+
+// The deform pass's work for one blade: `cwd::centreline_crushed`'s per-blade part.
 fn blade_pose(b: Blade, time: f32) -> Pose {
     let w = blade_wind(b);
-    let push = blade_push(b, w, time);
+    let fr = blade_frame(b);
+    let push = blade_crushed(b, blade_push(b, w, time), trail_crush(b.pos, fr[0]));
     var len = 0.0;
     var prev = vec3<f32>(0.0);
     for (var k = 1u; k <= LENGTH_SEGMENTS; k = k + 1u) {

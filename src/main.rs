@@ -130,6 +130,13 @@ enum Command {
         /// them (to see the strong-wind problem windloom's reading solves).
         #[arg(long)]
         paper_literal: bool,
+        /// With --view grass: draw with this blade model instead of the layout's.
+        #[arg(long, value_enum)]
+        model: Option<GrassModelArg>,
+        /// With --view grass: roll a sphere through the grass first, "x0,z0,x1,z1,radius" in
+        /// metres, over the last second; its trail shows in the picture.
+        #[arg(long, value_parser = parse_push, allow_hyphen_values = true)]
+        push: Option<[f32; 5]>,
     },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
@@ -170,6 +177,13 @@ enum Command {
         /// Grass model to time.
         #[arg(long, value_enum, default_value_t = GrassModelArg::Cwd)]
         model: GrassModelArg,
+        /// Culling and LOD for --grass (off: every blade drawn at full detail).
+        #[arg(long, value_enum, default_value_t = OnOff::On)]
+        cull: OnOff,
+        /// The camera for --grass, "eye_x,eye_y,eye_z,target_x,target_y,target_z"; default:
+        /// standing in the grass 1.7 m up near the south-west corner, looking across.
+        #[arg(long, value_parser = parse_camera, allow_hyphen_values = true)]
+        camera: Option<[f32; 6]>,
         /// Picture size for --grass, WxH.
         #[arg(long, default_value = "1920x1080", value_parser = parse_grid)]
         size: [u32; 2],
@@ -262,6 +276,13 @@ enum ViewArg {
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
 enum GrassModelArg {
     Cwd,
+    Bezier,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum OnOff {
+    On,
+    Off,
 }
 
 /// `"1,2,3,4,5,6"` → six finite numbers.
@@ -278,6 +299,40 @@ fn parse_camera(s: &str) -> Result<[f32; 6], String> {
         ));
     }
     Ok(a)
+}
+
+/// The camera `--camera` names (45° lens).
+fn camera_from(c: [f32; 6]) -> windloom::gpu::grass::Camera {
+    windloom::gpu::grass::Camera {
+        eye: glam::Vec3::new(c[0], c[1], c[2]),
+        target: glam::Vec3::new(c[3], c[4], c[5]),
+        fov_y: 45f32.to_radians(),
+    }
+}
+
+/// `"x0,z0,x1,z1,r"` → five finite numbers, the radius positive.
+fn parse_push(s: &str) -> Result<[f32; 5], String> {
+    let err = || format!("expected x0,z0,x1,z1,radius in metres, got {s:?}");
+    let v: Vec<f32> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f32>().map_err(|_| err()))
+        .collect::<Result<_, _>>()?;
+    let a: [f32; 5] = v.try_into().map_err(|_| err())?;
+    if a.iter().any(|x| !x.is_finite()) || a[4] <= 0.0 || a[4] > 1000.0 {
+        return Err(format!(
+            "{s:?}: finite numbers, and a radius above 0 and at most 1000 m"
+        ));
+    }
+    Ok(a)
+}
+
+impl GrassModelArg {
+    fn model(self) -> doc::GrassModel {
+        match self {
+            GrassModelArg::Cwd => doc::GrassModel::CwdQuadratic,
+            GrassModelArg::Bezier => doc::GrassModel::BezierPhysics,
+        }
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
@@ -438,8 +493,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             view,
             camera,
             paper_literal,
+            model,
+            push,
         }) => {
-            let l = io::load(&layout)?;
+            let mut l = io::load(&layout)?;
+            if let Some(m) = model {
+                l.grass.model = m.model();
+            }
             let base = layout.parent().unwrap_or(std::path::Path::new("."));
             let png = match view {
                 ViewArg::Map => windloom::render::render_png(&l, base, size, time)?,
@@ -449,20 +509,19 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         "--size: each side must be 16 to 16384 pixels"
                     );
                     let ctx = windloom::gpu::GpuContext::headless()?;
-                    let camera = camera.map(|c| windloom::gpu::grass::Camera {
-                        eye: glam::Vec3::new(c[0], c[1], c[2]),
-                        target: glam::Vec3::new(c[3], c[4], c[5]),
-                        fov_y: 45f32.to_radians(),
-                    });
-                    let pixels = windloom::gpu::grass::picture(
-                        &ctx,
-                        &l,
-                        base,
+                    let camera = camera.map(camera_from);
+                    let options = windloom::gpu::grass::PictureOptions {
                         size,
                         time,
                         camera,
                         paper_literal,
-                    )?;
+                        push: push.map(|p| windloom::gpu::grass::PushPath {
+                            from: [p[0], p[1]],
+                            to: [p[2], p[3]],
+                            radius: p[4],
+                        }),
+                    };
+                    let pixels = windloom::gpu::grass::picture(&ctx, &l, base, &options)?;
                     let mut png = Vec::new();
                     image::RgbaImage::from_raw(size[0], size[1], pixels)
                         .context("picture size")?
@@ -487,10 +546,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             json,
             grass,
             model,
+            cull,
+            camera,
             size,
         }) => {
             if let Some(n) = grass {
-                let GrassModelArg::Cwd = model;
+                let model = model.model();
                 let l = match &layout {
                     Some(p) => io::load(p)?,
                     None => doc::default_layout(),
@@ -501,21 +562,35 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     windloom::grass::MAX_BLADES
                 );
                 let ctx = windloom::gpu::GpuContext::headless()?;
-                let r = windloom::gpu::grass::bench(&ctx, &l, n, size, steps.clamp(1, 100))?;
+                let r = windloom::gpu::grass::bench(
+                    &ctx,
+                    &l,
+                    n,
+                    size,
+                    steps.clamp(1, 100),
+                    model,
+                    cull == OnOff::On,
+                    camera.map(camera_from),
+                )?;
                 if json {
                     println!("{}", serde_json::to_string(&r)?);
                 } else {
                     println!(
-                        "{} blades ({}) at {}x{} on {} ({}): median {:.2} ms, min {:.2} ms a frame over {} frames",
+                        "{} blades ({}, culling {}) at {}x{} on {} ({}): median {:.2} ms, min {:.2} ms a frame over {} frames; drawn per LOD {:?}, culled by orientation {}, frustum {}, distance {}",
                         r.blades,
                         r.model,
+                        if r.cull { "on" } else { "off" },
                         r.size[0],
                         r.size[1],
                         r.adapter,
                         r.adapter_type,
                         r.median_ms,
                         r.min_ms,
-                        r.frames
+                        r.frames,
+                        r.culled.drawn,
+                        r.culled.orientation,
+                        r.culled.frustum,
+                        r.culled.distance,
                     );
                 }
                 return Ok(ExitCode::SUCCESS);

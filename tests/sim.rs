@@ -735,7 +735,10 @@ mod gpu {
             .filter(|n| n.ends_with(".wgsl") && n != "common.wgsl")
             .collect();
         on_disk.sort();
-        on_disk.retain(|n| n != "map_common.wgsl" && n != "grass_common.wgsl");
+        // Headers, validated inside every pass they are prepended to.
+        on_disk.retain(|n| {
+            n != "map_common.wgsl" && n != "grass_common.wgsl" && n != "grass_shape.wgsl"
+        });
         let mut listed: Vec<String> = SHADERS
             .iter()
             .chain(mapview::SHADERS.iter())
@@ -1163,6 +1166,42 @@ mod gpu {
         }
     }
 
+    /// `bench --grass` prints one JSON object per run: the model and culling asked for, and
+    /// counters that account for every blade; culling draws fewer blades than no culling.
+    #[test]
+    fn grass_bench_reports_the_model_culling_and_every_blade() {
+        let Some(_ctx) = context() else { return };
+        let run = |model: &str, cull: &str| {
+            let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+                .args([
+                    "bench", "--grass", "20000", "--model", model, "--cull", cull, "--size",
+                    "320x180", "--steps", "2", "--json",
+                ])
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+            assert_eq!(r["model"], model);
+            assert_eq!(r["cull"], cull == "on");
+            assert_eq!(r["adapter"], _ctx.adapter.name.as_str());
+            let c = &r["culled"];
+            let n = |v: &serde_json::Value| v.as_u64().unwrap();
+            let drawn: u64 = c["drawn"].as_array().unwrap().iter().map(n).sum();
+            assert_eq!(
+                drawn + n(&c["orientation"]) + n(&c["frustum"]) + n(&c["distance"]),
+                n(&r["blades"]),
+                "{r}"
+            );
+            assert!(r["median_ms"].as_f64().unwrap() > 0.0);
+            drawn
+        };
+        for model in ["cwd", "bezier"] {
+            let (on, off) = (run(model, "on"), run(model, "off"));
+            println!("{model}: {on} blades drawn culled, {off} not");
+            assert!(on < off, "culling draws fewer blades");
+        }
+    }
+
     /// The grass passes against the CPU model (`grass::cwd`), and pictures of them.
     mod grass {
         use super::{context, example};
@@ -1190,9 +1229,12 @@ mod gpu {
         }
 
         /// Each blade's deformed tip as the vertex shader places it matches the CPU model's,
-        /// in random winds up to 40 m/s, at several times (the flutter's clock).
+        /// in random winds up to 40 m/s, at several times (the flutter's clock), and with a
+        /// sphere's trail crushing part of the field (`cwd::centreline_crushed` fed by the CPU
+        /// trail).
         #[test]
         fn gpu_blade_tips_match_the_cpu_model() {
+            use windloom::grass::trail::{Sphere, Trail};
             let Some(ctx) = context() else { return };
             let l = layout(30.0);
             let blades = scatter(&l);
@@ -1201,28 +1243,46 @@ mod gpu {
             let cell = [0.5, 0.5];
             let mut r =
                 GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+            let (min, max) = l.bounds();
+            let mut trail = Trail::new(min, max);
             let camera = Camera::overview(&l);
             let mut worst = (0.0f32, 0.0f32);
+            let mut crushed = 0;
             for (k, time) in [0.0f32, 1.7, 12.25].into_iter().enumerate() {
                 let wind = random_wind(nx * ny, 40 + k as u64);
                 r.set_wind(&ctx.device, &ctx.queue, (nx, ny), [0.0, 0.0], cell, &wind);
+                // The last time: a sphere has crossed the field.
+                let sphere = (k == 2).then_some(Sphere {
+                    centre: [6.0, 0.4, 4.0],
+                    radius: 1.5,
+                });
+                r.set_sphere(sphere);
+                trail.step(sphere, 0.25, windloom::gpu::grass::TRAIL_LIFETIME);
                 let mut enc = ctx.device.create_command_encoder(&Default::default());
-                r.prepare(&ctx.queue, &mut enc, &camera, 1.5, time);
+                r.prepare(&ctx.queue, &mut enc, &camera, 1.5, time, 0.25);
                 ctx.queue.submit([enc.finish()]);
                 let tips = r.read_tips(&ctx.device, &ctx.queue).unwrap();
                 for (b, gpu) in blades.iter().zip(&tips) {
                     let w = wind[wind_cell(b.pos, [0.0, 0.0], cell, (nx, ny))];
+                    let crush = if sphere.is_some() {
+                        trail.crush_at(b.pos, cwd::frame(b).0)
+                    } else {
+                        (0.0, [0.0, 0.0])
+                    };
+                    crushed += usize::from(crush.0 > 0.5);
                     let cpu =
-                        cwd::centreline(b, w, &l.grass, time, SEGMENTS as usize)[SEGMENTS as usize];
+                        cwd::centreline_crushed(b, w, &l.grass, time, SEGMENTS as usize, crush)
+                            [SEGMENTS as usize];
                     let d = (0..3).fold(0.0f32, |m, c| m.max((gpu[c] - cpu.pos[c]).abs()));
                     worst.0 = worst.0.max(d / b.height);
                     worst.1 = worst.1.max((gpu[3] - cpu.shade).abs());
                 }
             }
             println!(
-                "grass tips: max |GPU − CPU| {:.2e} of the blade height, shade {:.2e}",
+                "grass tips: max |GPU − CPU| {:.2e} of the blade height, shade {:.2e}; {crushed} blades crushed",
                 worst.0, worst.1
             );
+            assert!(crushed > 100, "the sphere crushed part of the field");
             assert!(
                 worst.0 <= 1e-3,
                 "tips differ by {} of a blade's height",
@@ -1232,11 +1292,13 @@ mod gpu {
         }
 
         /// The Bezier physics pass against its CPU twin (`grass::bezier`): random blades in
-        /// random winds up to 40 m/s, 30 frames at 60 fps, control points within 1e-3 m.
+        /// random winds up to 40 m/s, 40 frames at 60 fps while a sphere rolls across the
+        /// field leaving its trail (the CPU twin steps `grass::trail` alongside): control
+        /// points within 1e-3 m; the blades the sphere passed lean away from its path.
         #[test]
         fn gpu_bezier_blades_match_the_cpu_model() {
-            use windloom::gpu::grass::BezierPass;
-            use windloom::grass::bezier::State;
+            use windloom::grass::bezier::{Push, State};
+            use windloom::grass::trail::{Sphere, Trail};
             let Some(ctx) = context() else { return };
             let l = layout(8.0);
             let blades = scatter(&l);
@@ -1246,48 +1308,277 @@ mod gpu {
             let mut r =
                 GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
             r.set_wind(&ctx.device, &ctx.queue, (nx, ny), [0.0, 0.0], cell, &wind);
-            let mut bz = BezierPass::new(&ctx.device, &r, &blades);
+            r.set_model(
+                &ctx.device,
+                &ctx.queue,
+                windloom::doc::GrassModel::BezierPhysics,
+            );
+            let (min, max) = l.bounds();
+            let mut trail = Trail::new(min, max);
+            let lifetime = 2.0;
+            r.set_trail_lifetime(lifetime);
             let camera = Camera::overview(&l);
-            let frames = 30;
-            for _ in 0..frames {
+            let frames = 40;
+            let dt = 1.0 / 60.0;
+            let sphere_at = |f: usize| Sphere {
+                centre: [2.0 + 0.2 * f as f32, 0.3, 4.0],
+                radius: 0.6,
+            };
+            let mut cpu: Vec<State> = blades.iter().map(State::rest).collect();
+            for f in 0..frames {
+                let sphere = Some(sphere_at(f));
+                r.set_sphere(sphere);
                 let mut enc = ctx.device.create_command_encoder(&Default::default());
-                r.prepare(&ctx.queue, &mut enc, &camera, 1.5, 0.0);
-                bz.advance(&ctx.queue, &mut enc, &r, 1.0 / 60.0);
+                r.prepare(&ctx.queue, &mut enc, &camera, 1.5, 0.0, dt);
                 ctx.queue.submit([enc.finish()]);
-            }
-            let gpu = bz.read(&ctx.device, &ctx.queue).unwrap();
-            let mut worst = 0.0f32;
-            let mut moved = 0;
-            for (b, g) in blades.iter().zip(&gpu) {
-                let w = wind[wind_cell(b.pos, [0.0, 0.0], cell, (nx, ny))];
-                let mut s = State::rest(b);
-                for _ in 0..frames {
-                    s.advance(b, w, 1.0 / 60.0);
+                trail.step(sphere, dt, lifetime);
+                for (b, s) in blades.iter().zip(&mut cpu) {
+                    let w = wind[wind_cell(b.pos, [0.0, 0.0], cell, (nx, ny))];
+                    let (c, dir) = trail.crush_at(b.pos, cwd::frame(b).0);
+                    let push = Push {
+                        sphere,
+                        crush: c,
+                        dir,
+                    };
+                    s.advance_pushed(b, w, push, dt);
                 }
+            }
+            let gpu = r.read_bezier(&ctx.device, &ctx.queue).unwrap().unwrap();
+            let mut worst = 0.0f32;
+            let (mut moved, mut away, mut near) = (0, 0, 0);
+            for ((b, g), s) in blades.iter().zip(&gpu).zip(&cpu) {
                 for c in 0..3 {
                     worst = worst
                         .max((g.v1[c] - s.v1[c]).abs())
                         .max((g.v2[c] - s.v2[c]).abs());
                 }
                 let mut calm = State::rest(b);
+                let w = wind[wind_cell(b.pos, [0.0, 0.0], cell, (nx, ny))];
                 for _ in 0..frames {
-                    calm.advance(b, [0.0, 0.0], 1.0 / 60.0);
+                    calm.advance(b, w, dt);
                 }
-                if (0..3).any(|c| (s.v2[c] - calm.v2[c]).abs() > 0.01) {
+                if (0..3).any(|c| (s.v2[c] - State::rest(b).v2[c]).abs() > 0.01) {
                     moved += 1;
+                }
+                // Blades within the swept band, beside the path's middle line, lean out of it.
+                let off = b.pos[1] - 4.0;
+                if (3.5..=8.0).contains(&b.pos[0]) && (0.15..0.45).contains(&off.abs()) {
+                    near += 1;
+                    if (s.v2[2] - b.pos[1]) * off.signum() > (calm.v2[2] - b.pos[1]) * off.signum()
+                    {
+                        away += 1;
+                    }
                 }
             }
             println!(
-                "bezier: max |GPU − CPU| {worst:.2e} m over {} blades ({moved} moved)",
+                "bezier: max |GPU − CPU| {worst:.2e} m over {} blades ({moved} moved; {away} of {near} beside the path lean away from it)",
                 blades.len()
             );
             assert!(moved > blades.len() / 2, "the wind moved the blades");
+            assert!(
+                near > 10 && away * 10 >= near * 8,
+                "blades lean out of the sphere's path"
+            );
             assert!(
                 worst <= 1e-3,
                 "the GPU's blades differ from the CPU's by {worst} m"
             );
         }
 
+        /// The trail pass against `grass::trail::Trail`: a sphere dragged across the world,
+        /// then left to fade — every texel within 1e-5 each time, and nothing left after the
+        /// lifetime (whatever the frame rate).
+        #[test]
+        fn the_trail_matches_the_cpu_and_fades_in_its_lifetime() {
+            use windloom::grass::trail::{Sphere, Trail};
+            let Some(ctx) = context() else { return };
+            let l = layout(1.0);
+            let blades = scatter(&l);
+            let mut r =
+                GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+            let (min, max) = l.bounds();
+            let mut cpu = Trail::new(min, max);
+            let lifetime = 1.5;
+            r.set_trail_lifetime(lifetime);
+            let camera = Camera::overview(&l);
+            let mut worst = 0.0f32;
+            let mut frame = |r: &mut GrassRenderer, sphere: Option<Sphere>, dt: f32| {
+                r.set_sphere(sphere);
+                let mut enc = ctx.device.create_command_encoder(&Default::default());
+                r.prepare(&ctx.queue, &mut enc, &camera, 1.5, 0.0, dt);
+                ctx.queue.submit([enc.finish()]);
+                cpu.step(sphere, dt, lifetime);
+                let gpu = r.read_trail(&ctx.device, &ctx.queue).unwrap();
+                assert_eq!(gpu.len(), cpu.life.len());
+                for (g, c) in gpu.iter().zip(&cpu.life) {
+                    worst = worst.max((g - c).abs());
+                }
+                gpu
+            };
+            for f in 0..20 {
+                let s = Sphere {
+                    centre: [1.0 + 0.5 * f as f32, 0.5, 2.0 + 0.2 * f as f32],
+                    radius: 1.0,
+                };
+                frame(&mut r, Some(s), 1.0 / 30.0);
+            }
+            let trodden = frame(&mut r, None, 1.0 / 144.0);
+            let marked = trodden.iter().filter(|&&v| v > 0.5).count();
+            // Fade at 144 fps for the rest of the lifetime.
+            let mut last = trodden;
+            for _ in 0..(lifetime * 144.0) as usize {
+                last = frame(&mut r, None, 1.0 / 144.0);
+            }
+            println!(
+                "trail: {marked} texels trodden, max |GPU − CPU| {worst:.1e}, max left after the lifetime {}",
+                last.iter().cloned().fold(0.0f32, f32::max)
+            );
+            assert!(marked > 100, "the sphere left a trail");
+            assert!(worst <= 1e-5, "the GPU's trail differs by {worst}");
+            assert!(
+                last.iter().all(|&v| v == 0.0),
+                "the trail is gone after its lifetime"
+            );
+        }
+
+        /// The cull pass against `grass::cull::classify` for random cameras over a field of
+        /// blades in the wind, for both models, frame after frame (the LOD hysteresis carries
+        /// state): every blade the CPU decides with a margin is decided the same on the GPU,
+        /// and the indirect draw counts equal the CPU's counts.
+        #[test]
+        fn culling_on_the_gpu_matches_the_cpu_for_random_cameras() {
+            use windloom::grass::bezier::State;
+            use windloom::grass::cull::{self, CullParams, NO_LEVEL, Verdict};
+            let Some(ctx) = context() else { return };
+            let mut l = layout(30.0);
+            l.world.size = [40.0, 30.0];
+            l.world.grid = [20, 15];
+            let blades = scatter(&l);
+            let (nx, ny) = (20, 15);
+            let cell = [2.0, 2.0];
+            let wind = random_wind(nx * ny, 5);
+            let mut params = CullParams::for_height(0.5);
+            // Distances that fall inside a 40 m field.
+            params.lod_near = 4.0;
+            params.lod_far = 12.0;
+            params.max_distance = 45.0;
+            let mut rng = 12345u64;
+            let mut next = || {
+                rng = rng
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                (rng >> 40) as f32 / (1u64 << 24) as f32
+            };
+            for model in [
+                windloom::doc::GrassModel::CwdQuadratic,
+                windloom::doc::GrassModel::BezierPhysics,
+            ] {
+                let mut r =
+                    GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+                r.set_wind(&ctx.device, &ctx.queue, (nx, ny), [0.0, 0.0], cell, &wind);
+                r.set_model(&ctx.device, &ctx.queue, model);
+                r.set_cull(params);
+                let mut prev = vec![NO_LEVEL; blades.len()];
+                let mut states: Vec<State> = blades.iter().map(State::rest).collect();
+                let (mut ambiguous, mut compared) = (0usize, 0usize);
+                let mut eye = glam::Vec3::new(20.0, 3.0, 35.0);
+                for frame in 0..8 {
+                    // A random camera, then a small move (the hysteresis's case).
+                    if frame % 2 == 0 {
+                        eye = glam::Vec3::new(next() * 40.0, 0.5 + next() * 12.0, next() * 30.0);
+                    } else {
+                        eye += glam::Vec3::new(0.3, 0.05, -0.2);
+                    }
+                    let target = glam::Vec3::new(next() * 40.0, 0.0, next() * 30.0);
+                    let camera = Camera {
+                        eye,
+                        target,
+                        fov_y: (30.0 + next() * 40.0f32).to_radians(),
+                    };
+                    let aspect = 1.2 + next();
+                    let mut enc = ctx.device.create_command_encoder(&Default::default());
+                    r.prepare(&ctx.queue, &mut enc, &camera, aspect, 0.5, 1.0 / 60.0);
+                    ctx.queue.submit([enc.finish()]);
+                    let (stats, lists) = r.read_cull(&ctx.device, &ctx.queue).unwrap();
+                    let mut gpu = vec![None; blades.len()];
+                    for (lvl, list) in lists.iter().enumerate() {
+                        for &k in list {
+                            assert!(gpu[k as usize].is_none(), "blade {k} listed twice");
+                            gpu[k as usize] = Some(lvl as u32);
+                        }
+                    }
+                    let vp = camera.view_proj(aspect);
+                    let mut counts = [0u32; 6];
+                    let mut frame_ambiguous = 0;
+                    for (k, b) in blades.iter().enumerate() {
+                        let w = wind[wind_cell(b.pos, [0.0, 0.0], cell, (nx, ny))];
+                        let pts = match model {
+                            windloom::doc::GrassModel::CwdQuadratic => {
+                                let c = cwd::centreline(b, w, &l.grass, 0.5, 2);
+                                [c[0].pos, c[1].pos, c[2].pos]
+                            }
+                            windloom::doc::GrassModel::BezierPhysics => {
+                                states[k].advance(b, w, 1.0 / 60.0);
+                                let s = &states[k];
+                                [s.point(0.0), s.point(0.5), s.point(1.0)]
+                            }
+                        };
+                        let (v, margin) = cull::classify(
+                            k as u32,
+                            cull::side(b),
+                            pts,
+                            eye.to_array(),
+                            &vp,
+                            prev[k],
+                            &params,
+                        );
+                        counts[match v {
+                            Verdict::Level(l) => l as usize,
+                            Verdict::Orientation => 3,
+                            Verdict::Frustum => 4,
+                            Verdict::Distance => 5,
+                        }] += 1;
+                        let cpu_level = match v {
+                            Verdict::Level(l) => Some(l),
+                            _ => None,
+                        };
+                        if margin < 1e-4 {
+                            frame_ambiguous += 1;
+                            // Follow the GPU where f32 rounding could go either way.
+                            if let Some(g) = gpu[k] {
+                                prev[k] = g;
+                            }
+                            continue;
+                        }
+                        compared += 1;
+                        assert_eq!(
+                            gpu[k], cpu_level,
+                            "{model:?} frame {frame}: blade {k} ({v:?}, margin {margin})"
+                        );
+                        if let Some(l) = cpu_level {
+                            prev[k] = l;
+                        }
+                    }
+                    ambiguous += frame_ambiguous;
+                    let drawn = [counts[0], counts[1], counts[2]];
+                    let culled = [counts[3], counts[4], counts[5]];
+                    let gpu_culled = [stats.orientation, stats.frustum, stats.distance];
+                    if frame_ambiguous == 0 {
+                        assert_eq!(stats.drawn, drawn, "{model:?}: indirect counts");
+                        assert_eq!(gpu_culled, culled, "{model:?}: cull counters");
+                    } else {
+                        for (g, c) in stats.drawn.iter().zip(&drawn) {
+                            assert!(g.abs_diff(*c) as usize <= frame_ambiguous);
+                        }
+                    }
+                    assert_eq!(stats.total as usize, blades.len());
+                }
+                println!(
+                    "{model:?}: {compared} decisions equal, {ambiguous} within 1e-4 of a threshold set aside"
+                );
+                assert!(ambiguous * 1000 <= compared, "too many borderline blades");
+            }
+        }
         /// With the GPU running the field, the grass's wind grid is made on the GPU from the
         /// solver's faces: it equals the CPU's cell-centred velocity exactly.
         #[test]
@@ -1339,16 +1630,14 @@ mod gpu {
                 fov_y: 45f32.to_radians(),
             };
             let (w, h) = (160u32, 120u32);
-            let px = windloom::gpu::grass::picture(
-                &ctx,
-                &l,
-                dir.path(),
-                [w, h],
-                0.0,
-                Some(camera),
-                false,
-            )
-            .unwrap();
+            let options = windloom::gpu::grass::PictureOptions {
+                size: [w, h],
+                time: 0.0,
+                camera: Some(camera),
+                paper_literal: false,
+                push: None,
+            };
+            let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
             let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
             let (left, right) = (at(w / 4, h / 2), at(3 * w / 4, h / 2));
             println!("ground left {left:?}, right {right:?}");
@@ -1362,16 +1651,14 @@ mod gpu {
             );
             // Without the backdrop, soil.
             l.world.map = None;
-            let px = windloom::gpu::grass::picture(
-                &ctx,
-                &l,
-                dir.path(),
-                [w, h],
-                0.0,
-                Some(camera),
-                false,
-            )
-            .unwrap();
+            let options = windloom::gpu::grass::PictureOptions {
+                size: [w, h],
+                time: 0.0,
+                camera: Some(camera),
+                paper_literal: false,
+                push: None,
+            };
+            let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
             let soil = &px[(((h / 2) * w + w / 4) * 4) as usize..][..3];
             assert!(
                 soil[0] < 120 && soil[2] < 60,
@@ -1379,7 +1666,7 @@ mod gpu {
             );
         }
 
-        fn picture(ctx: &GpuContext, speed: f32) -> Vec<u8> {
+        fn picture(ctx: &GpuContext, speed: f32, model: windloom::doc::GrassModel) -> Vec<u8> {
             let l = layout(40.0);
             let blades = scatter(&l);
             let mut r = GrassRenderer::new(
@@ -1388,6 +1675,7 @@ mod gpu {
                 &l,
                 &blades,
             );
+            r.set_model(&ctx.device, &ctx.queue, model);
             let wind = vec![[speed * 0.8, speed * -0.6]; 24 * 16];
             r.set_wind(
                 &ctx.device,
@@ -1402,9 +1690,24 @@ mod gpu {
                 target: glam::Vec3::new(6.0, 0.2, 4.0),
                 fov_y: 45f32.to_radians(),
             };
-            render_offscreen(&ctx.device, &ctx.queue, &mut r, &camera, 0.0, [320, 180])
-                .unwrap()
-                .0
+            // Two seconds at 60 fps for the Bezier blades to answer the wind.
+            if model == windloom::doc::GrassModel::BezierPhysics {
+                for _ in 0..120 {
+                    let mut enc = ctx.device.create_command_encoder(&Default::default());
+                    r.prepare(&ctx.queue, &mut enc, &camera, 16.0 / 9.0, 0.0, 1.0 / 60.0);
+                    ctx.queue.submit([enc.finish()]);
+                }
+            }
+            render_offscreen(
+                &ctx.device,
+                &ctx.queue,
+                &mut r,
+                &camera,
+                (0.0, 1.0 / 60.0),
+                [320, 180],
+            )
+            .unwrap()
+            .0
         }
 
         fn luminance(p: &[u8]) -> f64 {
@@ -1416,16 +1719,24 @@ mod gpu {
                 / (p.len() / 4) as f64
         }
 
-        /// Calm, breezy and gale pictures against committed references (mean channel
-        /// difference ≤ 1.5/255, and under 1% of pixels off by more than 24/255); a gale is
-        /// visibly different from calm but darkens the picture by less than 12%.
+        /// Calm, breezy and gale pictures of the CWD model, and calm and gale pictures of the
+        /// Bezier blades, against committed references (mean channel difference ≤ 1.5/255,
+        /// and under 1% of pixels off by more than 24/255); a gale is visibly different from
+        /// calm but darkens the picture by less than 12%.
         #[test]
         fn grass_pictures_match_their_references_and_a_gale_stays_lit() {
+            use windloom::doc::GrassModel::{BezierPhysics, CwdQuadratic};
             let Some(ctx) = context() else { return };
             let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/snapshots");
             let mut pictures = Vec::new();
-            for (name, speed) in [("calm", 0.0), ("breezy", 4.0), ("gale", 30.0)] {
-                let pixels = picture(&ctx, speed);
+            for (name, speed, model) in [
+                ("calm", 0.0, CwdQuadratic),
+                ("breezy", 4.0, CwdQuadratic),
+                ("gale", 30.0, CwdQuadratic),
+                ("bezier_calm", 0.0, BezierPhysics),
+                ("bezier_gale", 30.0, BezierPhysics),
+            ] {
+                let pixels = picture(&ctx, speed, model);
                 let path = dir.join(format!("grass_{name}.png"));
                 if std::env::var_os("UPDATE_SNAPSHOTS").is_some() {
                     image::RgbaImage::from_raw(320, 180, pixels.clone())
@@ -1468,14 +1779,21 @@ mod gpu {
                 gale >= calm * 0.88,
                 "a gale darkens the grass too much: {gale} against {calm}"
             );
-            let changed = pictures[0]
-                .iter()
-                .zip(&pictures[2])
-                .filter(|(a, b)| a != b)
-                .count();
+            for (calm, gale) in [(0, 2), (3, 4)] {
+                let changed = pictures[calm]
+                    .iter()
+                    .zip(&pictures[gale])
+                    .filter(|(a, b)| a != b)
+                    .count();
+                assert!(
+                    changed > pictures[calm].len() / 10,
+                    "a gale must change the picture"
+                );
+            }
+            let (calm, gale) = (luminance(&pictures[3]), luminance(&pictures[4]));
             assert!(
-                changed > pictures[0].len() / 10,
-                "a gale must change the picture"
+                gale >= calm * 0.88,
+                "a gale darkens the Bezier grass too much: {gale} against {calm}"
             );
         }
     }
@@ -2025,7 +2343,86 @@ mod grass {
     /// back to rest when the wind drops, bent downwind, the same at 30 and 144 fps.
     mod bezier {
         use super::blades;
-        use windloom::grass::bezier::State;
+        use windloom::grass::bezier::{Push, State};
+        use windloom::grass::trail::{Sphere, Trail};
+
+        /// A sphere set down beside a blade pushes its tip away from the sphere's centre, the
+        /// length kept; its trail holds the blade down, and once the trail has faded the blade
+        /// stands again.
+        #[test]
+        fn a_sphere_pushes_blades_away_and_they_recover_after_the_trail() {
+            for b in blades() {
+                for side in [-1.0f32, 1.0] {
+                    let mut s = State::rest(&b);
+                    let sphere = Sphere {
+                        centre: [b.pos[0] + side * 0.25, 0.3, b.pos[1]],
+                        radius: 0.4,
+                    };
+                    let mut trail = Trail::new(
+                        [b.pos[0] - 3.0, b.pos[1] - 3.0],
+                        [b.pos[0] + 3.0, b.pos[1] + 3.0],
+                    );
+                    let lifetime = 1.0;
+                    for _ in 0..30 {
+                        trail.step(Some(sphere), 1.0 / 60.0, lifetime);
+                        let (crush, dir) = trail.crush_at(b.pos, [1.0, 0.0]);
+                        s.advance_pushed(
+                            &b,
+                            [0.0, 0.0],
+                            Push {
+                                sphere: Some(sphere),
+                                crush,
+                                dir,
+                            },
+                            1.0 / 60.0,
+                        );
+                    }
+                    let moved = s.v2[0] - b.pos[0];
+                    assert!(
+                        moved * side < -0.3 * b.height,
+                        "the tip moves away from the sphere: {moved} (sphere on side {side})"
+                    );
+                    assert!((s.length(64) - b.height).abs() <= 0.02 * b.height);
+                    // Sphere gone: the trail holds the blade down for a while…
+                    let rest = run(&b, [0.0, 0.0], 4.0, 60.0).v2;
+                    let mut path = Vec::new();
+                    for _ in 0..150 {
+                        trail.step(None, 1.0 / 60.0, lifetime);
+                        let (crush, dir) = trail.crush_at(b.pos, [1.0, 0.0]);
+                        let push = Push {
+                            sphere: None,
+                            crush,
+                            dir,
+                        };
+                        s.advance_pushed(&b, [0.0, 0.0], push, 1.0 / 60.0);
+                        path.push(s.v2);
+                    }
+                    let gap = |p: &[f32; 3]| {
+                        ((p[0] - rest[0]).powi(2)
+                            + (p[1] - rest[1]).powi(2)
+                            + (p[2] - rest[2]).powi(2))
+                        .sqrt()
+                    };
+                    assert!(
+                        path[10][1] < rest[1] - 0.1 * b.height,
+                        "held down: {} of {}",
+                        path[10][1],
+                        rest[1]
+                    );
+                    // …then it returns to where gravity alone leaves it, its tip closing on
+                    // that point frame after frame: no jitter, no overshoot.
+                    assert!(gap(path.last().unwrap()) < 0.02 * b.height, "back at rest");
+                    let away = path
+                        .windows(2)
+                        .map(|w| gap(&w[1]) - gap(&w[0]))
+                        .fold(0.0f32, f32::max);
+                    assert!(
+                        away < 1e-4,
+                        "the tip moves away from rest while settling: {away} m"
+                    );
+                }
+            }
+        }
 
         fn run(b: &windloom::grass::Blade, wind: [f32; 2], seconds: f32, fps: f32) -> State {
             let mut s = State::rest(b);
@@ -2142,6 +2539,76 @@ mod grass {
             assert!(b.height >= g.height[0] && b.height <= g.height[1]);
             assert!(b.width >= g.width[0] && b.width <= g.width[1]);
             assert!((b.palette as usize) < g.palettes.len());
+        }
+    }
+
+    /// The cull's CPU twin: LOD boundaries are a dithered band with hysteresis, and distance
+    /// culling thins the field gradually with no blade popping.
+    mod cull {
+        use windloom::grass::cull::{CullParams, NO_LEVEL, distance_width, level, reach};
+
+        #[test]
+        fn lod_levels_do_not_flicker_at_a_boundary_and_change_over_a_band() {
+            let p = CullParams::for_height(0.5);
+            // A camera jittering ±1% around a blade's boundary keeps the blade's level.
+            for k in 0..2000u32 {
+                let mut l = level(k, p.lod_near * 0.5, NO_LEVEL, &p);
+                let mut changes = 0;
+                let jitter = p.lod_near * (1.0 + p.dither * ((k as f32 * 0.618).fract() - 0.5));
+                for f in 0..60 {
+                    let d = jitter * (1.0 + 0.01 * if f % 2 == 0 { 1.0 } else { -1.0 });
+                    let n = level(k, d, l, &p);
+                    changes += usize::from(n != l && f > 0);
+                    l = n;
+                }
+                assert!(
+                    changes <= 1,
+                    "blade {k} flickers between levels: {changes} changes"
+                );
+            }
+            // At one distance, blades differ: a band, not a line.
+            let d = p.lod_near;
+            let coarse = (0..2000u32)
+                .filter(|&k| level(k, d, NO_LEVEL, &p) == 1)
+                .count();
+            assert!(
+                (400..1600).contains(&coarse),
+                "{coarse} of 2000 blades coarser at the boundary"
+            );
+            // Far from the boundaries every blade agrees.
+            assert!((0..2000).all(|k| level(k, 0.5 * p.lod_near, NO_LEVEL, &p) == 0));
+            assert!((0..2000).all(|k| level(k, 2.0 * p.lod_far, NO_LEVEL, &p) == 2));
+        }
+
+        #[test]
+        fn distance_culling_thins_gradually_and_fades_blades_out() {
+            let p = CullParams::for_height(0.5);
+            let n = 20_000u32;
+            let kept = |d: f32| (0..n).filter(|&k| d < reach(k, &p)).count() as f32 / n as f32;
+            let mut last = 1.0;
+            for step in 1..=10 {
+                let d = p.max_distance * step as f32 / 10.0 - 1e-3;
+                let f = kept(d);
+                assert!(f <= last, "fewer blades farther away");
+                assert!(
+                    (f - (1.0 - d / p.max_distance)).abs() < 0.15,
+                    "about 1 − d/max kept at {d} m: {f}"
+                );
+                last = f;
+            }
+            assert_eq!(kept(p.max_distance + 1.0), 0.0);
+            // A blade's width reaches zero at its reach (it fades out, never pops), and
+            // survivors widen where the field is thinned.
+            for k in 0..500 {
+                let r = reach(k, &p);
+                assert!(distance_width(k, r * 0.9999, &p) < 0.01);
+                assert!(distance_width(k, 0.0, &p) == 1.0);
+            }
+            let far = (0..n)
+                .map(|k| (k, 0.5 * p.max_distance))
+                .find(|&(k, d)| d < 0.7 * reach(k, &p))
+                .unwrap();
+            assert!(distance_width(far.0, far.1, &p) > 1.5);
         }
     }
 }

@@ -19,6 +19,7 @@
 //! and carries the remainder, so 30 and 144 frames a second make the same steps.
 
 use super::Blade;
+use super::trail::Sphere;
 
 /// The fixed integration step, seconds.
 pub const STEP: f32 = 1.0 / 240.0;
@@ -50,6 +51,21 @@ fn len(a: V3) -> f32 {
 
 const UP: V3 = [0.0, 1.0, 0.0];
 
+/// What pushes a blade besides the wind: the sphere it collides with (Jahrmann's collision
+/// against the tip and the curve's middle) and the trail's crush at its root with the direction
+/// crushed blades lie in (`trail::Trail::crush_at`), which moves the rest tip toward the
+/// ground so the recovery force brings the blade back as the trail fades.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Push {
+    pub sphere: Option<Sphere>,
+    pub crush: f32,
+    pub dir: [f32; 2],
+}
+
+/// Where a fully crushed blade's tip rests, as fractions of its height: along the crush
+/// direction, and up.
+pub const CRUSHED: [f32; 2] = [0.95, 0.3];
+
 /// A blade's simulated state: root, guide and tip (world metres, y up), and the time not yet
 /// integrated (less than one [`STEP`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -75,23 +91,42 @@ impl State {
 
     /// Advances by `dt` seconds of wind `wind` (world x, z; m/s) at the root.
     pub fn advance(&mut self, blade: &Blade, wind: [f32; 2], dt: f32) {
+        self.advance_pushed(blade, wind, Push::default(), dt);
+    }
+
+    /// [`Self::advance`] with a sphere and a trail pushing the blade.
+    pub fn advance_pushed(&mut self, blade: &Blade, wind: [f32; 2], push: Push, dt: f32) {
         // As the GPU pass counts them, so both make the same steps.
         self.carry += dt;
         let steps = (self.carry / STEP).floor();
         self.carry -= steps * STEP;
         for _ in 0..steps as u32 {
-            self.step(blade, wind, STEP);
+            self.step_pushed(blade, wind, push, STEP);
         }
     }
 
     /// One integration step of `dt` seconds and the state validation.
     pub fn step(&mut self, blade: &Blade, wind: [f32; 2], dt: f32) {
+        self.step_pushed(blade, wind, Push::default(), dt);
+    }
+
+    /// [`Self::step`] with a sphere and a trail pushing the blade.
+    pub fn step_pushed(&mut self, blade: &Blade, wind: [f32; 2], push: Push, dt: f32) {
         let h = blade.height;
         let (s, c) = blade.facing.sin_cos();
         let front = [c, 0.0, s];
         let ge = [0.0, -GRAVITY, 0.0];
         let g = add(ge, mul(front, 0.25 * GRAVITY));
-        let iv2 = add(self.v0, mul(UP, h));
+        let upright = add(self.v0, mul(UP, h));
+        let crushed = add(
+            self.v0,
+            [
+                push.dir[0] * CRUSHED[0] * h,
+                CRUSHED[1] * h,
+                push.dir[1] * CRUSHED[0] * h,
+            ],
+        );
+        let iv2 = add(mul(upright, 1.0 - push.crush), mul(crushed, push.crush));
         let r = mul(sub(iv2, self.v2), blade.stiffness * RECOVERY);
         let v = [wind[0], 0.0, wind[1]];
         let speed = len(v);
@@ -104,7 +139,30 @@ impl State {
             [0.0; 3]
         };
         self.v2 = add(self.v2, mul(add(add(g, r), w), dt));
+        if let Some(s) = push.sphere {
+            self.collide(s);
+        }
         self.validate(h);
+    }
+
+    /// Jahrmann's collision: the tip and the curve's middle pushed out of the sphere, the
+    /// middle's push applied to the tip four times over (the middle moves a quarter as far).
+    fn collide(&mut self, s: Sphere) {
+        let out = |p: V3| {
+            let d = sub(p, s.centre);
+            let l = len(d);
+            if l < s.radius && l > 1e-6 {
+                mul(d, (s.radius - l) / l)
+            } else {
+                [0.0; 3]
+            }
+        };
+        let mid = add(
+            add(mul(self.v0, 0.25), mul(self.v1, 0.5)),
+            mul(self.v2, 0.25),
+        );
+        let d = add(out(self.v2), mul(out(mid), 4.0));
+        self.v2 = add(self.v2, d);
     }
 
     /// Jahrmann's state validation: tip above the ground, guide from the tip's lean, length

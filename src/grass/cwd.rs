@@ -76,6 +76,37 @@ pub fn push(blade: &Blade, g: &GrassParams, wind: [f32; 2], time: f32) -> (f32, 
     )
 }
 
+/// The bend a fully crushed blade gets (the sphere's trail): it lies nearly flat.
+pub const CRUSH_BEND: f32 = 0.92;
+
+/// The wind's push blended with the trail's crush `c` toward world direction `toward`: at
+/// `c = 1` the blade lies toward `toward` with a bend of [`CRUSH_BEND`], whatever the wind.
+pub fn crushed(
+    blade: &Blade,
+    (bend, dir): (f32, [f32; 2]),
+    c: f32,
+    toward: [f32; 2],
+) -> (f32, [f32; 2]) {
+    if c <= 0.0 {
+        return (bend, dir);
+    }
+    let (fwd, side) = frame(blade);
+    let t = [
+        toward[0] * side[0] + toward[1] * side[1],
+        toward[0] * fwd[0] + toward[1] * fwd[1],
+    ];
+    let p = [
+        (1.0 - c) * bend * dir[0] + c * CRUSH_BEND * t[0],
+        (1.0 - c) * bend * dir[1] + c * CRUSH_BEND * t[1],
+    ];
+    let l = p[0].hypot(p[1]);
+    if l > 0.0 {
+        (l, [p[0] / l, p[1] / l])
+    } else {
+        (0.0, [0.0, 0.0])
+    }
+}
+
 /// The blade-frame point `(x, y, z)` at `t` (0 root, 1 tip) before the length is restored.
 fn bent(blade: &Blade, g: &GrassParams, (bend, dir): (f32, [f32; 2]), t: f32) -> [f32; 3] {
     let h = blade.height;
@@ -115,7 +146,19 @@ pub fn centreline(
     time: f32,
     segments: usize,
 ) -> Vec<Point> {
-    let v = push(blade, g, wind, time);
+    centreline_crushed(blade, wind, g, time, segments, (0.0, [0.0, 0.0]))
+}
+
+/// [`centreline`] with the trail's crush `(c, direction)` at the blade's root ([`crushed`]).
+pub fn centreline_crushed(
+    blade: &Blade,
+    wind: [f32; 2],
+    g: &GrassParams,
+    time: f32,
+    segments: usize,
+    (c, toward): (f32, [f32; 2]),
+) -> Vec<Point> {
+    let v = crushed(blade, push(blade, g, wind, time), c, toward);
     let scale = blade.height / bent_length(blade, g, v).max(1e-9);
     let (fwd, side) = frame(blade);
     let dim = g.shadow.c1 * saturate(wind[0].hypot(wind[1]));

@@ -8,10 +8,14 @@
 //! - [`cwd`]: the CWD-Sim quadratic deformation (paper eqs. 11–14) as
 //!   `../shared/reference/wind-model.md` reads it, with the paper's open problem solved
 //!   (strong wind neither flattens nor blackens a blade).
+//! - [`bezier`]: Jahrmann & Wimmer's physics blades; [`cull`]: which blades a frame draws and
+//!   at what detail; [`trail`]: the path a pushing sphere leaves.
 
 pub mod bezier;
+pub mod cull;
 pub mod cwd;
 pub mod scene;
+pub mod trail;
 
 use crate::doc::{Layout, Shape};
 

@@ -1,12 +1,10 @@
 //! The Bezier physics blades' compute pass (`shaders/grass_bezier.wgsl`, issue 12): per-blade
 //! control points on the GPU, advanced in the fixed steps of [`crate::grass::bezier`] — its CPU
-//! twin. Not yet drawn, culled or level-of-detailed: this is the simulation alone.
+//! twin. The renderer owns one while the Bezier model is chosen
+//! ([`super::GrassRenderer::set_model`]); the cull pass and the vertex shader read its states.
 
-use super::GrassRenderer;
 use crate::gpu::GpuError;
-use crate::grass::Blade;
-use crate::grass::bezier::{RECOVERY, STEP, State, WIND};
-use wgpu::util::DeviceExt;
+use crate::grass::bezier::{RECOVERY, STEP, WIND};
 
 /// A blade's control points; mirrors `struct BezierState` in `shaders/grass_bezier.wgsl`.
 #[repr(C)]
@@ -29,39 +27,24 @@ struct Physics {
 
 /// Every blade's Bezier state on the GPU, and the pass that steps it.
 pub struct BezierPass {
-    states: wgpu::Buffer,
+    pub(super) states: wgpu::Buffer,
     physics: wgpu::Buffer,
     group: wgpu::BindGroup,
     pipeline: wgpu::ComputePipeline,
-    blades: u32,
+    rest: wgpu::ComputePipeline,
     /// Simulated time not yet stepped (less than one [`STEP`]).
     carry: f32,
 }
 
 impl BezierPass {
-    /// The blades at rest (upright), for `grass`'s blades.
-    pub fn new(device: &wgpu::Device, grass: &GrassRenderer, blades: &[Blade]) -> Self {
-        let v4 = |v: [f32; 3]| [v[0], v[1], v[2], 0.0];
-        let init: Vec<BezierState> = blades
-            .iter()
-            .map(|b| {
-                let s = State::rest(b);
-                BezierState {
-                    v0: v4(s.v0),
-                    v1: v4(s.v1),
-                    v2: v4(s.v2),
-                }
-            })
-            .collect();
-        let bytes: &[u8] = if init.is_empty() {
-            &[0; 48]
-        } else {
-            bytemuck::cast_slice(&init)
-        };
-        let states = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+    /// States for `blades` blades (set upright by [`Self::record_rest`]); `layout0`: the
+    /// renderer's group 0.
+    pub(super) fn new(device: &wgpu::Device, layout0: &wgpu::BindGroupLayout, blades: u32) -> Self {
+        let states = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("bezier states"),
-            contents: bytes,
+            size: u64::from(blades.max(1)) * std::mem::size_of::<BezierState>() as u64,
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
         });
         let physics = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("bezier physics"),
@@ -69,7 +52,6 @@ impl BezierPass {
             usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let (layout0, _) = grass.scene_group();
         let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("bezier"),
             entries: &[
@@ -110,32 +92,49 @@ impl BezierPass {
                 super::shader_source("grass_bezier").expect("listed").into(),
             ),
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("grass_bezier"),
-            layout: Some(&layout),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = |entry_point: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&layout),
+                module: &module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
         Self {
             states,
             physics,
             group,
-            pipeline,
-            blades: blades.len() as u32,
+            pipeline: pipeline("main"),
+            rest: pipeline("rest_main"),
             carry: 0.0,
         }
     }
 
+    /// Records every one of `blades` blades set upright, at rest.
+    pub(super) fn record_rest(
+        &mut self,
+        enc: &mut wgpu::CommandEncoder,
+        group0: &wgpu::BindGroup,
+        blades: u32,
+    ) {
+        self.carry = 0.0;
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&self.rest);
+        pass.set_bind_group(0, group0, &[]);
+        pass.set_bind_group(1, &self.group, &[]);
+        super::dispatch_blades(&mut pass, blades);
+    }
+
     /// Records `dt` seconds of simulation in fixed [`STEP`]s (the remainder carried to the
-    /// next call), in the wind `grass` holds; the scene uniform must be current (a
-    /// [`GrassRenderer::prepare`] this frame).
-    pub fn advance(
+    /// next call), for `blades` blades, with the scene uniform's wind, sphere and trail.
+    pub(super) fn advance(
         &mut self,
         queue: &wgpu::Queue,
         enc: &mut wgpu::CommandEncoder,
-        grass: &GrassRenderer,
+        group0: &wgpu::BindGroup,
+        blades: u32,
         dt: f32,
     ) {
         self.carry += dt;
@@ -148,7 +147,6 @@ impl BezierPass {
             wind_k: WIND,
         };
         queue.write_buffer(&self.physics, 0, bytemuck::bytes_of(&physics));
-        let (_, group0) = grass.scene_group();
         let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("grass bezier"),
             timestamp_writes: None,
@@ -156,7 +154,7 @@ impl BezierPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, group0, &[]);
         pass.set_bind_group(1, &self.group, &[]);
-        pass.dispatch_workgroups(self.blades.div_ceil(64), 1, 1);
+        super::dispatch_blades(&mut pass, blades);
     }
 
     /// Every blade's control points, read back (for tests; waits for the GPU).
@@ -164,8 +162,9 @@ impl BezierPass {
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
+        blades: u32,
     ) -> Result<Vec<BezierState>, GpuError> {
         let bytes = crate::gpu::read_buffer(device, queue, &self.states)?;
-        Ok(bytemuck::cast_slice(&bytes)[..self.blades as usize].to_vec())
+        Ok(bytemuck::cast_slice(&bytes)[..blades as usize].to_vec())
     }
 }

@@ -1,8 +1,33 @@
 //! The grass without a window: `windloom render --view grass` and `windloom bench --grass`.
 
-use super::{Camera, GrassRenderer, render_offscreen};
-use crate::doc::Layout;
+use super::{Camera, CullStats, GrassRenderer, Target, render_into, render_offscreen};
+use crate::doc::{GrassModel, Layout};
 use crate::gpu::GpuError;
+use crate::grass::cull::CullParams;
+
+/// Frames a second the headless renders step the Bezier blades at.
+const FPS: f32 = 60.0;
+
+/// Lets the Bezier blades (with the CWD model: nothing to settle) answer the wind for
+/// `seconds` before the picture, at [`FPS`].
+fn settle(
+    ctx: &crate::gpu::GpuContext,
+    grass: &mut GrassRenderer,
+    camera: &Camera,
+    time: f32,
+    seconds: f32,
+) {
+    if grass.model() != GrassModel::BezierPhysics {
+        return;
+    }
+    let frames = (seconds * FPS).round() as usize;
+    for k in 0..frames {
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        let t = time - seconds + k as f32 / FPS;
+        grass.prepare(&ctx.queue, &mut enc, camera, 16.0 / 9.0, t, 1.0 / FPS);
+        ctx.queue.submit([enc.finish()]);
+    }
+}
 
 /// Gives `grass` the layout's wind after `time` simulated seconds (the CPU solver).
 fn wind_at(ctx: &crate::gpu::GpuContext, grass: &mut GrassRenderer, layout: &Layout, time: f32) {
@@ -21,18 +46,36 @@ fn wind_at(ctx: &crate::gpu::GpuContext, grass: &mut GrassRenderer, layout: &Lay
     );
 }
 
-/// A picture of `layout`'s grass in its wind after `time` seconds, seen by `camera` (the
-/// [`Camera::overview`] when `None`): RGBA8 sRGB pixels, `size` wide and high. `windloom
-/// render --view grass`.
+/// How `windloom render --view grass` draws: the picture's size, the wind's time, the camera
+/// ([`Camera::overview`] when `None`), the paper's literal equations, and a sphere rolled
+/// through the grass before the picture.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PictureOptions {
+    pub size: [u32; 2],
+    pub time: f32,
+    pub camera: Option<Camera>,
+    pub paper_literal: bool,
+    pub push: Option<PushPath>,
+}
+
+/// A sphere of `radius` rolled from `from` to `to` (world `(x, z)`) over the second before the
+/// picture; its trail shows in it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PushPath {
+    pub from: [f32; 2],
+    pub to: [f32; 2],
+    pub radius: f32,
+}
+
+/// A picture of `layout`'s grass in its wind after `time` seconds: RGBA8 sRGB pixels, `size`
+/// wide and high. `windloom render --view grass`.
 pub fn picture(
     ctx: &crate::gpu::GpuContext,
     layout: &Layout,
     base: &std::path::Path,
-    size: [u32; 2],
-    time: f32,
-    camera: Option<Camera>,
-    paper_literal: bool,
+    o: &PictureOptions,
 ) -> Result<Vec<u8>, GpuError> {
+    let (size, time) = (o.size, o.time);
     let blades = crate::grass::scatter(layout);
     let mut grass = GrassRenderer::new(
         &ctx.device,
@@ -40,7 +83,8 @@ pub fn picture(
         layout,
         &blades,
     );
-    grass.set_paper_literal(paper_literal);
+    grass.set_paper_literal(o.paper_literal);
+    grass.set_model(&ctx.device, &ctx.queue, layout.grass.model);
     if let Some(map) = &layout.world.map {
         let path = base.join(&map.image);
         let img = image::open(&path)
@@ -62,23 +106,56 @@ pub fn picture(
         &crate::grass::scene::arrows(layout),
     );
     wind_at(ctx, &mut grass, layout, time);
-    let camera = camera.unwrap_or_else(|| Camera::overview(layout));
-    let (pixels, _) = render_offscreen(&ctx.device, &ctx.queue, &mut grass, &camera, time, size)?;
+    let camera = o.camera.unwrap_or_else(|| Camera::overview(layout));
+    settle(ctx, &mut grass, &camera, time, 3.0);
+    if let Some(p) = o.push {
+        let frames = FPS as usize;
+        for k in 0..=frames {
+            let f = k as f32 / frames as f32;
+            let at = |a: f32, b: f32| a + (b - a) * f;
+            grass.set_sphere((k < frames).then_some(crate::grass::trail::Sphere {
+                centre: [
+                    at(p.from[0], p.to[0]),
+                    0.5 * p.radius,
+                    at(p.from[1], p.to[1]),
+                ],
+                radius: p.radius,
+            }));
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            grass.prepare(&ctx.queue, &mut enc, &camera, 16.0 / 9.0, time, 1.0 / FPS);
+            ctx.queue.submit([enc.finish()]);
+        }
+    }
+    let (pixels, _) = render_offscreen(
+        &ctx.device,
+        &ctx.queue,
+        &mut grass,
+        &camera,
+        (time, 1.0 / FPS),
+        size,
+    )?;
     Ok(pixels)
 }
 
-/// `windloom bench --grass N`: frame times drawing about `blades` blades of `layout` (its
-/// density raised or lowered to give that many) at `size`, in its wind after 2 s.
+/// `windloom bench --grass N --model cwd|bezier --cull on|off`: frame times drawing about
+/// `blades` blades of `layout` (its density raised or lowered to give that many) at `size`, in
+/// its wind after 2 s, seen by `camera` ([`Camera::walk`] when `None`: standing in the grass);
+/// every compute pass included (for the Bezier model, one frame's physics at 60 fps).
 #[derive(Debug, Clone, serde::Serialize)]
 pub struct GrassBench {
     pub adapter: String,
     pub adapter_type: String,
     pub model: String,
+    pub cull: bool,
     pub blades: u32,
     pub size: [u32; 2],
     pub frames: usize,
     pub median_ms: f64,
     pub min_ms: f64,
+    /// The last frame's counters: culled by each test, drawn per LOD level.
+    pub culled: CullStats,
+    /// Segments per blade at each LOD level.
+    pub lod_segments: [u32; 3],
 }
 
 pub fn bench(
@@ -87,6 +164,9 @@ pub fn bench(
     blades: usize,
     size: [u32; 2],
     frames: usize,
+    model: GrassModel,
+    cull: bool,
+    camera: Option<Camera>,
 ) -> Result<GrassBench, GpuError> {
     let mut layout = layout.clone();
     let area = layout.world.size[0] * layout.world.size[1];
@@ -98,31 +178,51 @@ pub fn bench(
         &layout,
         &placed,
     );
+    grass.set_model(&ctx.device, &ctx.queue, model);
+    if !cull {
+        grass.set_cull(CullParams::OFF);
+    }
     wind_at(ctx, &mut grass, &layout, 2.0);
-    let camera = Camera::overview(&layout);
+    let camera = camera.unwrap_or_else(|| Camera::walk(&layout));
+    let target = Target::new(&ctx.device, size);
     // One untimed frame (pipelines, first use of the buffers), then the timed ones.
-    render_offscreen(&ctx.device, &ctx.queue, &mut grass, &camera, 2.0, size)?;
+    render_into(
+        &ctx.device,
+        &ctx.queue,
+        &mut grass,
+        &camera,
+        (2.0, 1.0 / FPS),
+        &target,
+    )?;
     let mut times = Vec::with_capacity(frames);
     for k in 0..frames.max(1) {
-        let (_, ms) = render_offscreen(
+        let (_, ms) = render_into(
             &ctx.device,
             &ctx.queue,
             &mut grass,
             &camera,
-            2.0 + k as f32 / 60.0,
-            size,
+            (2.0 + k as f32 / FPS, 1.0 / FPS),
+            &target,
         )?;
         times.push(ms);
     }
     times.sort_by(f64::total_cmp);
+    let (culled, _) = grass.read_cull(&ctx.device, &ctx.queue)?;
     Ok(GrassBench {
         adapter: ctx.adapter.name.clone(),
         adapter_type: format!("{:?}", ctx.adapter.device_type),
-        model: "cwd".into(),
+        model: match model {
+            GrassModel::CwdQuadratic => "cwd",
+            GrassModel::BezierPhysics => "bezier",
+        }
+        .into(),
+        cull,
         blades: grass.blade_count(),
         size,
         frames: times.len(),
         median_ms: times[times.len() / 2],
         min_ms: times[0],
+        culled,
+        lod_segments: crate::grass::cull::LOD_SEGMENTS,
     })
 }

@@ -1,26 +1,35 @@
-//! The grass renderer: blades as GPU instances shaped by the CWD-Sim model (`src/grass/cwd.rs`
-//! is its CPU twin) in the live wind, over a ground plane. Per-blade data is uploaded once; per
-//! frame the CPU writes one small scene uniform (camera, time) and, when it changes, the wind
-//! grid. A compute pass poses every blade (its wind cell, bend, length-restoring scale) and the
-//! vertex shader builds each blade from its index. Passes: `shaders/grass_*.wgsl`, sharing
-//! `grass_common.wgsl`.
+//! The grass renderer: blades as GPU instances in the live wind over a ground plane, shaped by
+//! the CWD-Sim model (`src/grass/cwd.rs` is its CPU twin) or by Jahrmann's Bezier physics
+//! (`src/grass/bezier.rs`). Per-blade data is uploaded once; per frame the CPU writes one small
+//! scene uniform (camera, time, sphere) and, when it changes, the wind grid. Each frame: the
+//! trail pass (while a sphere pushes or its trail lasts), the model's compute pass (CWD poses or
+//! Bezier steps), the cull pass (orientation, frustum, distance, LOD → per-level visible lists
+//! and indirect draw arguments), then ground, scene and one indirect draw per LOD level, each
+//! blade a strip built in the vertex shader from its index. Passes: `shaders/grass_*.wgsl`,
+//! sharing `grass_common.wgsl` (and `grass_shape.wgsl` for the cull pass and the blades).
 //!
 //! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. Uses glam for the camera.
 //! `target.rs`: the colour + depth target and whole frames into it; `headless.rs`: pictures
 //! and the benchmark for the CLI.
 
 mod bezier;
+mod cull;
 mod headless;
 mod target;
+mod trail;
 
-pub use bezier::BezierPass;
-pub use headless::{GrassBench, bench, picture};
-pub use target::{Target, render_offscreen};
+pub use bezier::{BezierPass, BezierState};
+pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
+pub use headless::{GrassBench, PictureOptions, PushPath, bench, picture};
+pub use target::{Target, render_into, render_offscreen};
 
 use super::GpuError;
 use super::buffer_entry as entry;
+use crate::doc::GrassModel;
 use crate::doc::Layout;
+use crate::grass::cull::{CullParams, LOD_SEGMENTS};
 use crate::grass::scene::SceneVertex;
+use crate::grass::trail::Sphere;
 use crate::grass::{Blade, cwd};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -28,9 +37,20 @@ use wgpu::util::DeviceExt;
 
 /// The shared header of the grass passes.
 pub const COMMON: &str = include_str!("../../../shaders/grass_common.wgsl");
+/// The second header of the passes that read a blade's curve whatever the model.
+pub const SHAPE: &str = include_str!("../../../shaders/grass_shape.wgsl");
 
-/// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`].
-pub const SHADERS: [(&str, &str); 6] = [
+/// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`] (and
+/// [`SHAPE`] for `grass_cull` and `grass_blades`).
+pub const SHADERS: [(&str, &str); 8] = [
+    (
+        "grass_cull",
+        include_str!("../../../shaders/grass_cull.wgsl"),
+    ),
+    (
+        "grass_trail",
+        include_str!("../../../shaders/grass_trail.wgsl"),
+    ),
     (
         "grass_bezier",
         include_str!("../../../shaders/grass_bezier.wgsl"),
@@ -60,13 +80,25 @@ pub const SHADERS: [(&str, &str); 6] = [
 /// The full WGSL of grass pass `name` (the common header, then the pass; `grass_wind` alone:
 /// it writes the wind grid the header declares read-only).
 pub fn shader_source(name: &str) -> Option<String> {
-    SHADERS.iter().find(|(n, _)| *n == name).map(|(n, s)| {
-        if *n == "grass_wind" {
-            s.to_string()
-        } else {
-            format!("{COMMON}\n{s}")
-        }
-    })
+    SHADERS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(n, s)| match *n {
+            "grass_wind" => s.to_string(),
+            "grass_cull" | "grass_blades" => format!("{COMMON}\n{SHAPE}\n{s}"),
+            _ => format!("{COMMON}\n{s}"),
+        })
+}
+
+/// Records a dispatch of 64-wide workgroups over `blades` blades, in two dimensions when one
+/// would exceed the 65,535-workgroup limit (`blade_index` in `grass_common.wgsl`).
+pub(super) fn dispatch_blades(pass: &mut wgpu::ComputePass<'_>, blades: u32) {
+    let groups = blades.div_ceil(64);
+    if groups == 0 {
+        return;
+    }
+    let x = groups.min(65_535);
+    pass.dispatch_workgroups(x, groups.div_ceil(x), 1);
 }
 
 /// The scene; mirrors `struct Scene` in `shaders/grass_common.wgsl`.
@@ -102,6 +134,18 @@ pub struct Scene {
     pub literal: u32,
     /// Opacity of the map backdrop over the ground (0: none).
     pub backdrop: f32,
+    /// The pushing sphere: centre and radius (0: none).
+    pub sphere: [f32; 4],
+    pub trail_origin: [f32; 2],
+    pub trail_cell: [f32; 2],
+    pub trail_nx: u32,
+    pub trail_ny: u32,
+    /// 0: CWD; 1: Bezier.
+    pub model: u32,
+    pub trail_on: u32,
+    pub dt: f32,
+    pub lifetime: f32,
+    pub _pad: [f32; 2],
 }
 
 /// A blade's pose this frame; mirrors `struct Pose` in `shaders/grass_common.wgsl`.
@@ -113,8 +157,10 @@ pub struct Pose {
     pub dim: f32,
 }
 
-/// Quads per blade.
-pub const SEGMENTS: u32 = 5;
+/// Segments of a blade at full detail.
+pub const SEGMENTS: u32 = LOD_SEGMENTS[0];
+/// How long the sphere's trail lasts by default, seconds.
+pub const TRAIL_LIFETIME: f32 = 3.0;
 /// The depth buffer format the renderer draws with.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
@@ -138,6 +184,33 @@ impl Camera {
             target: c,
             fov_y: 45f32.to_radians(),
         }
+    }
+
+    /// Standing in the grass: eye 1.7 m up, a tenth of the way in from the world's south-west
+    /// corner, looking across the world's middle — near, middle and far blades in one view
+    /// (the grass benchmark's camera).
+    pub fn walk(layout: &Layout) -> Self {
+        let (min, max) = layout.bounds();
+        let (w, d) = (max[0] - min[0], max[1] - min[1]);
+        Self {
+            eye: Vec3::new(min[0] + 0.1 * w, 1.7, max[1] - 0.1 * d),
+            target: Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0),
+            fov_y: 45f32.to_radians(),
+        }
+    }
+
+    /// Where the ray through `ndc` (x right, y up, each −1..1) meets the ground (y = 0), if it
+    /// does in front of the camera.
+    pub fn ground_point(&self, aspect: f32, ndc: [f32; 2]) -> Option<Vec3> {
+        let inv = self.view_proj(aspect).inverse();
+        let near = inv.project_point3(Vec3::new(ndc[0], ndc[1], 0.0));
+        let far = inv.project_point3(Vec3::new(ndc[0], ndc[1], 1.0));
+        let d = far - near;
+        if d.y.abs() < 1e-9 {
+            return None;
+        }
+        let t = -near.y / d.y;
+        (t > 0.0).then(|| near + d * t)
     }
 
     /// World → clip space for a picture of `aspect` (width / height).
@@ -168,15 +241,22 @@ pub struct GrassRenderer {
     wind: wgpu::Buffer,
     palettes: wgpu::Buffer,
     /// Per-blade poses, written by the deform pass each frame (bound in the groups below).
-    _poses: wgpu::Buffer,
-    tips: wgpu::Buffer,
+    poses: wgpu::Buffer,
     layout0: wgpu::BindGroupLayout,
     group0: wgpu::BindGroup,
-    group1_compute: wgpu::BindGroup,
-    group1_draw: wgpu::BindGroup,
+    /// The poses for the deform pass to write.
+    group_deform: wgpu::BindGroup,
+    /// Poses and Bezier states, read-only (group 1 of the cull pass and the blades).
+    layout_shape: wgpu::BindGroupLayout,
+    group_shape: wgpu::BindGroup,
     deform: wgpu::ComputePipeline,
-    tips_pipeline: wgpu::ComputePipeline,
     blade_pipeline: wgpu::RenderPipeline,
+    /// The Bezier model's states and pass, while that model is chosen.
+    bezier: Option<bezier::BezierPass>,
+    cull: CullPass,
+    trail: trail::TrailPass,
+    /// Seconds the trail still holds anything (the trail pass and its reads are skipped at 0).
+    trail_left: f32,
     ground_pipeline: wgpu::RenderPipeline,
     solid_pipeline: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
@@ -242,6 +322,53 @@ fn backdrop_group(
 
 const TRIANGLES: wgpu::PrimitiveTopology = wgpu::PrimitiveTopology::TriangleList;
 
+fn buffers_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(k, b)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("grass"),
+        layout,
+        entries: &entries,
+    })
+}
+
+/// Group 0: the scene, blades, wind and palettes, and the trail.
+fn scene_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    buffers: [&wgpu::Buffer; 4],
+    trail: &wgpu::Texture,
+) -> wgpu::BindGroup {
+    let view = trail.create_view(&Default::default());
+    let mut entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(k, b)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    entries.push(wgpu::BindGroupEntry {
+        binding: 4,
+        resource: wgpu::BindingResource::TextureView(&view),
+    });
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("grass scene"),
+        layout,
+        entries: &entries,
+    })
+}
+
 fn vertices(device: &wgpu::Device, v: &[SceneVertex]) -> Option<(wgpu::Buffer, u32)> {
     (!v.is_empty()).then(|| {
         let b = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -293,6 +420,19 @@ impl GrassRenderer {
             srgb_target: u32::from(format.is_srgb()),
             literal: 0,
             backdrop: 0.0,
+            sphere: [0.0; 4],
+            trail_origin: min,
+            trail_cell: {
+                let (tx, ty) = crate::grass::trail::grid(min, max);
+                [(max[0] - min[0]) / tx as f32, (max[1] - min[1]) / ty as f32]
+            },
+            trail_nx: crate::grass::trail::grid(min, max).0,
+            trail_ny: crate::grass::trail::grid(min, max).1,
+            model: 0,
+            trail_on: 0,
+            dt: 0.0,
+            lifetime: TRAIL_LIFETIME,
+            _pad: [0.0; 2],
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -328,12 +468,6 @@ impl GrassRenderer {
             usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let tips = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("grass tips"),
-            size: n * 16,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
         let all = S::VERTEX | S::FRAGMENT | S::COMPUTE;
         let ro = wgpu::BufferBindingType::Storage { read_only: true };
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
@@ -344,59 +478,85 @@ impl GrassRenderer {
                 entry(1, all, ro),
                 entry(2, all, ro),
                 entry(3, all, ro),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 4,
+                    visibility: all,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
         });
-        let layout_compute = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("grass poses (compute)"),
-            entries: &[entry(0, S::COMPUTE, rw), entry(1, S::COMPUTE, rw)],
+        let layout_deform = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass poses (deform)"),
+            entries: &[entry(0, S::COMPUTE, rw)],
         });
-        let layout_draw = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("grass poses (draw)"),
-            entries: &[entry(0, S::VERTEX, ro)],
+        let layout_shape = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass shape"),
+            entries: &[
+                entry(0, S::VERTEX | S::COMPUTE, ro),
+                entry(1, S::VERTEX | S::COMPUTE, ro),
+            ],
         });
-        let group = |layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]| {
-            let entries: Vec<_> = buffers
-                .iter()
-                .enumerate()
-                .map(|(k, b)| wgpu::BindGroupEntry {
-                    binding: k as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("grass"),
-                layout,
-                entries: &entries,
-            })
-        };
-        let group0 = group(&layout0, &[&scene_buf, &blades_buf, &wind, &palettes]);
-        let group1_compute = group(&layout_compute, &[&poses, &tips]);
-        let group1_draw = group(&layout_draw, &[&poses]);
         let module = |name: &str| {
             device.create_shader_module(wgpu::ShaderModuleDescriptor {
                 label: Some(name),
                 source: wgpu::ShaderSource::Wgsl(shader_source(name).expect("listed").into()),
             })
         };
+        let (trail_nx, trail_ny) = crate::grass::trail::grid(min, max);
+        let trail = trail::TrailPass::new(
+            device,
+            &layout0,
+            &module("grass_trail"),
+            (trail_nx, trail_ny),
+        );
+        let group0 = scene_group(
+            device,
+            &layout0,
+            [&scene_buf, &blades_buf, &wind, &palettes],
+            &trail.texture,
+        );
+        let group_deform = buffers_group(device, &layout_deform, &[&poses]);
+        // No Bezier states until that model is chosen: a placeholder.
+        let no_states = storage(device, "no bezier states", &[0; 48]);
+        let group_shape = buffers_group(device, &layout_shape, &[&poses, &no_states]);
+        let cull = CullPass::new(
+            device,
+            &layout0,
+            &layout_shape,
+            &module("grass_cull"),
+            blades.len() as u32,
+            CullParams::for_height((g.height[0] + g.height[1]) / 2.0),
+        );
         let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("grass compute"),
-            bind_group_layouts: &[Some(&layout0), Some(&layout_compute)],
+            label: Some("grass deform"),
+            bind_group_layouts: &[Some(&layout0), Some(&layout_deform)],
             immediate_size: 0,
         });
-        let deform_module = module("grass_deform");
-        let compute = |entry_point: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(entry_point),
-                layout: Some(&compute_layout),
-                module: &deform_module,
-                entry_point: Some(entry_point),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
+        let deform = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("grass_deform"),
+            layout: Some(&compute_layout),
+            module: &module("grass_deform"),
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
         let draw_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("grass draw"),
-            bind_group_layouts: &[Some(&layout0), Some(&layout_draw)],
+            bind_group_layouts: &[Some(&layout0)],
+            immediate_size: 0,
+        });
+        let blade_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("grass blades"),
+            bind_group_layouts: &[
+                Some(&layout0),
+                Some(&layout_shape),
+                Some(&cull.level_layout),
+            ],
             immediate_size: 0,
         });
         let scene_vertex = wgpu::VertexBufferLayout {
@@ -427,7 +587,7 @@ impl GrassRenderer {
         });
         let ground_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("grass ground"),
-            bind_group_layouts: &[Some(&layout0), Some(&layout_draw), Some(&backdrop_layout)],
+            bind_group_layouts: &[Some(&layout0), None, Some(&backdrop_layout)],
             immediate_size: 0,
         });
         let render = |name: &str,
@@ -437,10 +597,10 @@ impl GrassRenderer {
             let m = module(name);
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(name),
-                layout: Some(if name == "grass_ground" {
-                    &ground_layout
-                } else {
-                    &draw_layout
+                layout: Some(match name {
+                    "grass_ground" => &ground_layout,
+                    "grass_blades" => &blade_layout,
+                    _ => &draw_layout,
                 }),
                 vertex: wgpu::VertexState {
                     module: &m,
@@ -481,15 +641,23 @@ impl GrassRenderer {
             blades: blades_buf,
             wind,
             palettes,
-            _poses: poses,
-            tips,
+            poses,
             layout0,
             group0,
-            group1_compute,
-            group1_draw,
-            deform: compute("main"),
-            tips_pipeline: compute("tips_main"),
-            blade_pipeline: render("grass_blades", "fs_main", TRIANGLES, &[]),
+            group_deform,
+            layout_shape,
+            group_shape,
+            deform,
+            blade_pipeline: render(
+                "grass_blades",
+                "fs_main",
+                wgpu::PrimitiveTopology::TriangleStrip,
+                &[],
+            ),
+            bezier: None,
+            cull,
+            trail,
+            trail_left: 0.0,
             ground_pipeline: render("grass_ground", "fs_main", TRIANGLES, &[]),
             solid_pipeline: render(
                 "grass_scene",
@@ -585,11 +753,6 @@ impl GrassRenderer {
         self.footprint = vertices(device, lines);
     }
 
-    /// The scene, blades, wind and palettes bind group and its layout (group 0 of every pass).
-    pub(super) fn scene_group(&self) -> (&wgpu::BindGroupLayout, &wgpu::BindGroup) {
-        (&self.layout0, &self.group0)
-    }
-
     /// Blades drawn.
     pub fn blade_count(&self) -> u32 {
         self.scene.blades
@@ -637,25 +800,12 @@ impl GrassRenderer {
                 mapped_at_creation: false,
             });
             self.wind_group = None;
-            let entries = [
-                self.scene_buf.as_entire_binding(),
-                self.blades.as_entire_binding(),
-                self.wind.as_entire_binding(),
-                self.palettes.as_entire_binding(),
-            ];
-            let entries: Vec<_> = entries
-                .into_iter()
-                .enumerate()
-                .map(|(k, resource)| wgpu::BindGroupEntry {
-                    binding: k as u32,
-                    resource,
-                })
-                .collect();
-            self.group0 = device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("grass"),
-                layout: &self.layout0,
-                entries: &entries,
-            });
+            self.group0 = scene_group(
+                device,
+                &self.layout0,
+                [&self.scene_buf, &self.blades, &self.wind, &self.palettes],
+                &self.trail.texture,
+            );
         }
         self.scene.nx = nx as u32;
         self.scene.ny = ny as u32;
@@ -727,8 +877,69 @@ impl GrassRenderer {
         Ok(bytemuck::cast_slice(&bytes).to_vec())
     }
 
-    /// Records this frame's pose pass for `camera` at simulation `time`, drawing into a
-    /// picture of `aspect` (width / height).
+    /// Chooses the blade model: the Bezier model's states are made (every blade upright) on
+    /// the first switch to it and dropped on the way back, so the CWD model costs no memory
+    /// for them.
+    pub fn set_model(&mut self, device: &wgpu::Device, queue: &wgpu::Queue, model: GrassModel) {
+        let bezier = model == GrassModel::BezierPhysics;
+        if bezier == self.bezier.is_some() {
+            return;
+        }
+        let states = if bezier {
+            let mut pass = bezier::BezierPass::new(device, &self.layout0, self.total);
+            // Every uploaded blade, whatever the budget.
+            let mut all = self.scene;
+            all.blades = self.total;
+            queue.write_buffer(&self.scene_buf, 0, bytemuck::bytes_of(&all));
+            let mut enc = device.create_command_encoder(&Default::default());
+            pass.record_rest(&mut enc, &self.group0, self.total);
+            self.cull.reset_levels(&mut enc);
+            queue.submit([enc.finish()]);
+            let states = pass.states.clone();
+            self.bezier = Some(pass);
+            states
+        } else {
+            self.bezier = None;
+            storage(device, "no bezier states", &[0; 48])
+        };
+        self.scene.model = u32::from(bezier);
+        self.group_shape = buffers_group(device, &self.layout_shape, &[&self.poses, &states]);
+    }
+
+    /// The blade model drawn.
+    pub fn model(&self) -> GrassModel {
+        if self.bezier.is_some() {
+            GrassModel::BezierPhysics
+        } else {
+            GrassModel::CwdQuadratic
+        }
+    }
+
+    /// The culling and LOD settings (the 3D view's toggles).
+    pub fn cull_params(&self) -> CullParams {
+        self.cull.params
+    }
+
+    pub fn set_cull(&mut self, params: CullParams) {
+        self.cull.params = params;
+    }
+
+    /// The sphere pushing the grass this frame (`None`: none); it leaves a trail that fades
+    /// over the trail's lifetime.
+    pub fn set_sphere(&mut self, sphere: Option<Sphere>) {
+        self.scene.sphere = sphere.map_or([0.0; 4], |s| {
+            [s.centre[0], s.centre[1], s.centre[2], s.radius.max(0.0)]
+        });
+    }
+
+    /// Seconds the trail takes to fade back (0: no trail, only the sphere itself).
+    pub fn set_trail_lifetime(&mut self, seconds: f32) {
+        self.scene.lifetime = seconds.max(0.0);
+    }
+
+    /// Records this frame's passes for `camera` at simulation `time`, `dt` seconds after the
+    /// last frame (the Bezier blades and the trail advance by it), drawing into a picture of
+    /// `aspect` (width / height): the trail, the model's pass and the cull pass.
     pub fn prepare(
         &mut self,
         queue: &wgpu::Queue,
@@ -736,24 +947,48 @@ impl GrassRenderer {
         camera: &Camera,
         aspect: f32,
         time: f32,
+        dt: f32,
     ) {
+        let dt = dt.clamp(0.0, 0.25);
         self.scene.view_proj = camera.view_proj(aspect).to_cols_array_2d();
         self.scene.eye = [camera.eye.x, camera.eye.y, camera.eye.z, time];
+        self.scene.dt = dt;
+        let pushing = self.scene.sphere[3] > 0.0;
+        let trail_was_on = self.trail_left > 0.0;
+        if pushing {
+            self.trail_left = self.scene.lifetime + dt;
+        } else {
+            self.trail_left = (self.trail_left - dt).max(0.0);
+        }
+        // One more step once the trail is spent, so it ends at zero rather than at its last
+        // value.
+        let step_trail = pushing || trail_was_on;
+        self.scene.trail_on = u32::from(step_trail);
         queue.write_buffer(&self.scene_buf, 0, bytemuck::bytes_of(&self.scene));
-        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some("grass deform"),
-            timestamp_writes: None,
-        });
-        pass.set_pipeline(&self.deform);
-        pass.set_bind_group(0, &self.group0, &[]);
-        pass.set_bind_group(1, &self.group1_compute, &[]);
-        pass.dispatch_workgroups(self.blade_count().div_ceil(64), 1, 1);
+        if step_trail {
+            self.trail.record(encoder, &self.group0);
+        }
+        let blades = self.blade_count();
+        if let Some(bz) = &mut self.bezier {
+            bz.advance(queue, encoder, &self.group0, blades, dt);
+        } else {
+            let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("grass deform"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.deform);
+            pass.set_bind_group(0, &self.group0, &[]);
+            pass.set_bind_group(1, &self.group_deform, &[]);
+            dispatch_blades(&mut pass, blades);
+        }
+        self.cull
+            .record(queue, encoder, &self.group0, &self.group_shape, blades);
     }
 
-    /// Draws the ground and the blades (the pass needs a [`DEPTH_FORMAT`] depth attachment).
+    /// Draws the ground, the scene and the blades (the pass needs a [`DEPTH_FORMAT`] depth
+    /// attachment): one indirect draw per LOD level.
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group0, &[]);
-        pass.set_bind_group(1, &self.group1_draw, &[]);
         pass.set_pipeline(&self.ground_pipeline);
         pass.set_bind_group(2, &self.backdrop_group, &[]);
         pass.draw(0..6, 0..1);
@@ -769,8 +1004,47 @@ impl GrassRenderer {
         }
         if self.scene.blades > 0 {
             pass.set_pipeline(&self.blade_pipeline);
-            pass.draw(0..SEGMENTS * 6, 0..self.blade_count());
+            pass.set_bind_group(1, &self.group_shape, &[]);
+            self.cull.draw(pass);
         }
+    }
+
+    /// The latest cull counters the GPU has sent back, starting the next read-back (call after
+    /// each frame's submission; never waits).
+    pub fn poll_cull_stats(&mut self) -> Option<CullStats> {
+        self.cull.poll_stats()
+    }
+
+    /// The last frame's cull counters and each LOD level's visible blades (for tests and the
+    /// benchmark; waits for the GPU).
+    pub fn read_cull(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<(CullStats, [Vec<u32>; 3]), GpuError> {
+        self.cull.read_stats(device, queue)
+    }
+
+    /// The Bezier blades' control points (`None` with the CWD model; for tests, waits for the
+    /// GPU).
+    pub fn read_bezier(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Option<Result<Vec<BezierState>, GpuError>> {
+        self.bezier
+            .as_ref()
+            .map(|b| b.read(device, queue, self.scene.blades))
+    }
+
+    /// The trail's texels, row-major, [`crate::grass::trail::grid`] of the world (for tests;
+    /// waits for the GPU).
+    pub fn read_trail(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<f32>, GpuError> {
+        self.trail.read(device, queue)
     }
 
     /// Every blade's deformed tip (xyz) and its shade (w) as the vertex shader places it,
@@ -781,15 +1055,10 @@ impl GrassRenderer {
         queue: &wgpu::Queue,
     ) -> Result<Vec<[f32; 4]>, GpuError> {
         let mut enc = device.create_command_encoder(&Default::default());
-        {
-            let mut pass = enc.begin_compute_pass(&Default::default());
-            pass.set_pipeline(&self.tips_pipeline);
-            pass.set_bind_group(0, &self.group0, &[]);
-            pass.set_bind_group(1, &self.group1_compute, &[]);
-            pass.dispatch_workgroups(self.scene.blades.div_ceil(64), 1, 1);
-        }
+        self.cull
+            .record_tips(&mut enc, &self.group0, &self.group_shape, self.scene.blades);
         queue.submit([enc.finish()]);
-        let bytes = super::read_buffer(device, queue, &self.tips)?;
+        let bytes = super::read_buffer(device, queue, &self.cull.tips)?;
         Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)[..self.scene.blades as usize].to_vec())
     }
 }

@@ -70,7 +70,8 @@ impl Target {
 }
 
 impl GrassRenderer {
-    /// Records a whole frame into `target`: the pose pass, then sky, ground and blades.
+    /// Records a whole frame into `target`, `dt` seconds after the last: the compute passes,
+    /// then sky, ground and blades.
     pub fn record(
         &mut self,
         queue: &wgpu::Queue,
@@ -78,9 +79,10 @@ impl GrassRenderer {
         target: &Target,
         camera: &Camera,
         time: f32,
+        dt: f32,
     ) {
         let [w, h] = target.size;
-        self.prepare(queue, enc, camera, w as f32 / h as f32, time);
+        self.prepare(queue, enc, camera, w as f32 / h as f32, time, dt);
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("grass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -108,17 +110,31 @@ impl GrassRenderer {
     }
 }
 
-/// One offscreen picture of the grass: RGBA8 (sRGB) pixels, `size` wide and high, and the time
-/// the frame took in milliseconds (wall clock, submitted and waited for).
+/// One offscreen picture of the grass, `dt` seconds after the last frame: RGBA8 (sRGB) pixels,
+/// `size` wide and high, and the time the frame took in milliseconds (wall clock, submitted
+/// and waited for).
 pub fn render_offscreen(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     grass: &mut GrassRenderer,
     camera: &Camera,
-    time: f32,
+    (time, dt): (f32, f32),
     [w, h]: [u32; 2],
 ) -> Result<(Vec<u8>, f64), GpuError> {
     let target = Target::new(device, [w, h]);
+    render_into(device, queue, grass, camera, (time, dt), &target)
+}
+
+/// [`render_offscreen`] into an existing target (the benchmark reuses one).
+pub fn render_into(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    grass: &mut GrassRenderer,
+    camera: &Camera,
+    (time, dt): (f32, f32),
+    target: &Target,
+) -> Result<(Vec<u8>, f64), GpuError> {
+    let [w, h] = target.size;
     let row = (w * 4).div_ceil(256) * 256;
     let out = device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("grass picture pixels"),
@@ -128,7 +144,7 @@ pub fn render_offscreen(
     });
     let started = std::time::Instant::now();
     let mut enc = device.create_command_encoder(&Default::default());
-    grass.record(queue, &mut enc, &target, camera, time);
+    grass.record(queue, &mut enc, target, camera, time, dt);
     queue.submit([enc.finish()]);
     device
         .poll(wgpu::PollType::wait_indefinitely())

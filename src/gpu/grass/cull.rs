@@ -1,0 +1,382 @@
+//! The culling and LOD pass (`shaders/grass_cull.wgsl`; CPU twin [`crate::grass::cull`]):
+//! which blades this frame draws, compacted per LOD level into a visible list whose counts are
+//! written straight into `draw_indirect` arguments, so the CPU never learns how many blades
+//! survive unless it asks ([`CullPass::read_stats`], or the non-blocking
+//! [`CullPass::poll_stats`] the editor's counters use).
+
+use crate::gpu::{GpuError, buffer_entry as entry};
+use crate::grass::cull::{CullParams, LOD_SEGMENTS};
+use std::sync::Arc;
+use std::sync::atomic::{AtomicU8, Ordering};
+use wgpu::util::DeviceExt;
+
+/// The settings as the shaders read them; mirrors `struct Cull` in `shaders/grass_shape.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+pub struct CullUniform {
+    pub flags: u32,
+    pub buckets: u32,
+    pub capacity: u32,
+    pub _pad0: u32,
+    pub orientation_limit: f32,
+    pub frustum_tolerance: f32,
+    pub max_distance: f32,
+    pub lod_near: f32,
+    pub lod_far: f32,
+    pub dither: f32,
+    pub hysteresis: f32,
+    pub _pad1: f32,
+}
+
+impl CullUniform {
+    pub fn new(p: &CullParams, capacity: u32) -> Self {
+        Self {
+            flags: u32::from(p.orientation)
+                | u32::from(p.frustum) << 1
+                | u32::from(p.distance) << 2
+                | u32::from(p.lod) << 3,
+            buckets: p.buckets.max(1),
+            capacity,
+            _pad0: 0,
+            orientation_limit: p.orientation_limit,
+            frustum_tolerance: p.frustum_tolerance,
+            max_distance: p.max_distance.max(1e-3),
+            lod_near: p.lod_near,
+            lod_far: p.lod_far,
+            dither: p.dither,
+            hysteresis: p.hysteresis,
+            _pad1: 0.0,
+        }
+    }
+}
+
+/// One LOD level's draw; mirrors `struct Level` in `shaders/grass_blades.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, bytemuck::Pod, bytemuck::Zeroable)]
+struct LevelUniform {
+    segments: u32,
+    level: u32,
+    _pad: [u32; 2],
+}
+
+/// What one frame's cull pass did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize)]
+pub struct CullStats {
+    /// Blades considered.
+    pub total: u32,
+    pub orientation: u32,
+    pub frustum: u32,
+    pub distance: u32,
+    /// Blades drawn at each LOD level (near to far).
+    pub drawn: [u32; 3],
+}
+
+impl CullStats {
+    fn from_words(w: &[u32], total: u32) -> Self {
+        Self {
+            total,
+            orientation: w[12],
+            frustum: w[13],
+            distance: w[14],
+            drawn: [w[1], w[5], w[9]],
+        }
+    }
+
+    /// Blades drawn at all.
+    pub fn drawn_total(&self) -> u32 {
+        self.drawn.iter().sum()
+    }
+}
+
+/// Vertices of a blade of `segments` rows (a strip up both edges, then the tip).
+pub fn strip_vertices(segments: u32) -> u32 {
+    2 * segments + 1
+}
+
+const IDLE: u8 = 0;
+const COPIED: u8 = 1;
+const MAPPING: u8 = 2;
+const MAPPED: u8 = 3;
+
+/// The pass's buffers and pipelines.
+pub struct CullPass {
+    pub params: CullParams,
+    capacity: u32,
+    uniform: wgpu::Buffer,
+    /// Three levels' visible lists, `capacity` entries each.
+    visible: wgpu::Buffer,
+    /// Draw arguments per level, then the counters (`args` in the shader).
+    args: wgpu::Buffer,
+    pub(super) lods: wgpu::Buffer,
+    pub(super) tips: wgpu::Buffer,
+    group: wgpu::BindGroup,
+    pub(super) level_groups: [wgpu::BindGroup; 3],
+    pub(super) level_layout: wgpu::BindGroupLayout,
+    main: wgpu::ComputePipeline,
+    pub(super) tips_pipeline: wgpu::ComputePipeline,
+    readback: wgpu::Buffer,
+    readback_state: Arc<AtomicU8>,
+    last: Option<CullStats>,
+    last_total: u32,
+}
+
+impl CullPass {
+    /// For `blades` blades; `layout0`/`layout_shape`: the renderer's groups 0 and 1;
+    /// `module`: `grass_cull` compiled.
+    pub fn new(
+        device: &wgpu::Device,
+        layout0: &wgpu::BindGroupLayout,
+        layout_shape: &wgpu::BindGroupLayout,
+        module: &wgpu::ShaderModule,
+        blades: u32,
+        params: CullParams,
+    ) -> Self {
+        use wgpu::ShaderStages as S;
+        let rw = wgpu::BufferBindingType::Storage { read_only: false };
+        let ro = wgpu::BufferBindingType::Storage { read_only: true };
+        let uni = wgpu::BufferBindingType::Uniform;
+        // Each level's list starts on a 256-byte boundary so it can be bound on its own.
+        let capacity = blades.max(1).div_ceil(64) * 64;
+        let buffer = |label, size: u64, usage| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage,
+                mapped_at_creation: false,
+            })
+        };
+        let storage = wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC;
+        let uniform = buffer(
+            "grass cull",
+            std::mem::size_of::<CullUniform>() as u64,
+            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        );
+        let slice = u64::from(capacity) * 4;
+        let visible = buffer("grass visible", 3 * slice, storage);
+        let args = buffer(
+            "grass draw args",
+            64,
+            storage | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+        );
+        let lods = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass lods"),
+            size: u64::from(capacity) * 4,
+            usage: storage | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let tips = buffer("grass tips", u64::from(capacity) * 16, storage);
+        let readback = buffer(
+            "grass cull stats",
+            64,
+            wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
+        );
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass cull"),
+            entries: &[
+                entry(0, S::COMPUTE, rw),
+                entry(1, S::COMPUTE, uni),
+                entry(2, S::COMPUTE, rw),
+                entry(3, S::COMPUTE, rw),
+                entry(4, S::COMPUTE, rw),
+            ],
+        });
+        let level_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass level"),
+            entries: &[
+                entry(0, S::VERTEX, ro),
+                entry(1, S::VERTEX, uni),
+                entry(2, S::VERTEX, uni),
+            ],
+        });
+        fn whole(b: &wgpu::Buffer) -> wgpu::BindingResource<'_> {
+            b.as_entire_binding()
+        }
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("grass cull"),
+            layout: &layout,
+            entries: &[&visible, &uniform, &args, &lods, &tips]
+                .iter()
+                .enumerate()
+                .map(|(k, b)| wgpu::BindGroupEntry {
+                    binding: k as u32,
+                    resource: whole(b),
+                })
+                .collect::<Vec<_>>(),
+        });
+        let level_groups = [0u32, 1, 2].map(|l| {
+            let level = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                label: Some("grass level"),
+                contents: bytemuck::bytes_of(&LevelUniform {
+                    segments: LOD_SEGMENTS[l as usize],
+                    level: l,
+                    _pad: [0; 2],
+                }),
+                usage: wgpu::BufferUsages::UNIFORM,
+            });
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("grass level"),
+                layout: &level_layout,
+                entries: &[
+                    wgpu::BindGroupEntry {
+                        binding: 0,
+                        resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                            buffer: &visible,
+                            offset: u64::from(l) * slice,
+                            size: wgpu::BufferSize::new(slice),
+                        }),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 1,
+                        resource: whole(&uniform),
+                    },
+                    wgpu::BindGroupEntry {
+                        binding: 2,
+                        resource: whole(&level),
+                    },
+                ],
+            })
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("grass cull"),
+            bind_group_layouts: &[Some(layout0), Some(layout_shape), Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = |entry_point: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(entry_point),
+                layout: Some(&pipeline_layout),
+                module,
+                entry_point: Some(entry_point),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        Self {
+            params,
+            capacity,
+            uniform,
+            visible,
+            args,
+            lods,
+            tips,
+            group,
+            level_groups,
+            level_layout,
+            main: pipeline("main"),
+            tips_pipeline: pipeline("tips_main"),
+            readback,
+            readback_state: Arc::new(AtomicU8::new(IDLE)),
+            last: None,
+            last_total: 0,
+        }
+    }
+
+    /// Forgets every blade's last LOD level (after the blades or the model change).
+    pub fn reset_levels(&self, enc: &mut wgpu::CommandEncoder) {
+        // Stored as level + 1: zero is "none".
+        enc.clear_buffer(&self.lods, 0, None);
+    }
+
+    /// Records the pass over `blades` blades (groups 0 and 1 bound by the caller's values).
+    pub fn record(
+        &mut self,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        group0: &wgpu::BindGroup,
+        shape: &wgpu::BindGroup,
+        blades: u32,
+    ) {
+        let mut words = [0u32; 16];
+        for (l, s) in LOD_SEGMENTS.iter().enumerate() {
+            words[l * 4] = strip_vertices(*s);
+        }
+        queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&words));
+        queue.write_buffer(
+            &self.uniform,
+            0,
+            bytemuck::bytes_of(&CullUniform::new(&self.params, self.capacity)),
+        );
+        {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("grass cull"),
+                timestamp_writes: None,
+            });
+            pass.set_pipeline(&self.main);
+            pass.set_bind_group(0, group0, &[]);
+            pass.set_bind_group(1, shape, &[]);
+            pass.set_bind_group(2, &self.group, &[]);
+            super::dispatch_blades(&mut pass, blades);
+        }
+        self.last_total = blades;
+        if self.readback_state.load(Ordering::Acquire) == IDLE {
+            enc.copy_buffer_to_buffer(&self.args, 0, &self.readback, 0, 64);
+            self.readback_state.store(COPIED, Ordering::Release);
+        }
+    }
+
+    /// Records the tips pass (tests) over `blades` blades.
+    pub(super) fn record_tips(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        group0: &wgpu::BindGroup,
+        shape: &wgpu::BindGroup,
+        blades: u32,
+    ) {
+        let mut pass = enc.begin_compute_pass(&Default::default());
+        pass.set_pipeline(&self.tips_pipeline);
+        pass.set_bind_group(0, group0, &[]);
+        pass.set_bind_group(1, shape, &[]);
+        pass.set_bind_group(2, &self.group, &[]);
+        super::dispatch_blades(&mut pass, blades);
+    }
+
+    /// Draws the blades of every level from the visible lists (group 2 is the level's).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+        for (l, g) in self.level_groups.iter().enumerate() {
+            pass.set_bind_group(2, g, &[]);
+            pass.draw_indirect(&self.args, l as u64 * 16);
+        }
+    }
+
+    /// After the frame's submission: starts reading the counters back without waiting, and
+    /// returns the latest that arrived (the editor's counters, a frame or two behind).
+    pub fn poll_stats(&mut self) -> Option<CullStats> {
+        match self.readback_state.load(Ordering::Acquire) {
+            COPIED => {
+                self.readback_state.store(MAPPING, Ordering::Release);
+                let state = self.readback_state.clone();
+                self.readback
+                    .slice(..)
+                    .map_async(wgpu::MapMode::Read, move |r| {
+                        state.store(if r.is_ok() { MAPPED } else { IDLE }, Ordering::Release);
+                    });
+            }
+            MAPPED => {
+                if let Ok(data) = self.readback.slice(..).get_mapped_range() {
+                    let words: &[u32] = bytemuck::cast_slice(&data);
+                    self.last = Some(CullStats::from_words(words, self.last_total));
+                }
+                self.readback.unmap();
+                self.readback_state.store(IDLE, Ordering::Release);
+            }
+            _ => {}
+        }
+        self.last
+    }
+
+    /// The last frame's counters and each level's visible blade indices (waits for the GPU).
+    pub fn read_stats(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<(CullStats, [Vec<u32>; 3]), GpuError> {
+        let words = crate::gpu::read_buffer(device, queue, &self.args)?;
+        let words: &[u32] = bytemuck::cast_slice(&words);
+        let stats = CullStats::from_words(words, self.last_total);
+        let all = crate::gpu::read_buffer(device, queue, &self.visible)?;
+        let all: &[u32] = bytemuck::cast_slice(&all);
+        let cap = self.capacity as usize;
+        let lists = [0, 1, 2].map(|l| all[l * cap..][..stats.drawn[l] as usize].to_vec());
+        Ok((stats, lists))
+    }
+}
