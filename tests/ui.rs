@@ -613,9 +613,61 @@ fn the_3d_grass_view_answers_grass_edits() {
         "the view holds every blade of the layout"
     );
     assert!(g.blades > 0 && g.blades <= all);
+    // The cull pass's counters reach the view: every blade is counted once, culled by one
+    // test or drawn at one level.
+    let stats = h
+        .state()
+        .grass_view
+        .stats
+        .expect("cull counters after a few frames");
+    let g = &h.state().grass_view;
+    assert_eq!(stats.total, g.blades);
+    assert_eq!(
+        stats.drawn_total() + stats.orientation + stats.frustum + stats.distance,
+        stats.total
+    );
+    assert!(
+        stats.drawn_total() > 0 && stats.orientation > 0,
+        "{stats:?}"
+    );
     let status = h.state().status_rect;
     h.mask(status);
+    if let Some(r) = h.state().grass_view.counters_rect {
+        h.mask(r);
+    }
     h.snapshot("editor_grass");
+
+    // Every test off: every blade drawn at full detail.
+    let mut c = h.state().grass_view.controls.cull.expect("defaults");
+    c.orientation = false;
+    c.frustum = false;
+    c.distance = false;
+    c.lod = false;
+    h.state_mut().grass_view.controls.cull = Some(c);
+    h.run_steps(4);
+    let stats = h.state().grass_view.stats.unwrap();
+    assert_eq!(stats.drawn, [stats.total, 0, 0], "no culling: all drawn");
+
+    // The Bezier model, chosen as the inspector does, takes over live on the same blades.
+    let mut grass = h.state().doc.grass.clone();
+    grass.model = windloom::doc::GrassModel::BezierPhysics;
+    let ctx = h.ctx.clone();
+    assert!(
+        h.state_mut()
+            .edit(&ctx, windloom::doc::Edit::SetGrass(grass))
+    );
+    h.run_steps(3);
+    assert_eq!(
+        h.state().grass_view.model(),
+        Some(windloom::doc::GrassModel::BezierPhysics)
+    );
+    assert_eq!(h.state().grass_view.total_blades, all, "no new blades");
+    h.state_mut().undo();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().grass_view.model(),
+        Some(windloom::doc::GrassModel::CwdQuadratic)
+    );
 
     // Halving the density (an undoable edit, as the inspector makes it) rebuilds the blades.
     let mut grass = h.state().doc.grass.clone();

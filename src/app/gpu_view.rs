@@ -130,6 +130,13 @@ impl Orbit {
     }
 }
 
+/// A horizontal unit vector across the camera's view (for the sphere's screen radius).
+fn orbit_side(camera: &crate::gpu::grass::Camera) -> (f32, f32) {
+    let d = camera.target - camera.eye;
+    let l = d.x.hypot(d.z).max(1e-6);
+    (-d.z / l, d.x / l)
+}
+
 /// The editor's 3D view of the grass in the live wind: drawn by
 /// [`crate::gpu::grass::GrassRenderer`] on eframe's device into a texture of the view's size,
 /// shown as an egui image. The blades are rebuilt when the grass, world or obstacles change;
@@ -151,6 +158,10 @@ pub struct GrassView {
     pub blades: u32,
     pub total_blades: u32,
     pub frame_ms: std::sync::Arc<std::sync::Mutex<f32>>,
+    pub controls: super::grass_controls::GrassControls,
+    /// The last cull counters the GPU sent back, and where the view shows them.
+    pub stats: Option<crate::gpu::grass::CullStats>,
+    pub counters_rect: Option<egui::Rect>,
 }
 
 impl Default for GrassView {
@@ -166,11 +177,19 @@ impl Default for GrassView {
             blades: 0,
             total_blades: 0,
             frame_ms: Default::default(),
+            controls: Default::default(),
+            stats: None,
+            counters_rect: None,
         }
     }
 }
 
 impl GrassView {
+    /// The blade model the view draws (`None` before its first frame).
+    pub fn model(&self) -> Option<crate::doc::GrassModel> {
+        self.grass.as_ref().map(|g| g.model())
+    }
+
     /// Draws the view into the rest of `ui`; `footprint` is the map view's visible world
     /// rectangle (min, max), when the map is shown too.
     pub fn show(
@@ -183,12 +202,14 @@ impl GrassView {
         base: &std::path::Path,
     ) {
         use crate::gpu::grass::{GrassRenderer, Target};
+        self.controls.ui(ui);
         let (rect, response) =
             ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
         let orbit = self.orbit.get_or_insert_with(|| Orbit::frame_all(doc));
-        // Orbit with the left button, pan with the right or middle, zoom with the wheel;
-        // double-click (or Home) frames the world again.
-        if response.dragged_by(egui::PointerButton::Primary) {
+        let pushing = self.controls.push && !ui.input(|i| i.modifiers.ctrl);
+        // Orbit with the left button (Ctrl+left while pushing), pan with the right or middle,
+        // zoom with the wheel; double-click (or Home) frames the world again.
+        if response.dragged_by(egui::PointerButton::Primary) && !pushing {
             let d = response.drag_delta();
             orbit.yaw += d.x * 0.008;
             orbit.pitch = (orbit.pitch + d.y * 0.006).clamp(0.03, 1.5);
@@ -230,8 +251,30 @@ impl GrassView {
             *orbit = Orbit::frame_all(doc);
         }
         let camera = orbit.camera();
+        // The sphere: under the pointer, on the ground, while the left button is down.
+        let aspect = rect.width() / rect.height().max(1.0);
+        let sphere = if pushing && response.is_pointer_button_down_on() {
+            response.interact_pointer_pos().and_then(|p| {
+                let ndc = [
+                    (p.x - rect.left()) / rect.width() * 2.0 - 1.0,
+                    1.0 - (p.y - rect.top()) / rect.height() * 2.0,
+                ];
+                camera.ground_point(aspect, ndc).map(|g| {
+                    let r = self.controls.radius;
+                    crate::grass::trail::Sphere {
+                        centre: [g.x, 0.5 * r, g.z],
+                        radius: r,
+                    }
+                })
+            })
+        } else {
+            None
+        };
 
-        let key = (doc.grass.clone(), doc.world.clone(), doc.obstacles.clone());
+        // The model switches live, without new blades.
+        let mut grass_key = doc.grass.clone();
+        grass_key.model = Default::default();
+        let key = (grass_key, doc.world.clone(), doc.obstacles.clone());
         if self.built_for.as_ref() != Some(&key) {
             let mut blades = crate::grass::scatter(doc);
             // A software rasteriser draws about 2.6 µs a blade (docs/PERFORMANCE.md): keep the
@@ -242,6 +285,10 @@ impl GrassView {
             }
             let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
             grass.set_budget(software.then_some(SOFTWARE_BLADE_BUDGET));
+            // Defaults that follow the blade height, once; the user's toggles after that.
+            let cull = *self.controls.cull.get_or_insert(grass.cull_params());
+            grass.set_cull(cull);
+            self.stats = None;
             if let Some(map) = &doc.world.map {
                 // The backdrop, as the map shows it (unreadable: plain soil; the map view says
                 // why).
@@ -263,6 +310,12 @@ impl GrassView {
             self.wind_serial = u64::MAX;
         }
         let Some(grass) = &mut self.grass else { return };
+        grass.set_model(&rs.device, &rs.queue, doc.grass.model);
+        if let Some(c) = self.controls.cull {
+            grass.set_cull(c);
+        }
+        grass.set_sphere(sphere);
+        grass.set_trail_lifetime(self.controls.lifetime);
         // Obstacles and arrows: rebuilt when the trees or obstacles change.
         let scene_key = (doc.trees.clone(), doc.obstacles.clone());
         if self.scene_for.as_ref() != Some(&scene_key) {
@@ -334,9 +387,13 @@ impl GrassView {
             grass.wind_from_field(&rs.device, &rs.queue, &mut enc, field);
             self.wind_serial = u64::MAX;
         }
-        grass.record(&rs.queue, &mut enc, target, &camera, snap.time);
+        let dt = ui.input(|i| i.stable_dt);
+        grass.record(&rs.queue, &mut enc, target, &camera, snap.time, dt);
         let started = std::time::Instant::now();
         rs.queue.submit([enc.finish()]);
+        self.stats = grass.poll_cull_stats().or(self.stats);
+        // Bezier blades settle, a trail fades and the counters arrive over the next frames.
+        ui.ctx().request_repaint();
         let slot = self.frame_ms.clone();
         rs.queue.on_submitted_work_done(move || {
             if let Ok(mut ms) = slot.lock() {
@@ -349,12 +406,48 @@ impl GrassView {
             egui::Rect::from_min_max(egui::Pos2::ZERO, egui::pos2(1.0, 1.0)),
             egui::Color32::WHITE,
         );
+        let hint = if self.controls.push {
+            "Drag to push the grass (Ctrl+drag or arrow keys orbit), right-drag to pan, wheel to zoom"
+        } else {
+            "Drag or arrow keys to orbit, right-drag to pan, wheel or +/- to zoom, double-click to frame all"
+        };
         ui.painter().text(
             rect.left_top() + egui::vec2(10.0, 10.0),
             egui::Align2::LEFT_TOP,
-            "Drag or arrow keys to orbit, right-drag to pan, wheel or +/- to zoom, double-click to frame all",
+            hint,
             egui::FontId::proportional(13.0),
             egui::Color32::from_black_alpha(170),
         );
+        if let Some(stats) = &self.stats {
+            self.counters_rect = Some(ui.painter().text(
+                rect.left_bottom() + egui::vec2(10.0, -8.0),
+                egui::Align2::LEFT_BOTTOM,
+                super::grass_controls::counters(stats, self.total_blades),
+                egui::FontId::proportional(13.0),
+                egui::Color32::from_black_alpha(190),
+            ));
+        }
+        // The sphere, drawn over the picture where it is.
+        if let Some(s) = sphere {
+            let vp = camera.view_proj(aspect);
+            let c = glam::Vec3::from(s.centre);
+            let to_screen = |p: glam::Vec3| {
+                let q = vp.project_point3(p);
+                egui::pos2(
+                    rect.left() + (q.x + 1.0) / 2.0 * rect.width(),
+                    rect.top() + (1.0 - q.y) / 2.0 * rect.height(),
+                )
+            };
+            let (sy, cy) = orbit_side(&camera);
+            let centre = to_screen(c);
+            let edge = to_screen(c + glam::Vec3::new(sy, 0.0, cy) * s.radius);
+            let r = centre.distance(edge);
+            ui.painter().circle(
+                centre,
+                r,
+                egui::Color32::from_rgba_unmultiplied(235, 225, 210, 120),
+                egui::Stroke::new(1.5, egui::Color32::from_rgb(90, 70, 50)),
+            );
+        }
     }
 }

@@ -5,6 +5,7 @@
 
 pub mod export;
 mod gpu_view;
+mod grass_controls;
 mod inspector;
 pub mod live;
 mod map;

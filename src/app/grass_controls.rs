@@ -1,0 +1,94 @@
+//! The 3D view's own controls (egui only; the GPU side is `gpu_view.rs`): a toggle per
+//! culling test and for the LOD, the pushing sphere and its trail, and the counters line —
+//! blades total, culled by each test, drawn per LOD level.
+
+use crate::gpu::grass::CullStats;
+use crate::grass::cull::{CullParams, LOD_SEGMENTS};
+use eframe::egui;
+
+/// What the user set in the 3D view (kept across blade rebuilds, not saved in the layout: it
+/// is how the view draws, not what the level is).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GrassControls {
+    /// `None` until the first renderer gives its defaults (they follow the blade height).
+    pub cull: Option<CullParams>,
+    /// Left-drag pushes a sphere through the grass instead of orbiting.
+    pub push: bool,
+    pub radius: f32,
+    pub lifetime: f32,
+}
+
+impl Default for GrassControls {
+    fn default() -> Self {
+        Self {
+            cull: None,
+            push: false,
+            radius: 0.6,
+            lifetime: crate::gpu::grass::TRAIL_LIFETIME,
+        }
+    }
+}
+
+impl GrassControls {
+    /// One row of toggles and sliders.
+    pub fn ui(&mut self, ui: &mut egui::Ui) {
+        ui.horizontal_wrapped(|ui| {
+            if let Some(c) = &mut self.cull {
+                ui.label("Cull:");
+                ui.checkbox(&mut c.orientation, "edge-on")
+                    .on_hover_text("Blades seen edge-on (Jahrmann's orientation test)");
+                ui.checkbox(&mut c.frustum, "off-screen")
+                    .on_hover_text("Blades outside the view, with a margin for bent blades");
+                ui.checkbox(&mut c.distance, "distance")
+                    .on_hover_text("Thin the field with distance, in buckets; survivors widen");
+                ui.checkbox(&mut c.lod, "LOD").on_hover_text(format!(
+                    "{} / {} / {} segments a blade, near to far (dithered, with hysteresis)",
+                    LOD_SEGMENTS[0], LOD_SEGMENTS[1], LOD_SEGMENTS[2]
+                ));
+                ui.separator();
+            }
+            ui.toggle_value(&mut self.push, "Push")
+                .on_hover_text("Left-drag pushes a sphere through the grass (Ctrl+drag orbits)");
+            if self.push {
+                ui.add(
+                    egui::Slider::new(&mut self.radius, 0.1..=5.0)
+                        .text("radius m")
+                        .logarithmic(true),
+                );
+                ui.add(egui::Slider::new(&mut self.lifetime, 0.0..=20.0).text("trail s"));
+            }
+        });
+    }
+}
+
+/// The counters line: `blades` considered, culled by each test, drawn per LOD level.
+pub fn counters(stats: &CullStats, total: u32) -> String {
+    let n = |v: u32| {
+        let s = v.to_string();
+        let mut out = String::new();
+        for (k, c) in s.chars().enumerate() {
+            if k > 0 && (s.len() - k) % 3 == 0 {
+                out.push(',');
+            }
+            out.push(c);
+        }
+        out
+    };
+    let mut line = format!("{} blades", n(stats.total));
+    if stats.total < total {
+        line += &format!(" (of {})", n(total));
+    }
+    line += &format!(
+        " · culled: edge-on {}, off-screen {}, distance {} · drawn: {} at {} seg, {} at {}, {} at {}",
+        n(stats.orientation),
+        n(stats.frustum),
+        n(stats.distance),
+        n(stats.drawn[0]),
+        LOD_SEGMENTS[0],
+        n(stats.drawn[1]),
+        LOD_SEGMENTS[1],
+        n(stats.drawn[2]),
+        LOD_SEGMENTS[2],
+    );
+    line
+}
