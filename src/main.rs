@@ -562,16 +562,15 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     windloom::grass::MAX_BLADES
                 );
                 let ctx = windloom::gpu::GpuContext::headless()?;
-                let r = windloom::gpu::grass::bench(
-                    &ctx,
-                    &l,
-                    n,
+                let options = windloom::gpu::grass::BenchOptions {
+                    blades: n,
                     size,
-                    steps.clamp(1, 100),
+                    frames: steps.clamp(1, 100),
                     model,
-                    cull == OnOff::On,
-                    camera.map(camera_from),
-                )?;
+                    cull: cull == OnOff::On,
+                    camera: camera.map(camera_from),
+                };
+                let r = windloom::gpu::grass::bench(&ctx, &l, &options)?;
                 if json {
                     println!("{}", serde_json::to_string(&r)?);
                 } else {

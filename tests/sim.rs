@@ -2542,6 +2542,34 @@ mod grass {
         }
     }
 
+    /// The point under the pointer, where the editor puts the pushing sphere: a ground point
+    /// projected to the screen and cast back lands where it was, for many cameras.
+    #[test]
+    fn the_ray_under_the_pointer_finds_the_ground_point() {
+        use windloom::gpu::grass::Camera;
+        for k in 0..200 {
+            let f = |s: u32| windloom::grass::cull::pcg01(k * 7 + s);
+            let camera = Camera {
+                eye: glam::Vec3::new(f(1) * 50.0, 0.5 + f(2) * 30.0, f(3) * 50.0),
+                target: glam::Vec3::new(f(4) * 50.0, 0.0, f(5) * 50.0),
+                fov_y: (20.0 + 60.0 * f(6)).to_radians(),
+            };
+            let aspect = 0.8 + f(7);
+            let g = glam::Vec3::new(f(8) * 50.0, 0.0, f(9) * 50.0);
+            let c = camera.view_proj(aspect) * g.extend(1.0);
+            if c.w <= 0.0 || c.x.abs() > c.w || c.y.abs() > c.w {
+                continue;
+            }
+            let hit = camera
+                .ground_point(aspect, [c.x / c.w, c.y / c.w])
+                .expect("a visible ground point is hit");
+            assert!(
+                hit.distance(g) <= 1e-3 * (1.0 + camera.eye.distance(g)),
+                "{hit} for {g}"
+            );
+        }
+    }
+
     /// The cull's CPU twin: LOD boundaries are a dithered band with hysteresis, and distance
     /// culling thins the field gradually with no blade popping.
     mod cull {

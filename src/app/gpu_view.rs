@@ -445,7 +445,7 @@ impl GrassView {
             ui.painter().circle(
                 centre,
                 r,
-                egui::Color32::from_rgba_unmultiplied(235, 225, 210, 120),
+                egui::Color32::from_rgba_unmultiplied(235, 225, 210, 45),
                 egui::Stroke::new(1.5, egui::Color32::from_rgb(90, 70, 50)),
             );
         }

@@ -351,19 +351,7 @@ impl MapRenderer {
             return;
         }
         let group = |layout: &wgpu::BindGroupLayout, buffers: &[&wgpu::Buffer]| {
-            let entries: Vec<_> = buffers
-                .iter()
-                .enumerate()
-                .map(|(k, b)| wgpu::BindGroupEntry {
-                    binding: k as u32,
-                    resource: b.as_entire_binding(),
-                })
-                .collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("map view"),
-                layout,
-                entries: &entries,
-            })
+            super::buffers_group(device, "map view", layout, buffers)
         };
         self.bound = Some(Bound {
             field_group: group(

@@ -32,6 +32,28 @@ pub(crate) fn buffer_entry(
 }
 
 /// Copies `src` (a buffer with `COPY_SRC`) back to the CPU; waits for the GPU.
+/// A bind group of whole buffers at bindings 0, 1, 2… in order.
+pub fn buffers_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    buffers: &[&wgpu::Buffer],
+) -> wgpu::BindGroup {
+    let entries: Vec<_> = buffers
+        .iter()
+        .enumerate()
+        .map(|(k, b)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}
+
 pub fn read_buffer(
     device: &wgpu::Device,
     queue: &wgpu::Queue,

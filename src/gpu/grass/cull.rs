@@ -191,18 +191,12 @@ impl CullPass {
         fn whole(b: &wgpu::Buffer) -> wgpu::BindingResource<'_> {
             b.as_entire_binding()
         }
-        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("grass cull"),
-            layout: &layout,
-            entries: &[&visible, &uniform, &args, &lods, &tips]
-                .iter()
-                .enumerate()
-                .map(|(k, b)| wgpu::BindGroupEntry {
-                    binding: k as u32,
-                    resource: whole(b),
-                })
-                .collect::<Vec<_>>(),
-        });
+        let group = crate::gpu::buffers_group(
+            device,
+            "grass cull",
+            &layout,
+            &[&visible, &uniform, &args, &lods, &tips],
+        );
         let level_groups = [0u32, 1, 2].map(|l| {
             let level = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                 label: Some("grass level"),

@@ -158,16 +158,31 @@ pub struct GrassBench {
     pub lod_segments: [u32; 3],
 }
 
+/// What `bench --grass` times: about `blades` blades, pictures of `size`, `frames` timed
+/// frames, the model, culling on or off, and the camera ([`Camera::walk`] when `None`).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BenchOptions {
+    pub blades: usize,
+    pub size: [u32; 2],
+    pub frames: usize,
+    pub model: GrassModel,
+    pub cull: bool,
+    pub camera: Option<Camera>,
+}
+
 pub fn bench(
     ctx: &crate::gpu::GpuContext,
     layout: &Layout,
-    blades: usize,
-    size: [u32; 2],
-    frames: usize,
-    model: GrassModel,
-    cull: bool,
-    camera: Option<Camera>,
+    o: &BenchOptions,
 ) -> Result<GrassBench, GpuError> {
+    let BenchOptions {
+        blades,
+        size,
+        frames,
+        model,
+        cull,
+        camera,
+    } = *o;
     let mut layout = layout.clone();
     let area = layout.world.size[0] * layout.world.size[1];
     layout.grass.density = (blades as f32 / area).max(1e-3);

@@ -8,23 +8,30 @@
 //! blade a strip built in the vertex shader from its index. Passes: `shaders/grass_*.wgsl`,
 //! sharing `grass_common.wgsl` (and `grass_shape.wgsl` for the cull pass and the blades).
 //!
-//! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. Uses glam for the camera.
-//! `target.rs`: the colour + depth target and whole frames into it; `headless.rs`: pictures
+//! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. `camera.rs`: the glam camera;
+//! `cull.rs`, `bezier.rs`, `trail.rs`: those passes' buffers and pipelines; `backdrop.rs`: the
+//! map image on the ground; `target.rs`: the colour + depth target and whole frames into it;
+//! `headless.rs`: pictures
 //! and the benchmark for the CLI.
 
+mod backdrop;
 mod bezier;
+mod camera;
 mod cull;
 mod headless;
 mod target;
 mod trail;
 
+use backdrop::{backdrop_group, backdrop_texture};
 pub use bezier::{BezierPass, BezierState};
+pub use camera::Camera;
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
-pub use headless::{GrassBench, PictureOptions, PushPath, bench, picture};
+pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture};
 pub use target::{Target, render_into, render_offscreen};
 
 use super::GpuError;
 use super::buffer_entry as entry;
+use super::buffers_group;
 use crate::doc::GrassModel;
 use crate::doc::Layout;
 use crate::grass::cull::{CullParams, LOD_SEGMENTS};
@@ -32,7 +39,7 @@ use crate::grass::scene::SceneVertex;
 use crate::grass::trail::Sphere;
 use crate::grass::{Blade, cwd};
 use bytemuck::{Pod, Zeroable};
-use glam::{Mat4, Vec3};
+use glam::Mat4;
 use wgpu::util::DeviceExt;
 
 /// The shared header of the grass passes.
@@ -164,63 +171,6 @@ pub const TRAIL_LIFETIME: f32 = 3.0;
 /// The depth buffer format the renderer draws with.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// A perspective camera looking from `eye` at `target` (world metres, y up).
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Camera {
-    pub eye: Vec3,
-    pub target: Vec3,
-    /// Vertical field of view, radians.
-    pub fov_y: f32,
-}
-
-impl Camera {
-    /// A view of the whole world from its south-west (+z, −x) side, above it.
-    pub fn overview(layout: &Layout) -> Self {
-        let (min, max) = layout.bounds();
-        let c = Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0);
-        let r = (max[0] - min[0]).hypot(max[1] - min[1]) / 2.0;
-        Self {
-            eye: c + Vec3::new(-0.55 * r, 0.55 * r, 0.95 * r),
-            target: c,
-            fov_y: 45f32.to_radians(),
-        }
-    }
-
-    /// Standing in the grass: eye 1.7 m up, a tenth of the way in from the world's south-west
-    /// corner, looking across the world's middle — near, middle and far blades in one view
-    /// (the grass benchmark's camera).
-    pub fn walk(layout: &Layout) -> Self {
-        let (min, max) = layout.bounds();
-        let (w, d) = (max[0] - min[0], max[1] - min[1]);
-        Self {
-            eye: Vec3::new(min[0] + 0.1 * w, 1.7, max[1] - 0.1 * d),
-            target: Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0),
-            fov_y: 45f32.to_radians(),
-        }
-    }
-
-    /// Where the ray through `ndc` (x right, y up, each −1..1) meets the ground (y = 0), if it
-    /// does in front of the camera.
-    pub fn ground_point(&self, aspect: f32, ndc: [f32; 2]) -> Option<Vec3> {
-        let inv = self.view_proj(aspect).inverse();
-        let near = inv.project_point3(Vec3::new(ndc[0], ndc[1], 0.0));
-        let far = inv.project_point3(Vec3::new(ndc[0], ndc[1], 1.0));
-        let d = far - near;
-        if d.y.abs() < 1e-9 {
-            return None;
-        }
-        let t = -near.y / d.y;
-        (t > 0.0).then(|| near + d * t)
-    }
-
-    /// World → clip space for a picture of `aspect` (width / height).
-    pub fn view_proj(&self, aspect: f32) -> Mat4 {
-        let dist = (self.eye - self.target).length().max(0.01);
-        let proj = Mat4::perspective_rh(self.fov_y, aspect, (dist * 0.002).max(0.01), dist * 20.0);
-        proj * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
-    }
-}
-
 fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
         label: Some(label),
@@ -274,73 +224,7 @@ pub struct GrassRenderer {
     backdrop_group: wgpu::BindGroup,
 }
 
-fn backdrop_texture(device: &wgpu::Device, [w, h]: [u32; 2]) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("grass backdrop"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    })
-}
-
-fn backdrop_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    texture: &wgpu::Texture,
-) -> wgpu::BindGroup {
-    let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
-        label: Some("grass backdrop"),
-        mag_filter: wgpu::FilterMode::Linear,
-        min_filter: wgpu::FilterMode::Linear,
-        ..Default::default()
-    });
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("grass backdrop"),
-        layout,
-        entries: &[
-            wgpu::BindGroupEntry {
-                binding: 0,
-                resource: wgpu::BindingResource::TextureView(
-                    &texture.create_view(&Default::default()),
-                ),
-            },
-            wgpu::BindGroupEntry {
-                binding: 1,
-                resource: wgpu::BindingResource::Sampler(&sampler),
-            },
-        ],
-    })
-}
-
 const TRIANGLES: wgpu::PrimitiveTopology = wgpu::PrimitiveTopology::TriangleList;
-
-fn buffers_group(
-    device: &wgpu::Device,
-    layout: &wgpu::BindGroupLayout,
-    buffers: &[&wgpu::Buffer],
-) -> wgpu::BindGroup {
-    let entries: Vec<_> = buffers
-        .iter()
-        .enumerate()
-        .map(|(k, b)| wgpu::BindGroupEntry {
-            binding: k as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("grass"),
-        layout,
-        entries: &entries,
-    })
-}
 
 /// Group 0: the scene, blades, wind and palettes, and the trail.
 fn scene_group(
@@ -520,10 +404,11 @@ impl GrassRenderer {
             [&scene_buf, &blades_buf, &wind, &palettes],
             &trail.texture,
         );
-        let group_deform = buffers_group(device, &layout_deform, &[&poses]);
+        let group_deform = buffers_group(device, "grass poses", &layout_deform, &[&poses]);
         // No Bezier states until that model is chosen: a placeholder.
         let no_states = storage(device, "no bezier states", &[0; 48]);
-        let group_shape = buffers_group(device, &layout_shape, &[&poses, &no_states]);
+        let group_shape =
+            buffers_group(device, "grass shape", &layout_shape, &[&poses, &no_states]);
         let cull = CullPass::new(
             device,
             &layout0,
@@ -903,7 +788,12 @@ impl GrassRenderer {
             storage(device, "no bezier states", &[0; 48])
         };
         self.scene.model = u32::from(bezier);
-        self.group_shape = buffers_group(device, &self.layout_shape, &[&self.poses, &states]);
+        self.group_shape = buffers_group(
+            device,
+            "grass shape",
+            &self.layout_shape,
+            &[&self.poses, &states],
+        );
     }
 
     /// The blade model drawn.
