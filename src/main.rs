@@ -344,6 +344,11 @@ enum AdvectionArg {
 const BENCH_LAYOUT: &str = include_str!("../layouts/obstacles.json");
 
 fn main() -> ExitCode {
+    // `RUST_LOG=info` (or `wgpu=warn`, `windloom=debug`…) shows what eframe, wgpu and windloom
+    // log; by default windloom's own warnings alone (wgpu reports failed probes of backends it
+    // does not use as errors).
+    env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("windloom=warn"))
+        .init();
     match run(Cli::parse()) {
         Ok(code) => code,
         Err(e) => {

@@ -240,10 +240,9 @@ fn a_bad_file_shows_the_errors_and_keeps_the_document() {
 #[test]
 fn unsaved_work_is_autosaved_and_a_save_clears_the_recovery_copy() {
     let dir = tempfile::tempdir().unwrap();
-    let recovery = dir.path().join("recovery.json");
     let ctx = egui::Context::default();
     let mut app = EditorApp::new(example("meadow.json"), None, &ctx);
-    app.set_recovery_path(Some(recovery.clone()));
+    app.set_recovery_dir(Some(dir.path().join("recovery")));
     let id = app.doc.trees[0].root.children[0].id;
     assert!(app.edit(
         &ctx,
@@ -252,7 +251,7 @@ fn unsaved_work_is_autosaved_and_a_save_clears_the_recovery_copy() {
             pos: [1.0, 2.0]
         }
     ));
-    app.write_recovery();
+    let recovery = app.write_recovery().unwrap();
     let restored = windloom::io::load(&recovery).unwrap();
     assert_eq!(
         restored, app.doc,
@@ -263,6 +262,73 @@ fn unsaved_work_is_autosaved_and_a_save_clears_the_recovery_copy() {
     assert!(!recovery.exists(), "saving removes the recovery copy");
     assert!(!app.dirty);
     assert_eq!(app.path.as_deref(), Some(target.as_path()));
+}
+
+/// Two editors keep separate recovery copies; an editor that died leaves its copy to be
+/// offered, and restoring it brings back the file it was editing, so Save goes there.
+#[test]
+fn each_document_has_its_own_recovery_copy_and_a_restore_keeps_its_path() {
+    use windloom::app::recovery::Recovery;
+    let dir = tempfile::tempdir().unwrap();
+    let rec = dir.path().join("recovery");
+    let ctx = egui::Context::default();
+    let level = dir.path().join("level.json");
+    windloom::io::save(&level, &example("meadow.json")).unwrap();
+    let mut a = EditorApp::new(example("meadow.json"), Some(level.clone()), &ctx);
+    a.set_recovery_dir(Some(rec.clone()));
+    let mut b = EditorApp::new(example("obstacles.json"), None, &ctx);
+    b.set_recovery_dir(Some(rec.clone()));
+    let mut grass = a.doc.grass.clone();
+    grass.density = 7.0;
+    assert!(a.edit(&ctx, doc::Edit::SetGrass(grass)));
+    let (pa, pb) = (a.write_recovery().unwrap(), b.write_recovery().unwrap());
+    assert_ne!(pa, pb, "two documents, two copies");
+    assert_eq!(windloom::io::load(&pb).unwrap(), b.doc);
+    // Editor a "crashes" (it never removes its copy); a new editor finds both copies (their
+    // writer, this process, is not another running editor) and restores a's.
+    let edited = a.doc.clone();
+    drop(a);
+    let found = Recovery::found(&rec);
+    assert_eq!(found.len(), 2, "{found:?}");
+    let fa = found
+        .iter()
+        .find(|f| f.layout == pa)
+        .expect("a's copy offered");
+    assert_eq!(
+        fa.origin.as_deref(),
+        Some(level.canonicalize().unwrap().as_path())
+    );
+    let mut c = EditorApp::new(windloom::doc::default_layout(), None, &ctx);
+    c.set_recovery_dir(Some(rec.clone()));
+    c.restore(fa).unwrap();
+    assert_eq!(c.doc, edited, "the unsaved edit is back");
+    assert_eq!(
+        c.path.as_deref(),
+        Some(level.canonicalize().unwrap().as_path()),
+        "Save goes to the file it was editing"
+    );
+    assert!(c.save(&ctx));
+    assert_eq!(windloom::io::load(&level).unwrap(), edited);
+    assert!(!pa.exists(), "the restored copy is gone once saved");
+    assert!(pb.exists(), "the other document's copy is untouched");
+}
+
+/// An autosave that cannot be written is not silent: the editor keeps the reason (shown in
+/// the status bar) until one succeeds.
+#[test]
+fn a_failed_autosave_is_reported() {
+    let dir = tempfile::tempdir().unwrap();
+    let blocker = dir.path().join("not-a-folder");
+    std::fs::write(&blocker, b"x").unwrap();
+    let ctx = egui::Context::default();
+    let mut app = EditorApp::new(example("meadow.json"), None, &ctx);
+    app.set_recovery_dir(Some(blocker.join("recovery")));
+    let e = app.write_recovery().unwrap_err();
+    assert!(e.contains("not-a-folder"), "{e}");
+    assert_eq!(app.recovery_error.as_deref(), Some(e.as_str()));
+    app.set_recovery_dir(Some(dir.path().join("recovery")));
+    app.write_recovery().unwrap();
+    assert!(app.recovery_error.is_none(), "cleared once it works");
 }
 
 #[test]
@@ -364,6 +430,17 @@ fn export_dialog_bakes_in_the_background_and_cancel_leaves_nothing() {
         .map(|r| r.collect())
         .unwrap_or_default();
     assert!(left.is_empty(), "{left:?}");
+
+    // Closing the editor mid-bake cancels it and waits for the worker: when `shutdown`
+    // returns, the thread is gone and nothing is left.
+    dialog.out = dir.path().join("closed").display().to_string();
+    dialog.start(&doc, &ctx);
+    dialog.shutdown();
+    assert!(!dialog.running());
+    let left: Vec<_> = std::fs::read_dir(dir.path().join("closed"))
+        .map(|r| r.collect())
+        .unwrap_or_default();
+    assert!(left.is_empty(), "{left:?}");
 }
 
 #[test]
@@ -381,6 +458,45 @@ fn export_is_reachable_from_the_file_menu() {
         h.query_by_label("Bake").is_some(),
         "the dialog shows a Bake button"
     );
+}
+
+/// Where the system's file dialog cannot open, the editor still saves and opens: File →
+/// Save to path… takes a typed path, and Open path… opens it again.
+#[test]
+fn a_typed_path_saves_and_opens_without_a_file_dialog() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let target = dir.path().join("typed.json");
+    let mut h = harness(example("meadow.json"));
+    h.get_by_label("File").click();
+    h.run_steps(2);
+    h.get_by_label("Save to path…").click();
+    h.run_steps(2);
+    h.get_by_label("Path of the layout file").focus();
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.run_steps(1);
+    h.get_by_label("Path of the layout file")
+        .type_text(&target.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    assert_eq!(windloom::io::load(&target).unwrap(), h.state().doc);
+    assert_eq!(h.state().path.as_deref(), Some(target.as_path()));
+    assert!(h.state().dialog.is_none());
+    // And open it through Open path… after a change on disk.
+    let mut other = example("obstacles.json");
+    other.name = "Typed".into();
+    windloom::io::save(&target, &other).unwrap();
+    h.get_by_label("File").click();
+    h.run_steps(2);
+    h.get_by_label("Open path…").click();
+    h.run_steps(2);
+    h.get_by_label("Open").click();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.name, "Typed");
 }
 
 /// Paused, with no input, the editor stops drawing: nothing requests another frame (the

@@ -28,6 +28,8 @@ struct Job {
     cancel: Arc<AtomicBool>,
     progress: Arc<Mutex<(usize, usize, String)>>,
     done: Arc<Mutex<Option<Result<String, String>>>>,
+    /// The worker thread, joined when it has finished (or on close).
+    handle: Option<std::thread::JoinHandle<()>>,
 }
 
 impl Default for ExportDialog {
@@ -86,34 +88,54 @@ impl ExportDialog {
             PathBuf::from(self.out.trim()),
         );
         let (c, p, d, ctx) = (cancel.clone(), progress.clone(), done.clone(), ctx.clone());
-        std::thread::spawn(move || {
-            let mut report = |a: usize, b: usize, what: &str| {
-                if let Ok(mut g) = p.lock() {
-                    *g = (a, b, what.to_string());
+        let worker = std::thread::Builder::new()
+            .name("windloom-export".into())
+            .spawn(move || {
+                let mut report = |a: usize, b: usize, what: &str| {
+                    if let Ok(mut g) = p.lock() {
+                        *g = (a, b, what.to_string());
+                    }
+                    ctx.request_repaint();
+                };
+                // A panic in the bake is reported as its result, never a dialog that says
+                // "running" forever.
+                let r = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                    bake::bake(&layout, &out, &opts, &c, &mut report)
+                }));
+                let r = match r {
+                    Ok(r) => r
+                        .map(|m| {
+                            format!(
+                                "Baked {} frame(s), {} files, into {}",
+                                m.frames.count,
+                                m.files.len() + 1,
+                                out.display()
+                            )
+                        })
+                        .map_err(|e| e.to_string()),
+                    Err(panic) => Err(format!(
+                        "the export stopped unexpectedly ({}); nothing was written to {}",
+                        panic_message(&panic),
+                        out.display()
+                    )),
+                };
+                if let Ok(mut g) = d.lock() {
+                    *g = Some(r);
                 }
                 ctx.request_repaint();
-            };
-            let r = bake::bake(&layout, &out, &opts, &c, &mut report)
-                .map(|m| {
-                    format!(
-                        "Baked {} frame(s), {} files, into {}",
-                        m.frames.count,
-                        m.files.len() + 1,
-                        out.display()
-                    )
-                })
-                .map_err(|e| e.to_string());
-            if let Ok(mut g) = d.lock() {
-                *g = Some(r);
-            }
-            ctx.request_repaint();
-        });
+            });
         self.result = None;
-        self.job = Some(Job {
-            cancel,
-            progress,
-            done,
-        });
+        match worker {
+            Ok(handle) => {
+                self.job = Some(Job {
+                    cancel,
+                    progress,
+                    done,
+                    handle: Some(handle),
+                })
+            }
+            Err(e) => self.result = Some(Err(format!("could not start the export: {e}"))),
+        }
     }
 
     pub fn cancel(&self) {
@@ -122,7 +144,7 @@ impl ExportDialog {
         }
     }
 
-    /// Collects a finished job's result.
+    /// Collects a finished job's result (and its thread).
     fn poll(&mut self) {
         let finished = self
             .job
@@ -130,7 +152,20 @@ impl ExportDialog {
             .and_then(|j| j.done.lock().ok().and_then(|mut d| d.take()));
         if let Some(r) = finished {
             self.result = Some(r);
-            self.job = None;
+            if let Some(h) = self.job.take().and_then(|mut j| j.handle.take()) {
+                let _ = h.join();
+            }
+        }
+    }
+
+    /// On closing the editor: cancels a running export and waits for its thread (a cancelled
+    /// bake leaves nothing behind).
+    pub fn shutdown(&mut self) {
+        if let Some(mut j) = self.job.take() {
+            j.cancel.store(true, Ordering::SeqCst);
+            if let Some(h) = j.handle.take() {
+                let _ = h.join();
+            }
         }
     }
 
@@ -237,4 +272,13 @@ impl ExportDialog {
             std::thread::sleep(std::time::Duration::from_millis(20));
         }
     }
+}
+
+/// The text of a caught panic.
+fn panic_message(panic: &Box<dyn std::any::Any + Send>) -> String {
+    panic
+        .downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| panic.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "a panic".into())
 }

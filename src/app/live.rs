@@ -296,6 +296,7 @@ impl Engine {
 
     /// Moves the field to the CPU after a GPU failure, saying why.
     fn fall_back(&mut self, why: String) {
+        log::warn!("wind moved to the CPU: {why}");
         if let (Some(g), Some(ctx)) = (self.gpu.take(), &self.ctx) {
             // Best effort: keep what the GPU had if it can still be read.
             let _ = g.read_into(ctx, &mut self.cpu);
@@ -335,6 +336,15 @@ impl Engine {
                 }
             }
         };
+        log::info!(
+            "wind runs on the {} ({:?} asked{})",
+            want.label(),
+            self.choice,
+            self.measured.map_or(String::new(), |m| format!(
+                "; measured CPU {:.2} ms, GPU {:.2} ms a step",
+                m[0], m[1]
+            ))
+        );
         self.move_to(want, layout);
     }
 

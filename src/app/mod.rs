@@ -10,6 +10,7 @@ mod inspector;
 pub mod live;
 mod map;
 mod panels;
+pub mod recovery;
 pub mod view;
 
 use crate::doc::{self, Edit, History, Layout};
@@ -165,7 +166,14 @@ pub enum Dialog {
         sel: Vec<Sel>,
     },
     Recover {
-        path: PathBuf,
+        found: recovery::Found,
+    },
+    /// A path typed in the editor: where the system's file dialog cannot open (no desktop
+    /// portal), or by choice (File → Open path… / Save to path…).
+    Path {
+        save: bool,
+        text: String,
+        note: Option<String>,
     },
     Shortcuts,
 }
@@ -175,6 +183,8 @@ pub enum Dialog {
 pub enum Pending {
     New,
     Open(Option<PathBuf>),
+    /// Open a path typed in the editor.
+    OpenTyped,
     Quit,
 }
 
@@ -208,7 +218,11 @@ pub struct EditorApp {
     pub message: Option<(String, f64)>,
     doc_changed: bool,
     last_autosave: f64,
-    recovery_path: Option<PathBuf>,
+    recovery: Option<recovery::Recovery>,
+    /// Why the last autosave failed (shown in the status bar until one works).
+    pub recovery_error: Option<String>,
+    /// Recovery copies still to offer after the one in the dialog.
+    recover_queue: Vec<recovery::Found>,
     pub adapter: String,
     frame_ms: f32,
     /// CPU milliseconds the last frames spent building the UI (smoothed).
@@ -262,7 +276,9 @@ impl EditorApp {
             message: None,
             doc_changed: false,
             last_autosave: 0.0,
-            recovery_path: None,
+            recovery: None,
+            recovery_error: None,
+            recover_queue: Vec::new(),
             adapter: "no GPU adapter".into(),
             frame_ms: 0.0,
             ui_ms: 0.0,
@@ -299,11 +315,20 @@ impl EditorApp {
         if let Some(rs) = &cc.wgpu_render_state {
             app.attach_gpu(rs);
         }
-        app.recovery_path = eframe::storage_dir("windloom").map(|d| d.join("recovery.json"));
-        if let Some(p) = &app.recovery_path {
-            if p.exists() {
-                app.dialog = Some(Dialog::Recover { path: p.clone() });
+        if let Some(dir) = eframe::storage_dir("windloom") {
+            let mut found = recovery::Recovery::found(&dir.join("recovery"));
+            // The single shared copy of earlier versions.
+            let legacy = dir.join("recovery.json");
+            if legacy.exists() {
+                found.push(recovery::Found {
+                    layout: legacy,
+                    origin: None,
+                });
             }
+            app.recover_queue = found;
+            app.recover_queue.reverse();
+            app.next_recovery();
+            app.set_recovery_dir(Some(dir.join("recovery")));
         }
         app
     }
@@ -313,6 +338,14 @@ impl EditorApp {
     pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
         let info = rs.adapter.get_info();
         self.adapter = format!("{} ({:?})", info.name, info.backend);
+        log::info!(
+            "editor device: {} ({:?}, {:?}, driver {} {})",
+            info.name,
+            info.device_type,
+            info.backend,
+            info.driver,
+            info.driver_info
+        );
         match crate::gpu::GpuContext::from_parts(&rs.adapter, rs.device.clone(), rs.queue.clone()) {
             Ok(ctx) => {
                 // wgpu reconfigures the window's surface (on a resize) only while no other
@@ -544,10 +577,34 @@ impl EditorApp {
         if let Some(dir) = self.path.as_ref().and_then(|p| p.parent()) {
             dialog = dialog.set_directory(dir);
         }
+        let started = std::time::Instant::now();
         match dialog.save_file() {
             Some(p) => self.save_to(ctx, &p),
-            None => false,
+            None => {
+                if native_dialog_failed(started) {
+                    self.path_prompt(true, true);
+                }
+                false
+            }
         }
+    }
+
+    /// Asks for a path in the editor (`failed`: because the system dialog could not open).
+    pub fn path_prompt(&mut self, save: bool, failed: bool) {
+        let text = match (&self.path, save) {
+            (Some(p), _) => p.display().to_string(),
+            (None, true) => format!("{}.json", self.doc.name.to_lowercase().replace(' ', "-")),
+            (None, false) => String::new(),
+        };
+        self.dialog = Some(Dialog::Path {
+            save,
+            text,
+            note: failed.then(|| {
+                "The system's file dialog could not open (is a desktop portal running?). \
+                 Type the path instead."
+                    .into()
+            }),
+        });
     }
 
     /// Runs `p` now, or asks first when it would discard unsaved changes.
@@ -567,13 +624,17 @@ impl EditorApp {
             }
             Pending::Open(Some(path)) => self.open_path(&path),
             Pending::Open(None) => {
-                if let Some(path) = rfd::FileDialog::new()
+                let started = std::time::Instant::now();
+                match rfd::FileDialog::new()
                     .add_filter("windloom layout", &["json"])
                     .pick_file()
                 {
-                    self.open_path(&path);
+                    Some(path) => self.open_path(&path),
+                    None if native_dialog_failed(started) => self.path_prompt(false, true),
+                    None => {}
                 }
             }
+            Pending::OpenTyped => self.path_prompt(false, false),
             Pending::Quit => {
                 self.remove_recovery();
                 self.allow_close = true;
@@ -583,32 +644,76 @@ impl EditorApp {
     }
 
     fn remove_recovery(&mut self) {
-        if let Some(p) = &self.recovery_path {
-            let _ = std::fs::remove_file(p);
+        if let Some(r) = &mut self.recovery {
+            r.remove();
         }
     }
 
-    fn autosave(&mut self, now: f64) {
+    /// Shows the next recovery copy left by an editor that is gone, if any.
+    pub(crate) fn next_recovery(&mut self) {
+        if self.dialog.is_none() {
+            if let Some(found) = self.recover_queue.pop() {
+                self.dialog = Some(Dialog::Recover { found });
+            }
+        }
+    }
+
+    fn autosave(&mut self, ctx: &egui::Context, now: f64) {
         if !self.dirty || now - self.last_autosave < AUTOSAVE_SECONDS {
             return;
         }
         self.last_autosave = now;
-        self.write_recovery();
-    }
-
-    /// Where unsaved work is autosaved (the eframe storage folder when run normally).
-    pub fn set_recovery_path(&mut self, path: Option<PathBuf>) {
-        self.recovery_path = path;
-    }
-
-    /// Writes the document to the recovery file now (atomically); autosave calls this.
-    pub fn write_recovery(&mut self) {
-        if let Some(p) = &self.recovery_path {
-            if let Some(dir) = p.parent() {
-                let _ = std::fs::create_dir_all(dir);
+        let failing = self.recovery_error.is_some();
+        if let Err(e) = self.write_recovery() {
+            if !failing {
+                self.say(ctx, format!("Autosave failed: {e}"));
             }
-            let _ = crate::io::save(p, &self.doc);
         }
+    }
+
+    /// The folder unsaved work is autosaved into, one copy per document (the eframe storage
+    /// folder's `recovery/` when run normally; `None`: no autosave).
+    pub fn set_recovery_dir(&mut self, dir: Option<PathBuf>) {
+        self.remove_recovery();
+        self.recovery = dir.map(recovery::Recovery::new);
+    }
+
+    /// Where this document's recovery copy goes.
+    pub fn recovery_path(&self) -> Option<PathBuf> {
+        self.recovery
+            .as_ref()
+            .map(|r| r.path_for(self.path.as_deref()))
+    }
+
+    /// Writes the document's recovery copy now (atomically); autosave calls this. Returns
+    /// where it went, or why it could not be written.
+    pub fn write_recovery(&mut self) -> Result<PathBuf, String> {
+        let Some(r) = &mut self.recovery else {
+            return Err("no recovery folder".into());
+        };
+        match r.write(&self.doc, self.path.as_deref()) {
+            Ok(written) => {
+                self.recovery_error = None;
+                Ok(written)
+            }
+            Err(e) => {
+                self.recovery_error = Some(e.clone());
+                Err(e)
+            }
+        }
+    }
+
+    /// Restores a recovery copy: its layout, unsaved, with the path of the file it was
+    /// editing (so Save goes back there).
+    pub fn restore(&mut self, found: &recovery::Found) -> Result<(), String> {
+        let doc = crate::io::load(&found.layout).map_err(|e| e.to_string())?;
+        self.replace_document(doc, found.origin.clone(), false);
+        // Our own copy first, then the old one goes (unless it is the same file).
+        let ours = self.write_recovery().ok();
+        if ours.as_deref() != Some(found.layout.as_path()) {
+            found.remove();
+        }
+        Ok(())
     }
 
     /// Deletes the selection (nodes with their subtrees, whole trees for roots, obstacles,
@@ -898,7 +1003,7 @@ impl eframe::App for EditorApp {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
             self.sent_title = Some(title);
         }
-        self.autosave(now);
+        self.autosave(&ctx, now);
         if self.live.playing {
             ctx.request_repaint();
         }
@@ -916,10 +1021,17 @@ impl eframe::App for EditorApp {
     }
 
     fn on_exit(&mut self) {
+        self.export.shutdown();
         if !self.dirty {
             self.remove_recovery();
         }
     }
+}
+
+/// Whether a file dialog that returned nothing did so too fast for a person to have
+/// cancelled it: it could not open at all (no desktop portal, no display server support).
+fn native_dialog_failed(started: std::time::Instant) -> bool {
+    started.elapsed() < std::time::Duration::from_millis(150)
 }
 
 /// A stable number for a gesture key (slider, drag) so its edits merge into one undo step.

@@ -16,6 +16,13 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 if ui.button("Open…").clicked() {
                     app.request(&ctx, Pending::Open(None));
                 }
+                if ui
+                    .button("Open path…")
+                    .on_hover_text("Type the path of a layout (no system file dialog)")
+                    .clicked()
+                {
+                    app.request(&ctx, Pending::OpenTyped);
+                }
                 ui.menu_button("Open Recent", |ui| {
                     if app.settings.recent.is_empty() {
                         ui.weak("No recent files");
@@ -32,6 +39,13 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 }
                 if ui.button("Save As…").clicked() {
                     app.save_as(&ctx);
+                }
+                if ui
+                    .button("Save to path…")
+                    .on_hover_text("Type where to save (no system file dialog)")
+                    .clicked()
+                {
+                    app.path_prompt(true, false);
                 }
                 ui.separator();
                 if ui.button("Export/Bake…").clicked() {
@@ -210,6 +224,12 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             timing.on_hover_ui(|ui| frame_times(app, &snap, ui));
             if let Some(n) = &snap.notice {
                 ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
+            }
+            if let Some(e) = &app.recovery_error {
+                ui.colored_label(egui::Color32::from_rgb(255, 110, 90), "⚠ autosave failed")
+                    .on_hover_text(format!(
+                        "Unsaved work is not being autosaved: {e}\nSave the layout (Ctrl+S) to keep it."
+                    ));
             }
             if app.settings.central != crate::app::Central::Map && app.grass_view.blades > 0 {
                 ui.separator();
@@ -481,9 +501,11 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
         match &dialog {
             Dialog::Error { title, text } => {
                 ui.heading(title);
-                egui::ScrollArea::vertical().max_height(300.0).show(ui, |ui| {
-                    ui.add(egui::Label::new(RichText::new(text).monospace()).wrap());
-                });
+                egui::ScrollArea::vertical()
+                    .max_height(300.0)
+                    .show(ui, |ui| {
+                        ui.add(egui::Label::new(RichText::new(text).monospace()).wrap());
+                    });
                 ui.label("The current document was kept.");
                 if ui.button("OK").clicked() {
                     keep = false;
@@ -521,24 +543,78 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
                     }
                 });
             }
-            Dialog::Recover { path } => {
+            Dialog::Recover { found } => {
                 ui.heading("Restore unsaved work?");
-                ui.label("windloom did not close cleanly last time. A recovery copy of the layout you were editing was found.");
+                let what = match &found.origin {
+                    Some(p) => format!("{}", p.display()),
+                    None => "a new layout that was never saved".into(),
+                };
+                ui.label(format!(
+                    "windloom did not close cleanly last time. A recovery copy of {what} was found."
+                ));
                 ui.horizontal(|ui| {
                     if ui.button("Restore").clicked() {
                         keep = false;
-                        match crate::io::load(path) {
-                            Ok(doc) => app.replace_document(doc, None, false),
-                            Err(e) => {
-                                app.dialog = Some(Dialog::Error { title: "Could not restore".into(), text: e.to_string() });
-                            }
+                        if let Err(e) = app.restore(found) {
+                            app.dialog = Some(Dialog::Error {
+                                title: "Could not restore".into(),
+                                text: e,
+                            });
                         }
                     }
                     if ui.button("Discard").clicked() {
                         keep = false;
-                        let _ = std::fs::remove_file(path);
+                        found.remove();
                     }
                 });
+            }
+            Dialog::Path { save, text, note } => {
+                ui.heading(if *save {
+                    "Save the layout as"
+                } else {
+                    "Open a layout"
+                });
+                if let Some(n) = note {
+                    ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
+                }
+                let mut typed = text.clone();
+                let label = ui.label("Path of the layout file");
+                let field = ui
+                    .add(
+                        egui::TextEdit::singleline(&mut typed)
+                            .desired_width(520.0)
+                            .hint_text("/path/to/level.json"),
+                    )
+                    .labelled_by(label.id);
+                let enter = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+                ui.horizontal(|ui| {
+                    let go = ui
+                        .add_enabled(
+                            !typed.trim().is_empty(),
+                            egui::Button::new(if *save { "Save" } else { "Open" }),
+                        )
+                        .clicked();
+                    if (go || enter) && !typed.trim().is_empty() {
+                        keep = false;
+                        let path = std::path::PathBuf::from(typed.trim());
+                        if *save {
+                            app.save_to(ui.ctx(), &path);
+                        } else {
+                            app.open_path(&path);
+                        }
+                    }
+                    if ui.button("Cancel").clicked() {
+                        keep = false;
+                    }
+                });
+                if keep && typed != *text {
+                    app.dialog = Some(Dialog::Path {
+                        save: *save,
+                        text: typed,
+                        note: note.clone(),
+                    });
+                    keep = false;
+                }
             }
             Dialog::Shortcuts => {
                 ui.heading("Keyboard shortcuts");
@@ -555,12 +631,19 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
             }
         }
     });
-    if modal.should_close() && matches!(dialog, Dialog::Shortcuts | Dialog::Error { .. }) {
+    if modal.should_close()
+        && matches!(
+            dialog,
+            Dialog::Shortcuts | Dialog::Error { .. } | Dialog::Path { .. }
+        )
+    {
         keep = false;
     }
     if keep && app.dialog.is_none() {
         app.dialog = Some(dialog);
     }
+    // More recovery copies (several editors died): the next one.
+    app.next_recovery();
 }
 
 pub const SHORTCUTS: &[(&str, &str)] = &[

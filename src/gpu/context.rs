@@ -81,6 +81,7 @@ impl GpuContext {
             adapter: name.clone(),
             message: e.to_string(),
         })?;
+        log::info!("GPU: {name}, driver {} {}", info.driver, info.driver_info);
         Ok(Self {
             device,
             queue,

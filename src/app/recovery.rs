@@ -1,0 +1,181 @@
+//! Autosaved copies of unsaved work, one per document: `<key>.json` (the layout) beside
+//! `<key>.owner` (which process wrote it and which file it belongs to) in the recovery folder.
+//! Two editors never share a copy — the key is the document's path, or a session id for a new
+//! document — and a copy is offered back only when the editor that wrote it is gone, with the
+//! path of the file it was editing, so the next Save goes there. No egui here.
+
+use crate::doc::Layout;
+use std::path::{Path, PathBuf};
+
+/// Who wrote a recovery copy (`<key>.owner`).
+#[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
+struct Owner {
+    pid: u32,
+    path: Option<PathBuf>,
+}
+
+/// A recovery copy left by an editor that is no longer running.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Found {
+    /// The autosaved layout.
+    pub layout: PathBuf,
+    /// The file that editor was editing (`None`: a new, never-saved document).
+    pub origin: Option<PathBuf>,
+}
+
+impl Found {
+    /// Deletes the copy (after it was restored or discarded).
+    pub fn remove(&self) {
+        let _ = std::fs::remove_file(&self.layout);
+        let _ = std::fs::remove_file(self.layout.with_extension("owner"));
+    }
+}
+
+/// This editor's recovery copies.
+#[derive(Debug, Clone)]
+pub struct Recovery {
+    dir: PathBuf,
+    /// Names this editor's never-saved documents.
+    session: String,
+    /// The copy last written (removed when the document's path changes or it is saved).
+    written: Option<PathBuf>,
+}
+
+/// A short stable hash of a path (FNV-1a), for file names.
+fn fnv(s: &str) -> u64 {
+    s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// Whether process `pid` is still running (other platforms: assume it is gone).
+fn alive(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        i32::try_from(pid)
+            .ok()
+            .and_then(rustix::process::Pid::from_raw)
+            .is_some_and(|p| rustix::process::test_kill_process(p).is_ok())
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        false
+    }
+}
+
+impl Recovery {
+    pub fn new(dir: PathBuf) -> Self {
+        let nanos = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map_or(0, |d| d.as_nanos());
+        Self {
+            dir,
+            session: format!("untitled-{}-{nanos:x}", std::process::id()),
+            written: None,
+        }
+    }
+
+    pub fn dir(&self) -> &Path {
+        &self.dir
+    }
+
+    /// The copy's path for a document at `doc_path`.
+    pub fn path_for(&self, doc_path: Option<&Path>) -> PathBuf {
+        let key = match doc_path {
+            Some(p) => {
+                let p = p.canonicalize().unwrap_or_else(|_| p.to_path_buf());
+                let stem: String = p
+                    .file_stem()
+                    .map(|s| s.to_string_lossy().into_owned())
+                    .unwrap_or_default()
+                    .chars()
+                    .map(|c| {
+                        if c.is_alphanumeric() || c == '-' {
+                            c
+                        } else {
+                            '_'
+                        }
+                    })
+                    .take(40)
+                    .collect();
+                format!("{stem}-{:016x}", fnv(&p.to_string_lossy()))
+            }
+            None => self.session.clone(),
+        };
+        self.dir.join(format!("{key}.json"))
+    }
+
+    /// Writes `doc` (being edited at `doc_path`) as this document's copy, atomically; a copy
+    /// for the document's previous path is removed.
+    pub fn write(&mut self, doc: &Layout, doc_path: Option<&Path>) -> Result<PathBuf, String> {
+        let path = self.path_for(doc_path);
+        std::fs::create_dir_all(&self.dir)
+            .map_err(|e| format!("could not create {}: {e}", self.dir.display()))?;
+        crate::io::save(&path, doc).map_err(|e| format!("{}: {e}", path.display()))?;
+        let owner = Owner {
+            pid: std::process::id(),
+            path: doc_path.map(|p| p.canonicalize().unwrap_or_else(|_| p.to_path_buf())),
+        };
+        let json = serde_json::to_vec(&owner).map_err(|e| e.to_string())?;
+        let owner_path = path.with_extension("owner");
+        crate::io::write_atomic(&owner_path, &json)
+            .map_err(|e| format!("{}: {e}", owner_path.display()))?;
+        if let Some(old) = self.written.replace(path.clone()) {
+            if old != path {
+                Found {
+                    layout: old,
+                    origin: None,
+                }
+                .remove();
+            }
+        }
+        Ok(path)
+    }
+
+    /// Removes this editor's copy (the work was saved, or discarded on purpose).
+    pub fn remove(&mut self) {
+        if let Some(p) = self.written.take() {
+            Found {
+                layout: p,
+                origin: None,
+            }
+            .remove();
+        }
+    }
+
+    /// The copies in `dir` whose editors are gone, newest first. A copy without a readable
+    /// owner is offered too (nothing says its editor is running).
+    pub fn found(dir: &Path) -> Vec<Found> {
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return Vec::new();
+        };
+        let mut found: Vec<(std::time::SystemTime, Found)> = entries
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|x| x == "json"))
+            .filter_map(|layout| {
+                let owner: Option<Owner> = std::fs::read(layout.with_extension("owner"))
+                    .ok()
+                    .and_then(|b| serde_json::from_slice(&b).ok());
+                if owner
+                    .as_ref()
+                    .is_some_and(|o| o.pid != std::process::id() && alive(o.pid))
+                {
+                    return None;
+                }
+                let modified = std::fs::metadata(&layout)
+                    .and_then(|m| m.modified())
+                    .unwrap_or(std::time::UNIX_EPOCH);
+                Some((
+                    modified,
+                    Found {
+                        layout,
+                        origin: owner.and_then(|o| o.path),
+                    },
+                ))
+            })
+            .collect();
+        found.sort_by_key(|f| std::cmp::Reverse(f.0));
+        found.into_iter().map(|(_, f)| f).collect()
+    }
+}
