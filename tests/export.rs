@@ -1343,3 +1343,23 @@ mod render_never_panics {
         }
     }
 }
+
+/// A frame holding a NaN or an infinity is refused: a bake never ships one, and the error
+/// names the frame and the cell.
+#[test]
+fn a_non_finite_frame_is_refused() {
+    use windloom::bake::check_finite;
+    let mut field = vec![[1.0f32, -2.0]; 64];
+    assert!(check_finite(&field, 3).is_ok());
+    field[17][1] = f32::NAN;
+    let e = check_finite(&field, 3).unwrap_err().to_string();
+    assert!(e.contains("frame 3") && e.contains("cell 17"), "{e}");
+    field[17][1] = 0.0;
+    field[5][0] = f32::INFINITY;
+    assert!(
+        check_finite(&field, 0)
+            .unwrap_err()
+            .to_string()
+            .contains("cell 5")
+    );
+}

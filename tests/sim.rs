@@ -653,6 +653,121 @@ proptest! {
     }
 }
 
+fn strongest(node: &doc::Node) -> f32 {
+    node.children
+        .iter()
+        .map(strongest)
+        .fold(node.strength, f32::max)
+}
+
+fn max_speed(s: &Solver) -> f32 {
+    s.velocity_field()
+        .iter()
+        .map(|v| v[0].hypot(v[1]))
+        .fold(0.0, f32::max)
+}
+
+/// Every example layout, run for 10,000 steps (on half its grid, so the test stays quick),
+/// stays finite and bounded: checked every 500 steps, no cell ever faster than twenty times
+/// the strongest arrow (or 10 m/s) — a blow-up grows past any such bound within a few steps.
+/// (Not a plausibility bound: the branching and obstacles layouts' fastest cells spike to
+/// 4–8× their strongest arrow and fall back — recorded in docs/RELIABILITY.md as a finding.)
+#[test]
+fn every_example_runs_10000_steps_finite_and_bounded() {
+    for name in [
+        "meadow.json",
+        "branching.json",
+        "breeze-fft.json",
+        "obstacles.json",
+        "two-winds.json",
+    ] {
+        let mut l = example(name);
+        let g = l.world.grid;
+        l.world.grid = [(g[0] / 2).max(8), (g[1] / 2).max(8)];
+        let bound = 20.0
+            * l.trees
+                .iter()
+                .map(|t| strongest(&t.root))
+                .fold(10.0, f32::max);
+        let mut s = Solver::new(&l);
+        let mut peak = 0.0f32;
+        for k in 1..=10_000 {
+            s.step();
+            if k % 500 == 0 {
+                assert!(
+                    s.u.iter().chain(&s.v).chain(&s.p).all(|x| x.is_finite()),
+                    "{name}: non-finite after {k} steps"
+                );
+                let m = max_speed(&s);
+                peak = peak.max(m);
+                assert!(
+                    m <= bound,
+                    "{name}: {m} m/s after {k} steps (bound {bound})"
+                );
+            }
+        }
+        println!("{name}: 10,000 steps, peak {peak:.2} m/s (bound {bound:.0})");
+    }
+}
+
+/// The extremes the validator allows, 10,000 steps each: arrows of 500 m/s whose radius
+/// covers the whole map, one-cell obstacles, every boundary, both advection schemes — finite
+/// and bounded throughout.
+#[test]
+fn extreme_layouts_run_10000_steps_finite_and_bounded() {
+    for boundary in [Boundary::Open, Boundary::Closed, Boundary::Periodic] {
+        for mc in [false, true] {
+            let size = 40.0;
+            let mut l = Layout::new("extreme", [size, size * 0.75], [32, 24]);
+            l.sim.boundary = boundary;
+            if mc {
+                l.sim.advection = doc::Advection::MacCormack;
+            }
+            l.sim.vorticity = 50.0;
+            l.trees.push(tree(
+                1,
+                chain(
+                    10,
+                    &[[4.0, 15.0], [20.0, 5.0], [36.0, 25.0]],
+                    doc::STRENGTH_MAX,
+                    100.0,
+                ),
+            ));
+            // One-cell obstacles (a cell is 1.25 m) scattered over the map.
+            for k in 0..12u32 {
+                l.obstacles.push(doc::Obstacle {
+                    id: 100 + k,
+                    name: format!("pebble {k}"),
+                    shape: Shape::Circle {
+                        center: [3.0 + 3.1 * k as f32, 4.0 + 1.7 * (k % 13) as f32],
+                        radius: 0.6,
+                    },
+                });
+            }
+            assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
+            let mut s = Solver::new(&l);
+            let bound = 3.0 * doc::STRENGTH_MAX;
+            let mut peak = 0.0f32;
+            for k in 1..=10_000 {
+                s.step();
+                if k % 500 == 0 {
+                    assert!(
+                        s.u.iter().chain(&s.v).chain(&s.p).all(|x| x.is_finite()),
+                        "{boundary:?} MacCormack {mc}: non-finite after {k} steps"
+                    );
+                    let m = max_speed(&s);
+                    peak = peak.max(m);
+                    assert!(
+                        m <= bound,
+                        "{boundary:?} MacCormack {mc}: {m} m/s after {k} steps"
+                    );
+                }
+            }
+            println!("{boundary:?}, MacCormack {mc}: peak {peak:.1} m/s");
+        }
+    }
+}
+
 /// `windloom bench --json` prints one JSON object with the fields the performance record
 /// needs, and its bound is the byte count over the bandwidth it measured.
 #[test]

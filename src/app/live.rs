@@ -253,6 +253,8 @@ struct Engine {
     gpu_ms: Option<f32>,
     steps_since_readback: usize,
     last_readback: Instant,
+    /// The field went non-finite: zeroed and no longer stepped until a Reset (or a rebuild).
+    halted: bool,
 }
 
 impl Engine {
@@ -269,12 +271,16 @@ impl Engine {
             gpu_ms: None,
             steps_since_readback: 0,
             last_readback: Instant::now(),
+            halted: false,
         }
     }
 
     /// Steps once on whichever backend runs; on the GPU waits for it, so the worker neither
     /// queues unbounded work nor misreports the step time.
     fn step(&mut self) {
+        if self.halted {
+            return;
+        }
         let t = Instant::now();
         match (&mut self.gpu, &self.ctx) {
             (Some(g), Some(ctx)) => {
@@ -292,6 +298,36 @@ impl Engine {
             self.ms * 0.9 + step_ms * 0.1
         };
         self.steps_since_readback += 1;
+    }
+
+    /// A field with a NaN or an infinity (never seen from a valid layout, but the editor must
+    /// survive one): zeroed, stepping halted, and the status bar says so until a Reset.
+    fn contain_blow_up(&mut self) {
+        let solver = &mut self.cpu;
+        if solver
+            .u
+            .iter()
+            .chain(&solver.v)
+            .chain(&solver.p)
+            .all(|x| x.is_finite())
+        {
+            return;
+        }
+        let why = format!(
+            "the wind blew up at t = {:.2} s (non-finite values); stopped — press Reset",
+            solver.time
+        );
+        log::error!("{why}");
+        for x in solver
+            .u
+            .iter_mut()
+            .chain(&mut solver.v)
+            .chain(&mut solver.p)
+        {
+            *x = 0.0;
+        }
+        self.halted = true;
+        self.notice = Some(why);
     }
 
     /// Moves the field to the CPU after a GPU failure, saying why.
@@ -378,6 +414,10 @@ impl Engine {
     /// A new solver for a changed grid, world, obstacles or boundary (at the same time), or at
     /// rest after a reset; the automatic choice is measured again for the new grid.
     fn rebuild(&mut self, layout: &Layout, keep_time: bool) {
+        if self.halted {
+            self.halted = false;
+            self.notice = None;
+        }
         let time = self.cpu.time;
         let on_gpu = self.gpu.take().is_some();
         self.cpu = Solver::new(layout);
@@ -423,6 +463,11 @@ impl Engine {
         self.last_readback = Instant::now();
         self.steps_since_readback = 0;
         self.serial += 1;
+        self.contain_blow_up();
+        if self.halted {
+            // The zeroed copy is what the view draws, not the GPU's buffers.
+            field = None;
+        }
         let solver = &mut self.cpu;
         let snap = Snapshot {
             nx: solver.nx,
@@ -603,5 +648,48 @@ fn worker(
         // when no snapshot is published.
         engine.publish(&shared, changed);
         repaint();
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A field that went non-finite is contained: zeroed, stepping stops, the snapshot says
+    /// so; a Reset (a rebuild) brings the wind back.
+    #[test]
+    fn a_blow_up_is_contained_and_reset_recovers() {
+        let layout = crate::doc::default_layout();
+        let mut e = Engine::new(&layout);
+        for _ in 0..5 {
+            e.step();
+        }
+        e.cpu.u[3] = f32::NAN;
+        e.cpu.v[7] = f32::INFINITY;
+        let shared = Mutex::new(Arc::new(Snapshot::default()));
+        e.publish(&shared, true);
+        let snap = shared.lock().unwrap().clone();
+        assert!(
+            snap.notice
+                .as_deref()
+                .is_some_and(|n| n.contains("blew up")),
+            "{:?}",
+            snap.notice
+        );
+        assert!(snap.velocity.iter().flatten().all(|x| *x == 0.0));
+        let t = e.cpu.time;
+        e.step();
+        assert_eq!(e.cpu.time, t, "halted: no more steps");
+        e.rebuild(&layout, false);
+        for _ in 0..5 {
+            e.step();
+        }
+        e.publish(&shared, true);
+        let snap = shared.lock().unwrap().clone();
+        assert!(snap.notice.is_none());
+        assert!(
+            snap.velocity.iter().flatten().any(|x| *x != 0.0),
+            "the wind runs again"
+        );
     }
 }

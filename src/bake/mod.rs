@@ -230,6 +230,21 @@ pub enum BakeError {
     },
     #[error("cancelled; no files were written")]
     Cancelled,
+    #[error(
+        "the wind went non-finite in frame {frame} (cell {cell}); nothing was written — the layout or the solver settings make the simulation unstable"
+    )]
+    NonFinite { frame: usize, cell: usize },
+}
+
+/// Refuses a frame holding a NaN or an infinity: a bake never ships one.
+pub fn check_finite(field: &[[f32; 2]], frame: usize) -> Result<(), BakeError> {
+    match field
+        .iter()
+        .position(|v| !(v[0].is_finite() && v[1].is_finite()))
+    {
+        Some(cell) => Err(BakeError::NonFinite { frame, cell }),
+        None => Ok(()),
+    }
 }
 
 /// Progress reports: `(done, total, what)`.
@@ -575,10 +590,14 @@ pub fn bake(
     };
     let mut writer = FrameWriter::create(&source_path, nx, ny)?;
     advance(&mut solver, timing.warmup_steps)?;
-    writer.push(&solver.velocity_field()?)?;
-    for _ in 1..simulated {
+    let first = solver.velocity_field()?;
+    check_finite(&first, 0)?;
+    writer.push(&first)?;
+    for k in 1..simulated {
         advance(&mut solver, timing.steps_per_frame)?;
-        writer.push(&solver.velocity_field()?)?;
+        let field = solver.velocity_field()?;
+        check_finite(&field, k)?;
+        writer.push(&field)?;
     }
     drop(solver);
     let mut max_speed = writer.max_speed;
