@@ -19,6 +19,70 @@ pub enum LoadError {
     },
 }
 
+/// The largest map backdrop windloom reads: pixels along a side, pixels in all, bytes on disk.
+pub const BACKDROP_MAX_SIDE: u32 = 16_384;
+pub const BACKDROP_MAX_PIXELS: u64 = 64 << 20;
+pub const BACKDROP_MAX_BYTES: u64 = 256 << 20;
+
+/// Why a layout's map backdrop could not be shown. Never a reason to refuse the layout: the
+/// editor, `render` and `validate` report it as a warning and go on without the image.
+#[derive(Debug, thiserror::Error)]
+pub enum BackdropError {
+    #[error("map image {}: {source}", path.display())]
+    Io {
+        path: PathBuf,
+        source: std::io::Error,
+    },
+    #[error("map image {}: {size} bytes, more than the {} MiB windloom reads", path.display(), BACKDROP_MAX_BYTES >> 20)]
+    TooManyBytes { path: PathBuf, size: u64 },
+    #[error("map image {}: {w}×{h} pixels, more than windloom reads ({BACKDROP_MAX_SIDE} a side, {} Mpixels)", path.display(), BACKDROP_MAX_PIXELS >> 20)]
+    TooLarge { path: PathBuf, w: u32, h: u32 },
+    #[error("map image {}: {message}", path.display())]
+    Decode { path: PathBuf, message: String },
+}
+
+/// The map backdrop's image (`map.image`, relative to the layout's folder `base`), as RGBA8:
+/// its size checked on disk and in its header before any pixel is decoded.
+pub fn load_backdrop(
+    base: &Path,
+    map: &doc::MapBackdrop,
+) -> Result<image::RgbaImage, BackdropError> {
+    let path = base.join(&map.image);
+    let io = |source| BackdropError::Io {
+        path: path.clone(),
+        source,
+    };
+    let size = std::fs::metadata(&path).map_err(io)?.len();
+    if size > BACKDROP_MAX_BYTES {
+        return Err(BackdropError::TooManyBytes { path, size });
+    }
+    let decode = |e: image::ImageError| BackdropError::Decode {
+        path: path.clone(),
+        message: e.to_string(),
+    };
+    let reader = image::ImageReader::open(&path)
+        .map_err(io)?
+        .with_guessed_format()
+        .map_err(io)?;
+    let (w, h) = reader.into_dimensions().map_err(decode)?;
+    if w > BACKDROP_MAX_SIDE
+        || h > BACKDROP_MAX_SIDE
+        || u64::from(w) * u64::from(h) > BACKDROP_MAX_PIXELS
+    {
+        return Err(BackdropError::TooLarge { path, w, h });
+    }
+    let mut reader = image::ImageReader::open(&path)
+        .map_err(io)?
+        .with_guessed_format()
+        .map_err(io)?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(BACKDROP_MAX_SIDE);
+    limits.max_image_height = Some(BACKDROP_MAX_SIDE);
+    limits.max_alloc = Some(BACKDROP_MAX_PIXELS * 8);
+    reader.limits(limits);
+    Ok(reader.decode().map_err(decode)?.to_rgba8())
+}
+
 /// Reads and validates a layout file.
 pub fn load(path: &Path) -> Result<Layout, LoadError> {
     let text = std::fs::read_to_string(path).map_err(|source| LoadError::Io {

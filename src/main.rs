@@ -301,6 +301,13 @@ fn parse_camera(s: &str) -> Result<[f32; 6], String> {
     Ok(a)
 }
 
+/// Why the layout's map backdrop (if it has one) cannot be shown.
+fn backdrop_warning(l: &doc::Layout, file: &std::path::Path) -> Option<String> {
+    let base = file.parent().unwrap_or(std::path::Path::new("."));
+    let map = l.world.map.as_ref()?;
+    io::load_backdrop(base, map).err().map(|e| e.to_string())
+}
+
 /// The camera `--camera` names (45° lens).
 fn camera_from(c: [f32; 6]) -> windloom::gpu::grass::Camera {
     windloom::gpu::grass::Camera {
@@ -378,7 +385,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let mut ok = true;
             for f in &files {
                 match io::load(f) {
-                    Ok(_) => println!("{}: ok", f.display()),
+                    Ok(l) => match backdrop_warning(&l, f) {
+                        Some(w) => println!(
+                            "{}: ok; warning: {w} (the layout opens without it)",
+                            f.display()
+                        ),
+                        None => println!("{}: ok", f.display()),
+                    },
                     Err(e) => {
                         ok = false;
                         println!("{e}");
@@ -506,6 +519,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 l.grass.model = m.model();
             }
             let base = layout.parent().unwrap_or(std::path::Path::new("."));
+            if let Some(w) = backdrop_warning(&l, &layout) {
+                eprintln!("warning: {w}; drawn without it");
+            }
             let png = match view {
                 ViewArg::Map => windloom::render::render_png(&l, base, size, time)?,
                 ViewArg::Grass => {

@@ -282,10 +282,10 @@ fn draw_backdrop(pix: &mut Pixmap, layout: &Layout, base: &Path, world: Rect) {
     let Some(map) = &layout.world.map else {
         return;
     };
-    let Ok(img) = image::open(base.join(&map.image)) else {
+    // A backdrop that cannot be read is drawn without (`render` says why on the command line).
+    let Ok(img) = crate::io::load_backdrop(base, map) else {
         return;
     };
-    let img = img.to_rgba8();
     let Some(mut p) = Pixmap::new(img.width(), img.height()) else {
         return;
     };

@@ -1363,3 +1363,97 @@ fn a_non_finite_frame_is_refused() {
             .contains("cell 5")
     );
 }
+
+/// A PNG whose header claims `w × h` pixels (and holds almost nothing).
+fn png_header(w: u32, h: u32) -> Vec<u8> {
+    fn chunk(out: &mut Vec<u8>, kind: &[u8], data: &[u8]) {
+        out.extend((data.len() as u32).to_be_bytes());
+        let start = out.len();
+        out.extend(kind);
+        out.extend(data);
+        // CRC-32 (IEEE) of type and data.
+        let mut crc = 0xffff_ffffu32;
+        for &b in &out[start..] {
+            crc ^= u32::from(b);
+            for _ in 0..8 {
+                crc = if crc & 1 != 0 {
+                    (crc >> 1) ^ 0xedb8_8320
+                } else {
+                    crc >> 1
+                };
+            }
+        }
+        out.extend((!crc).to_be_bytes());
+    }
+    let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
+    let mut ihdr = Vec::new();
+    ihdr.extend(w.to_be_bytes());
+    ihdr.extend(h.to_be_bytes());
+    ihdr.extend([8, 6, 0, 0, 0]);
+    chunk(&mut out, b"IHDR", &ihdr);
+    // An empty zlib stream: readers learn the size once they reach the first IDAT.
+    chunk(&mut out, b"IDAT", &[0x78, 0x9c, 0x03, 0, 0, 0, 0, 1]);
+    chunk(&mut out, b"IEND", &[]);
+    out
+}
+
+/// A map backdrop that is missing, corrupt or absurdly large is a warning — from `validate`,
+/// `render` and the loader — never a refusal of the layout or an attempt to decode it: the
+/// 100,000² header is turned down from its header alone.
+#[test]
+fn a_bad_backdrop_is_a_warning_not_a_failure() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(
+        dir.path().join("corrupt.png"),
+        b"\x89PNG\r\n\x1a\nnot a png",
+    )
+    .unwrap();
+    std::fs::write(dir.path().join("huge.png"), png_header(100_000, 100_000)).unwrap();
+    for (image, says) in [
+        ("missing.png", "missing.png"),
+        ("corrupt.png", "corrupt.png"),
+        ("huge.png", "100000×100000 pixels"),
+    ] {
+        let mut l = example("meadow.json");
+        l.world.grid = [40, 30];
+        l.world.map = Some(windloom::doc::MapBackdrop {
+            image: image.into(),
+            opacity: 0.8,
+        });
+        let file = dir.path().join(format!("{image}.json"));
+        windloom::io::save(&file, &l).unwrap();
+        let started = std::time::Instant::now();
+        let e = windloom::io::load_backdrop(dir.path(), l.world.map.as_ref().unwrap())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(says), "{e}");
+        assert!(
+            started.elapsed().as_secs_f32() < 1.0,
+            "refused without decoding"
+        );
+        let run = |args: &[&str]| {
+            std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+                .args(args)
+                .output()
+                .unwrap()
+        };
+        let f = file.to_str().unwrap();
+        let o = run(&["validate", f]);
+        let out = String::from_utf8_lossy(&o.stdout);
+        assert!(o.status.success(), "{image}: validate fails: {out}");
+        assert!(out.contains("warning") && out.contains(says), "{out}");
+        let png = dir.path().join(format!("{image}-map.png"));
+        let o = run(&[
+            "render",
+            f,
+            "-o",
+            png.to_str().unwrap(),
+            "--size",
+            "160x120",
+        ]);
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(o.status.success(), "{image}: render fails: {err}");
+        assert!(err.contains("warning") && err.contains(says), "{err}");
+        assert!(image::open(&png).is_ok(), "a picture without the backdrop");
+    }
+}

@@ -292,14 +292,16 @@ impl GrassView {
             if let Some(map) = &doc.world.map {
                 // The backdrop, as the map shows it (unreadable: plain soil; the map view says
                 // why).
-                if let Ok(img) = image::open(base.join(&map.image)) {
-                    let img = img.to_rgba8();
-                    let size = [img.width(), img.height()];
-                    grass.set_backdrop(
-                        &rs.device,
-                        &rs.queue,
-                        Some((img.as_raw(), size, map.opacity)),
-                    );
+                match crate::io::load_backdrop(base, map) {
+                    Ok(img) => {
+                        let size = [img.width(), img.height()];
+                        grass.set_backdrop(
+                            &rs.device,
+                            &rs.queue,
+                            Some((img.as_raw(), size, map.opacity)),
+                        );
+                    }
+                    Err(e) => log::warn!("{e}; the grass's ground is drawn without it"),
                 }
             }
             self.scene_for = None;

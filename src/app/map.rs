@@ -121,18 +121,18 @@ fn draw_backdrop(app: &mut EditorApp, ctx: &egui::Context, painter: &egui::Paint
     let file = base.join(&map.image);
     let stale = app.backdrop.as_ref().is_none_or(|(p, _)| p != &file);
     if stale {
-        let texture = image::open(&file).ok().map(|img| {
-            let img = img.to_rgba8();
-            let size = [img.width() as usize, img.height() as usize];
-            let ci = egui::ColorImage::from_rgba_unmultiplied(size, img.as_raw());
-            ctx.load_texture("backdrop", ci, egui::TextureOptions::LINEAR)
-        });
-        if texture.is_none() {
-            app.say(
-                ctx,
-                format!("could not read the map image {}", file.display()),
-            );
-        }
+        let texture = match crate::io::load_backdrop(&base, &map) {
+            Ok(img) => {
+                let size = [img.width() as usize, img.height() as usize];
+                let ci = egui::ColorImage::from_rgba_unmultiplied(size, img.as_raw());
+                Some(ctx.load_texture("backdrop", ci, egui::TextureOptions::LINEAR))
+            }
+            Err(e) => {
+                log::warn!("{e}");
+                app.say(ctx, format!("{e} (shown without it)"));
+                None
+            }
+        };
         app.backdrop = Some((file, texture));
     }
     if let Some((_, Some(t))) = &app.backdrop {

@@ -85,20 +85,16 @@ pub fn picture(
     );
     grass.set_paper_literal(o.paper_literal);
     grass.set_model(&ctx.device, &ctx.queue, layout.grass.model);
-    if let Some(map) = &layout.world.map {
-        let path = base.join(&map.image);
-        let img = image::open(&path)
-            .map_err(|e| GpuError::Runtime {
-                what: format!("reading the map backdrop {}", path.display()),
-                message: e.to_string(),
-            })?
-            .to_rgba8();
+    // A backdrop that cannot be read leaves the plain ground (`render` says why).
+    if let Some(Ok(img)) = layout
+        .world
+        .map
+        .as_ref()
+        .map(|m| crate::io::load_backdrop(base, m))
+    {
         let size = [img.width(), img.height()];
-        grass.set_backdrop(
-            &ctx.device,
-            &ctx.queue,
-            Some((img.as_raw(), size, map.opacity)),
-        );
+        let opacity = layout.world.map.as_ref().map_or(1.0, |m| m.opacity);
+        grass.set_backdrop(&ctx.device, &ctx.queue, Some((img.as_raw(), size, opacity)));
     }
     grass.set_scene(
         &ctx.device,
