@@ -1457,3 +1457,137 @@ fn a_bad_backdrop_is_a_warning_not_a_failure() {
         assert!(image::open(&png).is_ok(), "a picture without the backdrop");
     }
 }
+
+/// Every file under `dir` (recursively, by relative path) with its bytes.
+fn snapshot(dir: &Path) -> BTreeMap<String, Vec<u8>> {
+    fn walk(root: &Path, dir: &Path, out: &mut BTreeMap<String, Vec<u8>>) {
+        for e in std::fs::read_dir(dir).into_iter().flatten().flatten() {
+            let p = e.path();
+            if p.is_dir() {
+                walk(root, &p, out);
+            } else {
+                let rel = p.strip_prefix(root).unwrap().to_string_lossy().into_owned();
+                out.insert(rel, std::fs::read(&p).unwrap());
+            }
+        }
+    }
+    let mut out = BTreeMap::new();
+    walk(dir, dir, &mut out);
+    out
+}
+
+/// SIGKILL at spread-out moments during `bake` into a folder holding an earlier bake, 24
+/// times: afterwards the folder is always exactly the earlier bake or exactly the new one —
+/// never a mixture, never half a file — and the next bake clears what the killed ones left
+/// beside it.
+#[test]
+fn sigkill_during_a_bake_leaves_the_old_bake_or_the_new_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/obstacles.json");
+    let bake = |out: &Path, frames: &str| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"));
+        c.args([
+            "bake",
+            layout.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--frames", frames, "--format", "raw", "--format", "exr"])
+        .args(["--grid", "96x72"])
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null());
+        c
+    };
+    let out = dir.path().join("wind");
+    assert!(bake(&out, "6").status().unwrap().success());
+    let old = snapshot(&out);
+    let reference = dir.path().join("reference");
+    let started = std::time::Instant::now();
+    assert!(bake(&reference, "24").status().unwrap().success());
+    let takes = started.elapsed();
+    let new = snapshot(&reference);
+    assert_ne!(old, new);
+    let (mut olds, mut news) = (0, 0);
+    let runs = 24;
+    for k in 0..runs {
+        if snapshot(&out) != old {
+            std::fs::remove_dir_all(&out).unwrap();
+            assert!(bake(&out, "6").status().unwrap().success());
+        }
+        let mut child = bake(&out, "24").spawn().unwrap();
+        std::thread::sleep(takes.mul_f64(1.4 * k as f64 / runs as f64));
+        child.kill().unwrap(); // SIGKILL
+        child.wait().unwrap();
+        let now = snapshot(&out);
+        if now == old {
+            olds += 1;
+        } else if now == new {
+            news += 1;
+        } else {
+            panic!(
+                "run {k}: the folder is neither bake ({} files: {:?})",
+                now.len(),
+                now.keys().take(5).collect::<Vec<_>>()
+            );
+        }
+    }
+    println!("{runs} kills over {takes:?}: {olds} left the old bake, {news} the new one");
+    assert!(
+        olds > 0 && news > 0,
+        "the kills landed both before and after the switch"
+    );
+    // A bake after the kills removes their staging folders.
+    assert!(bake(&out, "6").status().unwrap().success());
+    assert_eq!(snapshot(&out), old);
+    assert!(
+        staging_folders(dir.path()).is_empty(),
+        "{:?}",
+        staging_folders(dir.path())
+    );
+}
+
+/// SIGKILL at spread-out moments during `windloom fmt` (an atomic rewrite in place): the file
+/// is always the old text or the new, whole.
+#[test]
+fn sigkill_during_a_save_leaves_the_old_file_or_the_new_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("level.json");
+    let mut l = example("branching.json");
+    l.world.grid = [64, 64];
+    // Not canonical: the same layout, indented by hand.
+    let old = serde_json::to_string(&serde_json::to_value(&l).unwrap()).unwrap();
+    let fmt = || {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"));
+        c.args(["fmt", file.to_str().unwrap()])
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null());
+        c
+    };
+    std::fs::write(&file, &old).unwrap();
+    let started = std::time::Instant::now();
+    assert!(fmt().status().unwrap().success());
+    let takes = started.elapsed();
+    let new = std::fs::read_to_string(&file).unwrap();
+    assert_ne!(old, new);
+    let (mut olds, mut news) = (0, 0);
+    for k in 0..30 {
+        std::fs::write(&file, &old).unwrap();
+        let mut child = fmt().spawn().unwrap();
+        std::thread::sleep(takes.mul_f64(1.4 * k as f64 / 30.0));
+        child.kill().unwrap();
+        child.wait().unwrap();
+        let now = std::fs::read_to_string(&file).unwrap();
+        if now == old {
+            olds += 1;
+        } else {
+            assert_eq!(now, new, "run {k}: a mixture");
+            news += 1;
+        }
+    }
+    println!("30 kills over {takes:?}: {olds} old, {news} new");
+    let left: Vec<_> = entries(dir.path())
+        .into_iter()
+        .filter(|p| p.file_name().is_some_and(|n| n != "level.json"))
+        .collect();
+    println!("left beside it by the kills: {left:?}");
+}
