@@ -285,14 +285,20 @@ enum OnOff {
     Off,
 }
 
-/// `"1,2,3,4,5,6"` → six finite numbers.
-fn parse_camera(s: &str) -> Result<[f32; 6], String> {
-    let err = || format!("expected eye_x,eye_y,eye_z,target_x,target_y,target_z, got {s:?}");
+/// `"a,b,c…"` → exactly `N` numbers (not yet checked for finiteness).
+fn numbers<const N: usize>(s: &str) -> Option<[f32; N]> {
     let v: Vec<f32> = s
         .split(',')
-        .map(|t| t.trim().parse::<f32>().map_err(|_| err()))
-        .collect::<Result<_, _>>()?;
-    let a: [f32; 6] = v.try_into().map_err(|_| err())?;
+        .map(|t| t.trim().parse::<f32>().ok())
+        .collect::<Option<_>>()?;
+    v.try_into().ok()
+}
+
+/// `"1,2,3,4,5,6"` → six finite numbers.
+fn parse_camera(s: &str) -> Result<[f32; 6], String> {
+    let a: [f32; 6] = numbers(s).ok_or_else(|| {
+        format!("expected eye_x,eye_y,eye_z,target_x,target_y,target_z, got {s:?}")
+    })?;
     if a.iter().any(|x| !x.is_finite()) || a[..3] == a[3..] {
         return Err(format!(
             "{s:?}: the eye and the target must be distinct finite points"
@@ -319,12 +325,8 @@ fn camera_from(c: [f32; 6]) -> windloom::gpu::grass::Camera {
 
 /// `"x0,z0,x1,z1,r"` → five finite numbers, the radius positive.
 fn parse_push(s: &str) -> Result<[f32; 5], String> {
-    let err = || format!("expected x0,z0,x1,z1,radius in metres, got {s:?}");
-    let v: Vec<f32> = s
-        .split(',')
-        .map(|t| t.trim().parse::<f32>().map_err(|_| err()))
-        .collect::<Result<_, _>>()?;
-    let a: [f32; 5] = v.try_into().map_err(|_| err())?;
+    let a: [f32; 5] =
+        numbers(s).ok_or_else(|| format!("expected x0,z0,x1,z1,radius in metres, got {s:?}"))?;
     if a.iter().any(|x| !x.is_finite()) || a[4] <= 0.0 || a[4] > 1000.0 {
         return Err(format!(
             "{s:?}: finite numbers, and a radius above 0 and at most 1000 m"

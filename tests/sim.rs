@@ -667,6 +667,28 @@ fn max_speed(s: &Solver) -> f32 {
         .fold(0.0, f32::max)
 }
 
+/// Steps `s` 10,000 times, checking every 500 steps that the field is finite and no cell is
+/// faster than `bound`; returns the fastest speed seen.
+fn run_10000_steps(s: &mut Solver, bound: f32, what: &str) -> f32 {
+    let mut peak = 0.0f32;
+    for k in 1..=10_000 {
+        s.step();
+        if k % 500 == 0 {
+            assert!(
+                s.u.iter().chain(&s.v).chain(&s.p).all(|x| x.is_finite()),
+                "{what}: non-finite after {k} steps"
+            );
+            let m = max_speed(s);
+            peak = peak.max(m);
+            assert!(
+                m <= bound,
+                "{what}: {m} m/s after {k} steps (bound {bound})"
+            );
+        }
+    }
+    peak
+}
+
 /// Every example layout, run for 10,000 steps (on half its grid, so the test stays quick),
 /// stays finite and bounded: checked every 500 steps, no cell ever faster than twenty times
 /// the strongest arrow (or 10 m/s) — a blow-up grows past any such bound within a few steps.
@@ -689,23 +711,7 @@ fn every_example_runs_10000_steps_finite_and_bounded() {
                 .iter()
                 .map(|t| strongest(&t.root))
                 .fold(10.0, f32::max);
-        let mut s = Solver::new(&l);
-        let mut peak = 0.0f32;
-        for k in 1..=10_000 {
-            s.step();
-            if k % 500 == 0 {
-                assert!(
-                    s.u.iter().chain(&s.v).chain(&s.p).all(|x| x.is_finite()),
-                    "{name}: non-finite after {k} steps"
-                );
-                let m = max_speed(&s);
-                peak = peak.max(m);
-                assert!(
-                    m <= bound,
-                    "{name}: {m} m/s after {k} steps (bound {bound})"
-                );
-            }
-        }
+        let peak = run_10000_steps(&mut Solver::new(&l), bound, name);
         println!("{name}: 10,000 steps, peak {peak:.2} m/s (bound {bound:.0})");
     }
 }
@@ -745,24 +751,11 @@ fn extreme_layouts_run_10000_steps_finite_and_bounded() {
                 });
             }
             assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
-            let mut s = Solver::new(&l);
-            let bound = 3.0 * doc::STRENGTH_MAX;
-            let mut peak = 0.0f32;
-            for k in 1..=10_000 {
-                s.step();
-                if k % 500 == 0 {
-                    assert!(
-                        s.u.iter().chain(&s.v).chain(&s.p).all(|x| x.is_finite()),
-                        "{boundary:?} MacCormack {mc}: non-finite after {k} steps"
-                    );
-                    let m = max_speed(&s);
-                    peak = peak.max(m);
-                    assert!(
-                        m <= bound,
-                        "{boundary:?} MacCormack {mc}: {m} m/s after {k} steps"
-                    );
-                }
-            }
+            let peak = run_10000_steps(
+                &mut Solver::new(&l),
+                3.0 * doc::STRENGTH_MAX,
+                &format!("{boundary:?} MacCormack {mc}"),
+            );
             println!("{boundary:?}, MacCormack {mc}: peak {peak:.1} m/s");
         }
     }

@@ -141,15 +141,7 @@ pub enum FieldId {
     Curl,
 }
 
-fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytes,
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC,
-    })
-}
+use super::storage;
 
 fn floats(device: &wgpu::Device, label: &str, data: &[f32]) -> wgpu::Buffer {
     storage(device, label, bytemuck::cast_slice(data))

@@ -32,6 +32,30 @@ pub(crate) fn buffer_entry(
 }
 
 /// Copies `src` (a buffer with `COPY_SRC`) back to the CPU; waits for the GPU.
+/// A storage buffer holding `bytes` (readable back and rewritable).
+pub(crate) fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
+    use wgpu::util::DeviceExt;
+    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+        label: Some(label),
+        contents: bytes,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_DST
+            | wgpu::BufferUsages::COPY_SRC,
+    })
+}
+
+/// Whole-buffer entries at bindings 0, 1, 2… in order.
+pub fn buffer_entries<'a>(buffers: &[&'a wgpu::Buffer]) -> Vec<wgpu::BindGroupEntry<'a>> {
+    buffers
+        .iter()
+        .enumerate()
+        .map(|(k, b)| wgpu::BindGroupEntry {
+            binding: k as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect()
+}
+
 /// A bind group of whole buffers at bindings 0, 1, 2… in order.
 pub fn buffers_group(
     device: &wgpu::Device,
@@ -39,19 +63,47 @@ pub fn buffers_group(
     layout: &wgpu::BindGroupLayout,
     buffers: &[&wgpu::Buffer],
 ) -> wgpu::BindGroup {
-    let entries: Vec<_> = buffers
-        .iter()
-        .enumerate()
-        .map(|(k, b)| wgpu::BindGroupEntry {
-            binding: k as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
+    let entries = buffer_entries(buffers);
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some(label),
         layout,
         entries: &entries,
     })
+}
+
+/// A 2D texture's texels, rows packed tightly (`texel` bytes each; waits for the GPU).
+pub fn read_texture(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+    texel: u32,
+) -> Result<Vec<u8>, GpuError> {
+    let (w, h) = (texture.width(), texture.height());
+    let row = (w * texel).div_ceil(256) * 256;
+    let out = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("texture read-back"),
+        size: u64::from(row * h),
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        texture.as_image_copy(),
+        wgpu::TexelCopyBufferInfo {
+            buffer: &out,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: Some(row),
+                rows_per_image: Some(h),
+            },
+        },
+        texture.size(),
+    );
+    queue.submit([enc.finish()]);
+    let bytes = read_buffer(device, queue, &out)?;
+    Ok((0..h as usize)
+        .flat_map(|y| bytes[y * row as usize..][..(w * texel) as usize].to_vec())
+        .collect())
 }
 
 pub fn read_buffer(

@@ -207,7 +207,7 @@ pub fn bench(
     )?;
     let mut times = Vec::with_capacity(frames);
     for k in 0..frames.max(1) {
-        let (_, ms) = render_into(
+        let ms = render_into(
             &ctx.device,
             &ctx.queue,
             &mut grass,

@@ -31,7 +31,7 @@ pub use target::{Target, render_into, render_offscreen};
 
 use super::GpuError;
 use super::buffer_entry as entry;
-use super::buffers_group;
+use super::{buffers_group, storage};
 use crate::doc::GrassModel;
 use crate::doc::Layout;
 use crate::grass::cull::{CullParams, LOD_SEGMENTS};
@@ -171,16 +171,6 @@ pub const TRAIL_LIFETIME: f32 = 3.0;
 /// The depth buffer format the renderer draws with.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
-    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
-        label: Some(label),
-        contents: bytes,
-        usage: wgpu::BufferUsages::STORAGE
-            | wgpu::BufferUsages::COPY_DST
-            | wgpu::BufferUsages::COPY_SRC,
-    })
-}
-
 /// Blades, wind and pipelines for one layout's grass.
 pub struct GrassRenderer {
     scene: Scene,
@@ -234,14 +224,7 @@ fn scene_group(
     trail: &wgpu::Texture,
 ) -> wgpu::BindGroup {
     let view = trail.create_view(&Default::default());
-    let mut entries: Vec<_> = buffers
-        .iter()
-        .enumerate()
-        .map(|(k, b)| wgpu::BindGroupEntry {
-            binding: k as u32,
-            resource: b.as_entire_binding(),
-        })
-        .collect();
+    let mut entries = super::buffer_entries(&buffers);
     entries.push(wgpu::BindGroupEntry {
         binding: 4,
         resource: wgpu::BindingResource::TextureView(&view),
@@ -276,6 +259,7 @@ impl GrassRenderer {
         use wgpu::ShaderStages as S;
         let g = &layout.grass;
         let (min, max) = layout.bounds();
+        let (trail_nx, trail_ny) = crate::grass::trail::grid(min, max);
         let scene = Scene {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             eye: [0.0; 4],
@@ -306,12 +290,12 @@ impl GrassRenderer {
             backdrop: 0.0,
             sphere: [0.0; 4],
             trail_origin: min,
-            trail_cell: {
-                let (tx, ty) = crate::grass::trail::grid(min, max);
-                [(max[0] - min[0]) / tx as f32, (max[1] - min[1]) / ty as f32]
-            },
-            trail_nx: crate::grass::trail::grid(min, max).0,
-            trail_ny: crate::grass::trail::grid(min, max).1,
+            trail_cell: [
+                (max[0] - min[0]) / trail_nx as f32,
+                (max[1] - min[1]) / trail_ny as f32,
+            ],
+            trail_nx,
+            trail_ny,
             model: 0,
             trail_on: 0,
             dt: 0.0,
@@ -391,7 +375,6 @@ impl GrassRenderer {
                 source: wgpu::ShaderSource::Wgsl(shader_source(name).expect("listed").into()),
             })
         };
-        let (trail_nx, trail_ny) = crate::grass::trail::grid(min, max);
         let trail = trail::TrailPass::new(
             device,
             &layout0,

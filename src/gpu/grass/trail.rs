@@ -116,33 +116,7 @@ impl TrailPass {
 
     /// The trail's texels, row-major (for tests; waits for the GPU).
     pub fn read(&self, device: &wgpu::Device, queue: &wgpu::Queue) -> Result<Vec<f32>, GpuError> {
-        let row = (self.nx * 4).div_ceil(256) * 256;
-        let out = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("grass trail read"),
-            size: u64::from(row * self.ny),
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-            mapped_at_creation: false,
-        });
-        let mut enc = device.create_command_encoder(&Default::default());
-        enc.copy_texture_to_buffer(
-            self.texture.as_image_copy(),
-            wgpu::TexelCopyBufferInfo {
-                buffer: &out,
-                layout: wgpu::TexelCopyBufferLayout {
-                    offset: 0,
-                    bytes_per_row: Some(row),
-                    rows_per_image: Some(self.ny),
-                },
-            },
-            self.texture.size(),
-        );
-        queue.submit([enc.finish()]);
-        let bytes = crate::gpu::read_buffer(device, queue, &out)?;
-        Ok((0..self.ny as usize)
-            .flat_map(|y| {
-                bytemuck::cast_slice::<u8, f32>(&bytes[y * row as usize..][..self.nx as usize * 4])
-                    .to_vec()
-            })
-            .collect())
+        let bytes = crate::gpu::read_texture(device, queue, &self.texture, 4)?;
+        Ok(bytemuck::cast_slice(&bytes).to_vec())
     }
 }
