@@ -344,6 +344,11 @@ impl Engine {
     fn choose(&mut self, layout: &Layout) {
         let want = match (self.choice, &self.ctx) {
             (BackendChoice::Cpu, _) => Backend::Cpu,
+            (_, Some(ctx)) if ctx.fault().is_some() => {
+                let why = ctx.fault().unwrap_or_default();
+                self.notice = Some(format!("GPU unusable ({why}): running on the CPU"));
+                Backend::Cpu
+            }
             (_, None) => {
                 if self.choice == BackendChoice::Gpu {
                     self.notice = Some("no GPU device: running on the CPU".into());
@@ -691,5 +696,118 @@ mod tests {
             snap.velocity.iter().flatten().any(|x| *x != 0.0),
             "the wind runs again"
         );
+    }
+
+    /// The software adapter, or `None` (loudly) where there is none; CI must have one.
+    fn gpu(limits: impl FnOnce(&mut wgpu::Limits)) -> Option<GpuContext> {
+        let instance =
+            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let adapter = match pollster::block_on(
+            instance.request_adapter(&wgpu::RequestAdapterOptions::default()),
+        ) {
+            Ok(a) => a,
+            Err(e) if std::env::var_os("CI").is_none() => {
+                eprintln!("SKIPPED: no GPU adapter ({e}); CI requires one");
+                return None;
+            }
+            Err(e) => panic!("CI requires a GPU adapter (lavapipe): {e}"),
+        };
+        let mut desc = crate::gpu::device_descriptor(&adapter);
+        limits(&mut desc.required_limits);
+        let (device, queue) = pollster::block_on(adapter.request_device(&desc)).unwrap();
+        Some(GpuContext::from_parts(&adapter, device, queue).unwrap())
+    }
+
+    fn small_layout(n: u32) -> Layout {
+        let mut l = crate::doc::default_layout();
+        l.world.grid = [n, n];
+        l.world.map = None;
+        l
+    }
+
+    /// A device lost mid-run (destroyed here, as a driver reset would): the step that sees
+    /// it moves the wind to the CPU with a message, the wind keeps running there, and a
+    /// rebuild does not go back to the dead device.
+    #[test]
+    fn a_lost_device_moves_the_wind_to_the_cpu() {
+        let Some(ctx) = gpu(|_| {}) else { return };
+        let layout = small_layout(48);
+        let mut e = Engine::new(&layout);
+        e.ctx = Some(ctx.clone());
+        e.choice = BackendChoice::Gpu;
+        e.choose(&layout);
+        assert!(e.gpu.is_some(), "on the GPU first: {:?}", e.notice);
+        for _ in 0..5 {
+            e.step();
+        }
+        ctx.device.destroy();
+        e.step();
+        assert!(e.gpu.is_none(), "the wind left the lost device");
+        let notice = e.notice.clone().unwrap_or_default();
+        assert!(notice.contains("GPU"), "{notice}");
+        let t = e.cpu.time;
+        for _ in 0..5 {
+            e.step();
+        }
+        assert!(e.cpu.time > t, "the wind runs on the CPU");
+        // Asking for the GPU again (a rebuild, the View menu) does not go back to it.
+        e.rebuild(&layout, false);
+        e.choose(&layout);
+        assert!(e.gpu.is_none(), "not back onto a lost device");
+        let notice = e.notice.clone().unwrap_or_default();
+        assert!(notice.contains("GPU unusable"), "{notice}");
+    }
+
+    /// A grid whose velocity field is larger than the device can bind (a small GPU, here a
+    /// device asked for a 1 MiB storage-buffer limit) runs on the CPU with a message saying
+    /// why, instead of a validation error (a panic) at the first step.
+    #[test]
+    fn a_grid_over_the_buffer_limit_runs_on_the_cpu() {
+        let Some(ctx) = gpu(|l| l.max_storage_buffer_binding_size = 1 << 20) else {
+            return;
+        };
+        let layout = small_layout(520);
+        let mut e = Engine::new(&layout);
+        e.ctx = Some(ctx.clone());
+        e.choice = BackendChoice::Gpu;
+        e.choose(&layout);
+        assert!(e.gpu.is_none());
+        let notice = e.notice.clone().unwrap_or_default();
+        assert!(
+            notice.contains("520x520") && notice.contains("storage-buffer limit"),
+            "{notice}"
+        );
+        e.step();
+        assert!(e.cpu.time > 0.0, "the wind runs on the CPU");
+        assert!(ctx.fault().is_none(), "refused before any GPU error");
+        // A grid that fits the same device runs there.
+        let fits = small_layout(256);
+        e.rebuild(&fits, false);
+        e.choose(&fits);
+        assert!(e.gpu.is_some(), "{:?}", e.notice);
+    }
+
+    /// A device that cannot make the passes at all (WebGPU's minimum limits: four storage
+    /// buffers a shader stage) refuses them inside an error scope: an error naming the
+    /// pipeline, the wind on the CPU, and no fault left on the device.
+    #[test]
+    fn a_device_that_cannot_make_the_passes_runs_the_wind_on_the_cpu() {
+        let Some(ctx) = gpu(|l| *l = wgpu::Limits::downlevel_defaults()) else {
+            return;
+        };
+        let layout = small_layout(64);
+        let mut e = Engine::new(&layout);
+        e.ctx = Some(ctx.clone());
+        e.choice = BackendChoice::Gpu;
+        e.choose(&layout);
+        assert!(e.gpu.is_none());
+        let notice = e.notice.clone().unwrap_or_default();
+        assert!(
+            notice.contains("GPU unusable") && notice.contains("storage"),
+            "{notice}"
+        );
+        assert!(ctx.fault().is_none(), "caught by the error scope");
+        e.step();
+        assert!(e.cpu.time > 0.0, "the wind runs on the CPU");
     }
 }

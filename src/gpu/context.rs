@@ -35,6 +35,37 @@ pub struct GpuContext {
     /// Who submits this context's work: the queue directly, or — on the editor's device, whose
     /// surface wgpu reconfigures only while no other thread submits — the UI thread.
     submitter: Option<Submitter>,
+    /// The first fault the device reported outside an error scope (see [`GpuContext::fault`]).
+    fault: Fault,
+}
+
+/// Where a device's callbacks leave the first fault they saw: a lost device, or an error no
+/// error scope caught (which wgpu's default handler would turn into a panic).
+type Fault = std::sync::Arc<std::sync::Mutex<Option<String>>>;
+
+/// Installs the device-lost callback and an uncaptured-error handler that log the fault and
+/// keep the first one, instead of wgpu's default panic.
+fn watch(device: &wgpu::Device) -> Fault {
+    let fault: Fault = Default::default();
+    let keep = |fault: &Fault, what: String| {
+        log::error!("GPU fault: {what}");
+        let mut f = fault.lock().unwrap_or_else(|p| p.into_inner());
+        if f.is_none() {
+            *f = Some(what);
+        }
+    };
+    let lost = fault.clone();
+    device.set_device_lost_callback(move |reason, message| {
+        keep(
+            &lost,
+            format!("the device was lost ({reason:?}): {message}"),
+        );
+    });
+    let uncaptured = fault.clone();
+    device.on_uncaptured_error(std::sync::Arc::new(move |e: wgpu::Error| {
+        keep(&uncaptured, e.to_string());
+    }));
+    fault
 }
 
 #[derive(Debug, thiserror::Error)]
@@ -83,6 +114,7 @@ impl GpuContext {
         })?;
         log::info!("GPU: {name}, driver {} {}", info.driver, info.driver_info);
         Ok(Self {
+            fault: watch(&device),
             device,
             queue,
             adapter: info,
@@ -109,6 +141,7 @@ impl GpuContext {
             });
         }
         Ok(Self {
+            fault: watch(&device),
             device,
             queue,
             adapter: info,
@@ -131,6 +164,13 @@ impl GpuContext {
                 self.queue.submit([cb]);
             }
         }
+    }
+
+    /// The first fault the device reported: lost, or an error outside any error scope (a
+    /// failed allocation, an invalid dispatch). Once there is one, nothing the device computes
+    /// can be trusted; the solvers' `finish` reports it as an error.
+    pub fn fault(&self) -> Option<String> {
+        self.fault.lock().unwrap_or_else(|p| p.into_inner()).clone()
     }
 
     /// Whether the device is a software rasteriser.

@@ -27,14 +27,30 @@ pub struct GpuSolver {
 impl GpuSolver {
     /// A GPU solver for `layout` at rest (the layout must be valid).
     pub fn new(ctx: &GpuContext, layout: &Layout) -> Result<Self, GpuError> {
+        let [nx, ny] = layout.world.grid;
+        fits(ctx, nx as usize, ny as usize)?;
         Self::from_solver(ctx, layout, &Solver::new(layout))
     }
 
     /// A GPU solver that takes over `cpu`'s running field (velocity, pressure, time).
     /// `layout` must be the one `cpu` was made from.
     pub fn from_solver(ctx: &GpuContext, layout: &Layout, cpu: &Solver) -> Result<Self, GpuError> {
-        // `GpuFluid::new` creates its buffers holding `cpu`'s state.
+        fits(ctx, cpu.nx, cpu.ny)?;
+        if let Some(f) = ctx.fault() {
+            return Err(faulted(f));
+        }
+        // `GpuFluid::new` creates its buffers holding `cpu`'s state; an allocation the device
+        // refuses is an error here, not a panic.
+        let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
+        let invalid = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let fluid = GpuFluid::new(&ctx.device, cpu);
+        let invalid = pollster::block_on(invalid.pop());
+        if let Some(e) = invalid.or(pollster::block_on(oom.pop())) {
+            return Err(GpuError::Runtime {
+                what: format!("creating the {}x{} grid", cpu.nx, cpu.ny),
+                message: e.to_string(),
+            });
+        }
         Ok(Self {
             fluid,
             layout: layout.clone(),
@@ -139,15 +155,19 @@ impl GpuSolver {
             .pass_times(&ctx.device, &ctx.queue, &|cb| ctx.submit(cb))
     }
 
-    /// Waits until the GPU has finished every submitted step.
+    /// Waits until the GPU has finished every submitted step; an error when the device was
+    /// lost or reported a fault meanwhile (the field is then not to be trusted).
     pub fn finish(&self, ctx: &GpuContext) -> Result<(), GpuError> {
         ctx.device
             .poll(wgpu::PollType::wait_indefinitely())
-            .map(|_| ())
             .map_err(|e| GpuError::Runtime {
                 what: "a solver step".into(),
                 message: e.to_string(),
-            })
+            })?;
+        match ctx.fault() {
+            Some(f) => Err(faulted(f)),
+            None => Ok(()),
+        }
     }
 
     /// The face velocities `(u, v)` read back from the GPU.
@@ -174,4 +194,32 @@ impl GpuSolver {
             })
             .collect())
     }
+}
+
+fn faulted(message: String) -> GpuError {
+    GpuError::Runtime {
+        what: "the device".into(),
+        message,
+    }
+}
+
+/// Whether an `nx × ny` grid's largest field fits what the device can bind and allocate: a
+/// clear refusal before any buffer is made, rather than a validation error at the first step.
+fn fits(ctx: &GpuContext, nx: usize, ny: usize) -> Result<(), GpuError> {
+    let limits = ctx.device.limits();
+    let largest = ((nx + 1) * ny).max(nx * (ny + 1)) as u64 * 4;
+    let cap = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    if largest > cap {
+        return Err(GpuError::Unsupported {
+            adapter: ctx.describe(),
+            what: format!(
+                "hold a {nx}x{ny} grid: a velocity field takes {} MiB, over its {} MiB storage-buffer limit",
+                largest.div_ceil(1 << 20),
+                cap >> 20
+            ),
+        });
+    }
+    Ok(())
 }
