@@ -807,3 +807,274 @@ fn the_3d_grass_view_answers_grass_edits() {
         "undo brings the blades back"
     );
 }
+
+/// The layout's file changed on disk behind the editor's back (a second editor saved it):
+/// the editor says so under the menu bar, refuses to overwrite it on Save until the user
+/// answers, Reload brings the new content, and Keep mine lets the next Save overwrite it.
+#[test]
+fn a_file_changed_on_disk_is_offered_for_reload_and_never_overwritten_unasked() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let level = dir.path().join("level.json");
+    windloom::io::save(&level, &example("meadow.json")).unwrap();
+    let opened = level.clone();
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .with_max_steps(16)
+        .wgpu()
+        .build_eframe(move |cc| {
+            let doc = windloom::io::load(&opened).unwrap();
+            let mut app = EditorApp::new(doc, Some(opened), &cc.egui_ctx);
+            app.live.set_playing(false);
+            app
+        });
+    h.run_steps(3);
+    assert!(h.query_by_label("Reload").is_none(), "no change yet");
+    // Our own save is not someone else's change.
+    let ctx = h.ctx.clone();
+    assert!(h.state_mut().save(&ctx));
+    h.state_mut().check_disk();
+    h.run_steps(2);
+    assert!(
+        h.query_by_label("Reload").is_none(),
+        "our own save is no change"
+    );
+
+    // A second editor saves another layout over it.
+    let theirs = example("obstacles.json");
+    windloom::io::save(&level, &theirs).unwrap();
+    h.state_mut().check_disk();
+    h.run_steps(2);
+    assert!(h.query_by_label("Reload").is_some(), "the editor asks");
+    assert!(
+        !h.state_mut().save(&ctx),
+        "Save refuses to overwrite unasked"
+    );
+    assert_eq!(
+        windloom::io::load(&level).unwrap(),
+        theirs,
+        "their save kept"
+    );
+    h.get_by_label("Reload").click();
+    h.run_steps(3);
+    assert_eq!(h.state().doc, theirs, "reloaded");
+    assert!(!h.state().dirty);
+    assert!(h.query_by_label("Reload").is_none(), "answered");
+
+    // Changed again; this time the user keeps the editor's document and saves it over.
+    windloom::io::save(&level, &example("two-winds.json")).unwrap();
+    h.state_mut().check_disk();
+    h.run_steps(2);
+    h.get_by_label("Keep mine").click();
+    h.run_steps(3);
+    assert!(h.state().dirty, "kept, so unsaved");
+    assert!(h.state_mut().save(&ctx));
+    assert_eq!(windloom::io::load(&level).unwrap(), theirs);
+
+    // Deleted: the editor says so; Keep mine and Save write it again.
+    std::fs::remove_file(&level).unwrap();
+    h.state_mut().check_disk();
+    h.run_steps(2);
+    assert!(h.query_by_label("Reload").is_none(), "nothing to reload");
+    h.get_by_label("Keep mine").click();
+    h.run_steps(2);
+    assert!(h.state_mut().save(&ctx));
+    assert_eq!(windloom::io::load(&level).unwrap(), theirs);
+}
+
+/// Two writers on one file — two editors saving it in turn, or a bake reading it while the
+/// editor saves — never leave a file anyone reads half-written: 400 saves of two different
+/// layouts from two threads while a third reads it, every read parses as one of them.
+#[test]
+fn concurrent_saves_and_reads_of_one_file_never_see_a_mixture() {
+    let dir = tempfile::tempdir().unwrap();
+    let level = dir.path().join("level.json");
+    let (a, b) = (example("meadow.json"), example("obstacles.json"));
+    windloom::io::save(&level, &a).unwrap();
+    let done = std::sync::atomic::AtomicBool::new(false);
+    let reads = std::thread::scope(|s| {
+        let reader = s.spawn(|| {
+            let mut reads = 0;
+            while !done.load(std::sync::atomic::Ordering::Relaxed) || reads < 50 {
+                let got = windloom::io::load(&level).expect("every read parses");
+                assert!(got == a || got == b, "a mixture of two layouts");
+                reads += 1;
+            }
+            reads
+        });
+        let writers: Vec<_> = [&a, &b]
+            .into_iter()
+            .map(|doc| {
+                let level = &level;
+                s.spawn(move || {
+                    for _ in 0..200 {
+                        windloom::io::save(level, doc).unwrap();
+                    }
+                })
+            })
+            .collect();
+        for w in writers {
+            w.join().unwrap();
+        }
+        done.store(true, std::sync::atomic::Ordering::Relaxed);
+        reader.join().unwrap()
+    });
+    assert!(reads >= 50);
+    for e in std::fs::read_dir(dir.path()).unwrap() {
+        let n = e.unwrap().file_name().into_string().unwrap();
+        assert_eq!(n, "level.json", "nothing else left behind");
+    }
+}
+
+/// Whether a program can be started (`--help`/`-version` output is not looked at).
+fn program_exists(name: &str, arg: &str) -> bool {
+    std::process::Command::new(name)
+        .arg(arg)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .status()
+        .is_ok()
+}
+
+/// Polls `f` every 200 ms for up to `secs` seconds.
+fn wait_for<T>(secs: u64, mut f: impl FnMut() -> Option<T>) -> Option<T> {
+    let end = Instant::now() + Duration::from_secs(secs);
+    while Instant::now() < end {
+        if let Some(t) = f() {
+            return Some(t);
+        }
+        std::thread::sleep(Duration::from_millis(200));
+    }
+    None
+}
+
+/// The real editor under Xvfb, used with xdotool: an edit (a new wind tree placed with the
+/// R tool and a click), the autosave, then SIGKILL. Its recovery copy is offered (its writer
+/// is gone), names the file it was editing, and restoring it brings the edit back.
+#[test]
+fn a_killed_editor_s_last_edit_is_restored() {
+    if !program_exists("Xvfb", "-version") || !program_exists("xdotool", "version") {
+        assert!(
+            !in_ci(),
+            "CI must run the kill test: Xvfb or xdotool not found"
+        );
+        eprintln!(
+            "\n!!!!! SKIPPING: Xvfb and xdotool are needed (apt-get install xvfb xdotool) !!!!!\n"
+        );
+        return;
+    }
+    use std::io::BufRead;
+    use std::process::{Command, Stdio};
+    let home = tempfile::tempdir().unwrap();
+    let level = home.path().join("level.json");
+    let original = example("two-winds.json");
+    windloom::io::save(&level, &original).unwrap();
+    let data = home.path().join("data");
+    let runtime = home.path().join("runtime");
+    std::fs::create_dir_all(&runtime).unwrap();
+
+    let mut xvfb = Command::new("Xvfb")
+        .args([
+            "-displayfd",
+            "1",
+            "-screen",
+            "0",
+            "1280x800x24",
+            "-nolisten",
+            "tcp",
+        ])
+        .stdout(Stdio::piped())
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let mut line = String::new();
+    std::io::BufReader::new(xvfb.stdout.take().unwrap())
+        .read_line(&mut line)
+        .unwrap();
+    let display = format!(":{}", line.trim());
+    let xdotool = |args: &[&str]| {
+        Command::new("xdotool")
+            .args(args)
+            .env("DISPLAY", &display)
+            .output()
+            .unwrap()
+    };
+
+    let mut editor = Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .arg(&level)
+        .env("DISPLAY", &display)
+        .env_remove("WAYLAND_DISPLAY")
+        .env("HOME", home.path())
+        .env("XDG_DATA_HOME", &data)
+        .env("XDG_RUNTIME_DIR", &runtime)
+        .stderr(Stdio::null())
+        .spawn()
+        .unwrap();
+    let window = wait_for(90, || {
+        let out = xdotool(&["search", "--name", "level.json"]);
+        let s = String::from_utf8_lossy(&out.stdout);
+        s.lines().next().map(str::to_string)
+    });
+    let outcome: Result<_, &str> = 'run: {
+        let Some(window) = window else {
+            break 'run Err("the editor's window did not appear");
+        };
+        // Let the first frames settle, then: R (the Add root tool) and a click on the map.
+        std::thread::sleep(Duration::from_secs(3));
+        xdotool(&["windowfocus", &window]);
+        xdotool(&["key", "r"]);
+        xdotool(&["mousemove", "640", "420"]);
+        std::thread::sleep(Duration::from_millis(300));
+        xdotool(&["click", "1"]);
+        let rec = data.join("windloom").join("recovery");
+        // Autosave runs every 20 s while there are unsaved changes.
+        let copy = wait_for(60, || {
+            std::fs::read_dir(&rec).ok()?.find_map(|e| {
+                let p = e.ok()?.path();
+                let l = windloom::io::load(&p).ok()?;
+                (l.trees.len() == original.trees.len() + 1).then_some(p)
+            })
+        });
+        match copy {
+            Some(c) => Ok((c, rec)),
+            None => Err("no autosaved copy with the new tree"),
+        }
+    };
+    editor.kill().unwrap(); // SIGKILL
+    editor.wait().unwrap();
+    let _ = xvfb.kill();
+    let _ = xvfb.wait();
+    let (copy, rec) = outcome.unwrap();
+
+    let found = windloom::app::recovery::Recovery::found(&rec);
+    let listing: Vec<_> = std::fs::read_dir(&rec)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(found.len(), 1, "{found:?} in {listing:?}");
+    assert_eq!(found[0].layout, copy);
+    assert_eq!(
+        found[0].origin.as_deref(),
+        Some(level.canonicalize().unwrap().as_path())
+    );
+    let ctx = egui::Context::default();
+    let mut app = EditorApp::new(doc::default_layout(), None, &ctx);
+    app.set_recovery_dir(Some(home.path().join("other-recovery")));
+    app.restore(&found[0]).unwrap();
+    assert_eq!(
+        app.doc.trees.len(),
+        original.trees.len() + 1,
+        "the edit is back"
+    );
+    assert_eq!(
+        app.path.as_deref(),
+        Some(level.canonicalize().unwrap().as_path())
+    );
+    assert_eq!(
+        windloom::io::load(&level).unwrap(),
+        original,
+        "the file itself was never touched"
+    );
+}

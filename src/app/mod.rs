@@ -3,6 +3,7 @@
 //! The app owns the document and its [`History`]; every change goes through an [`Edit`]. The
 //! simulation runs on a worker thread ([`live::LiveSim`]) and never blocks the UI.
 
+pub mod disk;
 pub mod export;
 mod gpu_view;
 mod grass_controls;
@@ -223,6 +224,11 @@ pub struct EditorApp {
     pub recovery_error: Option<String>,
     /// Recovery copies still to offer after the one in the dialog.
     recover_queue: Vec<recovery::Found>,
+    /// The document's file as the editor last read or wrote it.
+    disk: Option<disk::Watch>,
+    /// A change to that file made by someone else, not yet answered (Reload / Keep mine).
+    pub disk_change: Option<disk::Change>,
+    last_disk_check: f64,
     pub adapter: String,
     frame_ms: f32,
     /// CPU milliseconds the last frames spent building the UI (smoothed).
@@ -253,6 +259,7 @@ impl EditorApp {
         let repaint_ctx = ctx.clone();
         let live = LiveSim::start(&doc, move || repaint_ctx.request_repaint());
         let saved_json = doc::to_json(&doc);
+        let disk = path.as_deref().map(disk::Watch::read);
         Self {
             doc,
             history: History::new(),
@@ -279,6 +286,9 @@ impl EditorApp {
             recovery: None,
             recovery_error: None,
             recover_queue: Vec::new(),
+            disk,
+            disk_change: None,
+            last_disk_check: 0.0,
             adapter: "no GPU adapter".into(),
             frame_ms: 0.0,
             ui_ms: 0.0,
@@ -433,10 +443,7 @@ impl EditorApp {
     }
 
     fn title(&self) -> String {
-        let file = self.path.as_ref().and_then(|p| p.file_name()).map_or_else(
-            || "untitled".to_string(),
-            |f| f.to_string_lossy().into_owned(),
-        );
+        let file = self.path_label();
         format!("{}{file} — windloom", if self.dirty { "● " } else { "" })
     }
 
@@ -504,6 +511,8 @@ impl EditorApp {
             String::new()
         };
         self.doc = doc;
+        self.disk = path.as_deref().map(disk::Watch::read);
+        self.disk_change = None;
         self.path = path;
         self.history.clear();
         self.selection.clear();
@@ -538,11 +547,29 @@ impl EditorApp {
         self.settings.recent.truncate(10);
     }
 
-    /// Saves to `path` atomically; returns whether it worked (errors go to a dialog).
+    /// Saves to `path` atomically; returns whether it worked (errors go to a dialog). Refuses
+    /// to overwrite the document's own file when someone else changed it since the editor read
+    /// it, until the user answers the question the editor then shows (Reload or Keep mine).
     pub fn save_to(&mut self, ctx: &egui::Context, path: &Path) -> bool {
-        match crate::io::save(path, &self.doc) {
+        if self.path.as_deref() == Some(path) {
+            self.check_disk();
+            if self.disk_change == Some(disk::Change::Modified) {
+                self.say(
+                    ctx,
+                    format!(
+                        "Not saved: {} changed on disk — Reload it, or Keep mine to overwrite it",
+                        path.display()
+                    ),
+                );
+                return false;
+            }
+        }
+        let json = doc::to_json(&self.doc);
+        match crate::io::write_atomic(path, json.as_bytes()) {
             Ok(()) => {
-                self.saved_json = doc::to_json(&self.doc);
+                self.disk = Some(disk::Watch::written(path, json.as_bytes()));
+                self.disk_change = None;
+                self.saved_json = json;
                 self.path = Some(path.to_path_buf());
                 self.dirty = false;
                 self.remember_recent(path);
@@ -641,6 +668,40 @@ impl EditorApp {
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
         }
+    }
+
+    /// Looks whether the document's file changed on disk (the editor does every
+    /// [`disk::CHECK_SECONDS`]); a change is kept in [`Self::disk_change`] until answered.
+    pub fn check_disk(&mut self) {
+        if let Some(change) = self.disk.as_mut().and_then(disk::Watch::check) {
+            log::info!("{} changed on disk: {change:?}", self.path_label());
+            self.disk_change = Some(change);
+        }
+    }
+
+    /// Answers a change on disk by loading the file as it is now (the editor's unsaved
+    /// changes go; a file that no longer parses is shown as an error and nothing changes).
+    pub fn reload_from_disk(&mut self) {
+        self.disk_change = None;
+        if let Some(p) = self.path.clone() {
+            self.open_path(&p);
+        }
+    }
+
+    /// Answers a change on disk by keeping the editor's document: it counts as unsaved, and
+    /// the next Save overwrites the file.
+    pub fn keep_mine(&mut self) {
+        self.disk_change = None;
+        self.saved_json.clear();
+        self.doc_changed = true;
+    }
+
+    /// The document's file name, or "untitled".
+    pub(crate) fn path_label(&self) -> String {
+        self.path
+            .as_ref()
+            .and_then(|p| p.file_name())
+            .map_or_else(|| "untitled".into(), |f| f.to_string_lossy().into_owned())
     }
 
     fn remove_recovery(&mut self) {
@@ -970,6 +1031,7 @@ impl eframe::App for EditorApp {
 
         self.shortcuts(&ctx);
         panels::menu_bar(self, ui);
+        panels::disk_banner(self, ui);
         panels::status_bar(self, ui);
         panels::layers_panel(self, ui);
         inspector::inspector_panel(self, ui);
@@ -1004,6 +1066,13 @@ impl eframe::App for EditorApp {
             self.sent_title = Some(title);
         }
         self.autosave(&ctx, now);
+        if self.disk.is_some() {
+            if now - self.last_disk_check >= disk::CHECK_SECONDS {
+                self.last_disk_check = now;
+                self.check_disk();
+            }
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(disk::CHECK_SECONDS));
+        }
         if self.live.playing {
             ctx.request_repaint();
         }

@@ -226,7 +226,7 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
             }
             if let Some(e) = &app.recovery_error {
-                ui.colored_label(egui::Color32::from_rgb(255, 110, 90), "⚠ autosave failed")
+                ui.colored_label(egui::Color32::from_rgb(255, 110, 90), "autosave failed")
                     .on_hover_text(format!(
                         "Unsaved work is not being autosaved: {e}\nSave the layout (Ctrl+S) to keep it."
                     ));
@@ -675,3 +675,43 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "New, Open, Save, Save As",
     ),
 ];
+
+/// The question asked when the document's file changed on disk behind the editor's back: a
+/// strip under the menu bar, until answered (it does not block editing).
+pub fn disk_banner(app: &mut EditorApp, ui: &mut egui::Ui) {
+    let Some(change) = app.disk_change.clone() else {
+        return;
+    };
+    let name = app.path_label();
+    egui::Panel::top("disk change")
+        .frame(egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::from_rgb(70, 56, 20)))
+        .show(ui, |ui| {
+            ui.horizontal(|ui| {
+                let text = match change {
+                    super::disk::Change::Modified => {
+                        format!("{name} was changed on disk by another program.")
+                    }
+                    super::disk::Change::Deleted => {
+                        format!("{name} was deleted or moved on disk.")
+                    }
+                };
+                ui.label(RichText::new(text).color(egui::Color32::from_rgb(255, 220, 140)));
+                if change == super::disk::Change::Modified {
+                    let reload = ui.button("Reload").on_hover_text(if app.dirty {
+                        "Load the file as it is now; your unsaved changes are discarded"
+                    } else {
+                        "Load the file as it is now"
+                    });
+                    if reload.clicked() {
+                        app.reload_from_disk();
+                    }
+                }
+                let keep = ui.button("Keep mine").on_hover_text(
+                    "Keep the document as it is in the editor; the next Save writes it to the file",
+                );
+                if keep.clicked() {
+                    app.keep_mine();
+                }
+            });
+        });
+}
