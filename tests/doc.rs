@@ -883,3 +883,82 @@ proptest! {
         }
     }
 }
+
+/// Every example, its grid shrunk so a mutant renders and bakes quickly, and the folder its
+/// backdrop path is relative to.
+fn fuzz_example(which: usize) -> (serde_json::Value, PathBuf) {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    let names = [
+        "meadow.json",
+        "branching.json",
+        "breeze-fft.json",
+        "obstacles.json",
+        "two-winds.json",
+    ];
+    let text = std::fs::read_to_string(dir.join(names[which % names.len()])).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["world"]["grid"] = serde_json::json!([40, 32]);
+    (v, dir)
+}
+
+proptest! {
+    // About a quarter of the mutants are accepted: some 40 renders and bakes a run.
+    #![proptest_config(ProptestConfig::with_cases(160))]
+
+    /// Mutants of every example through what users run on a layout: `render` (a top-down
+    /// picture) and a short `bake` into every format. Each accepted mutant either yields a
+    /// PNG and a complete bake (every file the manifest lists, non-empty), or a refusal with
+    /// a message that leaves no output folder; nothing panics.
+    #[test]
+    fn mutated_layouts_render_and_bake_or_refuse_cleanly(
+        which in 0usize..5,
+        changes in proptest::collection::vec(
+            // Mostly nudged numbers (kinds 10..20), so most mutants are accepted and reach
+            // the renderer and the bake; any other change now and then.
+            (
+                proptest::collection::vec(any::<u32>(), 1..6),
+                prop_oneof![3 => 10u32..20, 1 => any::<u32>()],
+                -1e6f64..1e6,
+            ),
+            1..3,
+        ),
+    ) {
+        let (mut v, base) = fuzz_example(which);
+        for (pick, kind, n) in &changes {
+            mutate(&mut v, pick, *kind, *n);
+        }
+        let Ok(l) = doc::parse(&serde_json::to_string_pretty(&v).unwrap()) else {
+            return Ok(()); // refusals: the property above
+        };
+        if l.world.grid[0] * l.world.grid[1] <= 64 * 64 {
+            match windloom::render::render_png(&l, &base, [96, 64], 0.2) {
+                Ok(png) => prop_assert!(png.starts_with(b"\x89PNG\r\n\x1a\n")),
+                Err(e) => prop_assert!(!e.to_string().is_empty()),
+            }
+        }
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("bake");
+        let opts = windloom::bake::BakeOptions {
+            warmup: 0.1,
+            frames: 2,
+            fps: 10.0,
+            grid: Some([24, 16]),
+            ..Default::default()
+        };
+        let cancel = std::sync::atomic::AtomicBool::new(false);
+        match windloom::bake::bake(&l, &out, &opts, &cancel, &mut |_, _, _| {}) {
+            Ok(m) => {
+                prop_assert!(!m.files.is_empty());
+                for f in &m.files {
+                    let len = std::fs::metadata(out.join(&f.name)).map(|m| m.len()).unwrap_or(0);
+                    prop_assert!(len > 0, "{} missing or empty", f.name);
+                }
+                prop_assert!(out.join("manifest.json").exists());
+            }
+            Err(e) => {
+                prop_assert!(!e.to_string().is_empty());
+                prop_assert!(!out.exists(), "a refused bake leaves nothing: {e}");
+            }
+        }
+    }
+}

@@ -761,6 +761,36 @@ fn extreme_layouts_run_10000_steps_finite_and_bounded() {
     }
 }
 
+/// Random extreme layouts from the generator above (grids to 40², arrows to 500 m/s with
+/// radii past the whole map, any step the validator allows, vorticity to 1,000, dissipation to
+/// 100, every boundary, both advections), 10,000 steps each: finite throughout. Bounded by
+/// three times the strongest arrow the validator allows when the vorticity factor is at most
+/// 5; above that, confinement feeds the field until the solver's speed clamp holds it
+/// (measured in docs/RELIABILITY.md, "Findings"), so the bound is the clamp's.
+#[test]
+fn random_extreme_layouts_run_10000_steps_finite_and_bounded() {
+    use proptest::strategy::ValueTree;
+    let mut runner = proptest::test_runner::TestRunner::deterministic();
+    for k in 0..6 {
+        let drawn = extreme_layout().new_tree(&mut runner).unwrap().current();
+        // The layout as drawn, and again with its vorticity factor brought into [0, 5].
+        let mut tame = drawn.clone();
+        tame.sim.vorticity = drawn.sim.vorticity / 200.0;
+        for (l, bound) in [
+            (drawn, windloom::sim::MAX_SPEED * std::f32::consts::SQRT_2),
+            (tame, 3.0 * doc::STRENGTH_MAX),
+        ] {
+            assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
+            let what = format!(
+                "random extreme {k}: {:?} grid, dt {:.4}, vorticity {:.1}, {:?}, {:?}",
+                l.world.grid, l.sim.dt, l.sim.vorticity, l.sim.boundary, l.sim.advection
+            );
+            let peak = run_10000_steps(&mut Solver::new(&l), bound, &what);
+            println!("{what}: peak {peak:.1} m/s");
+        }
+    }
+}
+
 /// `windloom bench --json` prints one JSON object with the fields the performance record
 /// needs, and its bound is the byte count over the bandwidth it measured.
 #[test]
