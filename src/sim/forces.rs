@@ -5,6 +5,9 @@ use crate::doc::{self, AmbientKind, Emission, Layout, TimeWindow, Tree};
 use bytemuck::Zeroable;
 use rustfft::{FftPlanner, num_complex::Complex32};
 
+mod row;
+pub use row::RowScratch;
+
 /// One active arrow at one instant: a capsule from `a` to `b` (world metres) that drives the
 /// wind along `dir` (unit) toward `strength` m/s, with Gaussian weight `g = exp(-d² / radius²)`,
 /// `d` the distance to the segment. The force is always along the arrow and fades as the wind
@@ -56,6 +59,22 @@ impl ArrowSplat {
         let deficit = (self.strength - (vel[0] * self.dir[0] + vel[1] * self.dir[1])).max(0.0);
         let m = (1.0 - exp_neg(-k * g * dt)) * deficit;
         [self.dir[0] * m, self.dir[1] * m]
+    }
+
+    /// The magnitude `m` of [`Self::impulse`] (the impulse is `dir · m`) without branches or
+    /// arrays indexed at run time, for loops over faces that must vectorise on every SIMD
+    /// level: the same numbers (a point beyond the cutoff gets `m = 0`, which adds nothing).
+    #[inline(always)]
+    pub fn impulse_magnitude(&self, p: [f32; 2], vx: f32, vz: f32, k: f32, dt: f32) -> f32 {
+        let d2 = segment_dist2(p, self.a, self.b);
+        let r2 = self.radius * self.radius;
+        let inv_r2 = 1.0 / r2;
+        let beyond = d2 > r2 * SPLAT_CUTOFF_RADII * SPLAT_CUTOFF_RADII;
+        let g = exp_neg(-d2 * inv_r2);
+        let g = if beyond { 0.0 } else { g };
+        // g = 0 gives 1 − e⁰ = 0 exactly: the zero impulse `impulse_weighted` returns early.
+        let deficit = (self.strength - (vx * self.dir[0] + vz * self.dir[1])).max(0.0);
+        (1.0 - exp_neg(-k * g * dt)) * deficit
     }
 
     /// World-space bounding box `(min, max)` of the region the splat touches.
@@ -191,20 +210,42 @@ pub fn gradient_noise(x: f32, y: f32, seed: u32) -> f32 {
     let fx = x - xi;
     let fy = y - yi;
     let (xi, yi) = (xi as i32, yi as i32);
-    let grad = |ix: i32, iy: i32, dx: f32, dy: f32| {
-        let a = (hash(ix, iy, seed) >> 8) as f32 * (std::f32::consts::TAU / 16_777_216.0);
-        a.cos() * dx + a.sin() * dy
-    };
-    let fade = |t: f32| t * t * t * (t * (t * 6.0 - 15.0) + 10.0);
-    let n00 = grad(xi, yi, fx, fy);
-    let n10 = grad(xi + 1, yi, fx - 1.0, fy);
-    let n01 = grad(xi, yi + 1, fx, fy - 1.0);
-    let n11 = grad(xi + 1, yi + 1, fx - 1.0, fy - 1.0);
+    let n00 = gradient(hash_angle(xi, yi, seed), fx, fy);
+    let n10 = gradient(hash_angle(xi + 1, yi, seed), fx - 1.0, fy);
+    let n01 = gradient(hash_angle(xi, yi + 1, seed), fx, fy - 1.0);
+    let n11 = gradient(hash_angle(xi + 1, yi + 1, seed), fx - 1.0, fy - 1.0);
     let u = fade(fx);
     let v = fade(fy);
     let nx0 = n00 + (n10 - n00) * u;
     let nx1 = n01 + (n11 - n01) * u;
     (nx0 + (nx1 - nx0) * v) * std::f32::consts::SQRT_2
+}
+
+/// The unit gradient `(cos a, sin a)` of lattice point `(ix, iy)`, its angle from the hash.
+#[inline]
+fn hash_angle(ix: i32, iy: i32, seed: u32) -> [f32; 2] {
+    let a = (hash(ix, iy, seed) >> 8) as f32 * (std::f32::consts::TAU / 16_777_216.0);
+    [a.cos(), a.sin()]
+}
+
+/// A lattice gradient's ramp at offset `(dx, dy)` from its point.
+#[inline(always)]
+fn gradient(g: [f32; 2], dx: f32, dy: f32) -> f32 {
+    g[0] * dx + g[1] * dy
+}
+
+/// The quintic fade `6t⁵ − 15t⁴ + 10t³`.
+#[inline(always)]
+fn fade(t: f32) -> f32 {
+    t * t * t * (t * (t * 6.0 - 15.0) + 10.0)
+}
+
+/// `t` wrapped into `[0, 1]`: `t − ⌊t⌋`, the same value as `t.rem_euclid(1.0)` (both are
+/// exact for `t ≥ 0`, and round `1 + frac` the same way below 0) without its library call,
+/// which kept loops over faces scalar.
+#[inline(always)]
+fn unit_wrap(t: f32) -> f32 {
+    t - t.floor()
 }
 
 /// An FFT gust field (Tessendorf/Phillips spectrum), tiling with period `tile` metres.
@@ -302,8 +343,8 @@ impl FftGusts {
     /// The (unit-rms) gust value at world point `p`, bilinear, wrapping every `tile` metres.
     pub fn sample(&self, p: [f32; 2]) -> f32 {
         let n = self.n as f32;
-        let x = (p[0] / self.tile).rem_euclid(1.0) * n;
-        let z = (p[1] / self.tile).rem_euclid(1.0) * n;
+        let x = unit_wrap(p[0] / self.tile) * n;
+        let z = unit_wrap(p[1] / self.tile) * n;
         let (i0, j0) = (x.floor() as usize % self.n, z.floor() as usize % self.n);
         let (i1, j1) = ((i0 + 1) % self.n, (j0 + 1) % self.n);
         let (fx, fz) = (x - x.floor(), z - z.floor());

@@ -2,6 +2,7 @@
 //! to the faces each row's splats reach, in vectorised runs.
 
 use super::*;
+use crate::sim::forces::RowScratch;
 
 impl Solver {
     /// Step 1: AGC arrow splats and the pull toward the ambient wind. Both read the velocity
@@ -112,42 +113,47 @@ impl Forcing<'_> {
     ) -> Vec<Range<usize>> {
         let g = &self.g;
         let w = if is_v { g.nx } else { g.nx + 1 };
+        let c = usize::from(is_v);
+        let ox = if is_v { 0.5 } else { 0.0 };
         inc.par_chunks_mut(w)
             .enumerate()
             .with_min_len(rows_per_job(w))
-            .map(|(j, row)| {
-                let reach = self.row_reach(j, w, is_v);
-                if reach.is_empty() {
-                    return reach;
-                }
-                row[reach.clone()].fill(0.0);
-                let z_world = self.row_z(j, is_v);
-                let free = &free[j * w..][..w];
-                // Each splat only visits the faces inside its x-extent; per face the splats
-                // still add up in the same order.
-                for (s, &b) in self.splats.iter().zip(&self.bounds) {
-                    if z_world < b.0[1] || z_world > b.1[1] {
-                        continue;
+            .map_init(
+                || (RowScratch::default(), Vec::new(), Vec::new()),
+                |(scratch, xs, target), (j, row)| {
+                    let reach = self.row_reach(j, w, is_v);
+                    if reach.is_empty() {
+                        return reach;
                     }
-                    if let Some(span) = self.columns(b, w, is_v) {
-                        self.splat_span(s, u, v, j, is_v, span, free, row);
-                    }
-                }
-                if self.coupling > 0.0 {
-                    let x_of = |i: usize| {
-                        self.origin[0] + (i as f32 + if is_v { 0.5 } else { 0.0 }) * g.hx
-                    };
-                    let c = usize::from(is_v);
-                    for (i, out) in row.iter_mut().enumerate() {
-                        if free[i] == 0 {
+                    row[reach.clone()].fill(0.0);
+                    let z_world = self.row_z(j, is_v);
+                    let free = &free[j * w..][..w];
+                    // Each splat only visits the faces inside its x-extent; per face the
+                    // splats still add up in the same order.
+                    for (s, &b) in self.splats.iter().zip(&self.bounds) {
+                        if z_world < b.0[1] || z_world > b.1[1] {
                             continue;
                         }
-                        let vel = face_velocity(g, u, v, i, j, is_v);
-                        *out += (self.ambient.wind([x_of(i), z_world])[c] - vel[c]) * self.coupling;
+                        if let Some(span) = self.columns(b, w, is_v) {
+                            self.splat_span(s, u, v, j, is_v, span, free, row);
+                        }
                     }
-                }
-                reach
-            })
+                    if self.coupling > 0.0 {
+                        // The ambient target along the whole row at once, then the pull.
+                        xs.clear();
+                        xs.extend((0..w as i32).map(|i| self.origin[0] + (i as f32 + ox) * g.hx));
+                        target.resize(w, 0.0);
+                        self.ambient.component_row(c, z_world, xs, target, scratch);
+                        let own = if is_v {
+                            &v[j * w..][..w]
+                        } else {
+                            &u[j * w..][..w]
+                        };
+                        pull(row, target, own, free, self.coupling);
+                    }
+                    reach
+                },
+            )
             .collect()
     }
 
@@ -244,7 +250,11 @@ pub(super) struct SplatSpan<'a> {
 /// clamp: `own` is the faces' own component, `other` the four faces of the other component
 /// averaged onto each (v faces with `is_v`). Compiled for several SIMD levels, picked at run
 /// time: the weights, face velocities and impulses vectorise.
-#[multiversion(targets = "simd")]
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
 pub(super) fn splat_faces(
     p: &SplatSpan,
     is_v: bool,
@@ -255,13 +265,38 @@ pub(super) fn splat_faces(
 ) {
     let n = out.len();
     let (own, free) = (&own[..n], &free[..n]);
-    let [o0, o1, o2, o3] = other.map(|o| &o[..n]);
-    let c = usize::from(is_v);
+    // Plain slices and a copy of the splat: with the slices behind a non-inlined
+    // `array::map` and the splat behind a second reference, AVX2's cost model kept the loop
+    // scalar (only AVX-512 vectorised it).
+    let [o0, o1, o2, o3] = other;
+    let (o0, o1, o2, o3) = (&o0[..n], &o1[..n], &o2[..n], &o3[..n]);
+    let splat = *p.s;
+    // The pushed component's direction, chosen once rather than a `[x, z][c]` per face.
+    let dc = if is_v { splat.dir[1] } else { splat.dir[0] };
+    // Face indices as i32 (a row has at most 16,385 faces): AVX2 converts i32 lanes to f32 in
+    // one instruction but has no conversion from 64-bit integers.
+    let first = p.first as i32;
     for q in 0..n {
         let avg = 0.25 * (o0[q] + o1[q] + o2[q] + o3[q]);
-        let vel = if is_v { [avg, own[q]] } else { [own[q], avg] };
-        let x = p.x0 + ((p.first + q) as f32 + p.ox) * p.hx;
-        let d = p.s.impulse_weighted(p.s.weight([x, p.z]), vel, p.k, p.dt)[c];
+        let (vx, vz) = if is_v { (avg, own[q]) } else { (own[q], avg) };
+        let x = p.x0 + ((first + q as i32) as f32 + p.ox) * p.hx;
+        let d = dc * splat.impulse_magnitude([x, p.z], vx, vz, p.k, p.dt);
+        out[q] = if free[q] != 0 { out[q] + d } else { out[q] };
+    }
+}
+
+/// The ambient pull `(target − own) · coupling` added to the free faces of a row (`own`: the
+/// faces' own velocity component before the pass).
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn pull(out: &mut [f32], target: &[f32], own: &[f32], free: &[u8], coupling: f32) {
+    let n = out.len();
+    let (target, own, free) = (&target[..n], &own[..n], &free[..n]);
+    for q in 0..n {
+        let d = (target[q] - own[q]) * coupling;
         out[q] = if free[q] != 0 { out[q] + d } else { out[q] };
     }
 }

@@ -1,0 +1,282 @@
+//! The ambient target wind along a whole row of faces at once: the same numbers as
+//! [`Ambient::wind`] point by point, bit for bit, for one component only, with everything that
+//! is constant along the row (the noise lattice row, its fade, the FFT row) worked out once
+//! and the per-face arithmetic in loops that vectorise.
+
+use super::{
+    Ambient, FftGusts, LAYER_DIRECTIONAL, LAYER_FFT, LAYER_NOISE, fade, gradient, hash_angle,
+    unit_wrap,
+};
+use multiversion::multiversion;
+
+/// Reusable buffers for [`Ambient::component_row`] (one per thread; they only grow).
+#[derive(Default)]
+pub struct RowScratch {
+    arg: Vec<f32>,
+    noise: Vec<f32>,
+}
+
+impl Ambient {
+    /// `out[k]` = component `c` (0: x, 1: z) of [`Ambient::wind`]`([xs[k], z])`, for a row
+    /// whose world x positions `xs` increase; the same bits as calling `wind` per point.
+    pub fn component_row(
+        &self,
+        c: usize,
+        z: f32,
+        xs: &[f32],
+        out: &mut [f32],
+        scratch: &mut RowScratch,
+    ) {
+        let n = xs.len();
+        let out = &mut out[..n];
+        out.fill(0.0);
+        scratch.arg.resize(n, 0.0);
+        scratch.noise.resize(n, 0.0);
+        let (arg, noise) = (&mut scratch.arg[..n], &mut scratch.noise[..n]);
+        for (l, (_, fft)) in self.params.iter().zip(&self.layers) {
+            let dc = l.dir[c];
+            match l.kind {
+                LAYER_DIRECTIONAL => {
+                    let s = 1.0 / 8.0;
+                    let seed = if c == 0 { 11 } else { 23 };
+                    scaled(xs, l.shift[0], s, arg);
+                    noise_row(arg, (z - l.shift[1]) * s, seed, noise);
+                    directional(out, noise, l.a, dc * l.b);
+                }
+                LAYER_NOISE => {
+                    divided(xs, l.shift[0], l.a, arg);
+                    noise_row(arg, (z - l.shift[1]) / l.a, 5, noise);
+                    noise_speed(out, noise, l.b, dc);
+                }
+                LAYER_FFT => match fft {
+                    Some(f) => {
+                        let qz = z - l.shift[1];
+                        fft_row(f, xs, l.shift[0], qz, l.a, l.b, dc, out, arg);
+                    }
+                    None => {
+                        // No field: the speed is the mean alone.
+                        let d = dc * (l.a + l.b * 0.0);
+                        out.iter_mut().for_each(|o| *o += d);
+                    }
+                },
+                _ => {
+                    for (o, &x) in out.iter_mut().zip(xs) {
+                        let along = x * l.dir[0] + z * l.dir[1];
+                        let speed = l.a * (std::f32::consts::TAU * (along / l.b - l.c)).sin();
+                        *o += dc * speed;
+                    }
+                }
+            }
+        }
+    }
+}
+
+/// `arg[k] = (xs[k] − shift) · s`, as `wind` computes a directional layer's noise argument.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn scaled(xs: &[f32], shift: f32, s: f32, arg: &mut [f32]) {
+    for (a, &x) in arg.iter_mut().zip(xs) {
+        *a = (x - shift) * s;
+    }
+}
+
+/// `arg[k] = (xs[k] − shift) / scale`, as `wind` computes a noise layer's argument.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn divided(xs: &[f32], shift: f32, scale: f32, arg: &mut [f32]) {
+    for (a, &x) in arg.iter_mut().zip(xs) {
+        *a = (x - shift) / scale;
+    }
+}
+
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn directional(out: &mut [f32], noise: &[f32], turbulence: f32, mean: f32) {
+    for (o, &nz) in out.iter_mut().zip(noise) {
+        *o = *o + turbulence * nz + mean;
+    }
+}
+
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn noise_speed(out: &mut [f32], noise: &[f32], strength: f32, dc: f32) {
+    for (o, &nz) in out.iter_mut().zip(noise) {
+        *o += dc * (strength * (0.5 + 0.5 * nz).clamp(0.0, 1.0));
+    }
+}
+
+/// The four lattice gradients `(cos, sin)` of one lattice cell: `[x0y0, x1y0, x0y1, x1y1]`.
+type Corners = [[f32; 2]; 4];
+
+/// Calls `each(range, floor)` for the runs of samples of `xs` that share a floor, in order.
+/// `step` is about the spacing of neighbouring samples: each run's end is guessed from it and
+/// corrected by looking at the floors beside the guess, so finding a run costs a few floors,
+/// not one a sample. Runs must not hold a sample whose floor differs from the run's between
+/// two that share it (true of increasing `xs`, and of wrapped ones whose run is shorter than
+/// the period).
+fn runs(xs: &[f32], step: f32, mut each: impl FnMut(std::ops::Range<usize>, f32)) {
+    let n = xs.len();
+    let mut k = 0;
+    while k < n {
+        let xi = xs[k].floor();
+        let guess = if step > 0.0 && step.is_finite() {
+            ((xi + 1.0 - xs[k]) / step).ceil()
+        } else {
+            1.0
+        };
+        let mut end = if guess.is_finite() && guess >= 1.0 {
+            (k + guess as usize).min(n)
+        } else {
+            k + 1
+        };
+        while end > k + 1 && xs[end - 1].floor() != xi {
+            end -= 1;
+        }
+        while end < n && xs[end].floor() == xi {
+            end += 1;
+        }
+        each(k..end, xi);
+        k = end;
+    }
+}
+
+/// The spacing of neighbouring samples of a row, about.
+fn spacing(xs: &[f32]) -> f32 {
+    match xs.len() {
+        0 | 1 => 0.0,
+        n => (xs[n - 1] - xs[0]) / (n - 1) as f32,
+    }
+}
+
+/// `out[k] = gradient_noise(xs[k], y, seed)` for increasing `xs`: the lattice row and the
+/// fade across it once, each lattice point's gradient once, and per sample only the blend.
+fn noise_row(xs: &[f32], y: f32, seed: u32, out: &mut [f32]) {
+    let yi = y.floor();
+    let fy = y - yi;
+    let iy = yi as i32;
+    let fv = fade(fy);
+    let mut cached: Option<(i32, [f32; 2], [f32; 2])> = None;
+    runs(xs, spacing(xs), |r, xi| {
+        let ix = xi as i32;
+        let left = match cached {
+            Some((c, bottom, top)) if c == ix => (bottom, top),
+            _ => (hash_angle(ix, iy, seed), hash_angle(ix, iy + 1, seed)),
+        };
+        let right = (
+            hash_angle(ix + 1, iy, seed),
+            hash_angle(ix + 1, iy + 1, seed),
+        );
+        cached = Some((ix + 1, right.0, right.1));
+        let g = [left.0, right.0, left.1, right.1];
+        blend(&xs[r.clone()], xi, fy, fv, &g, &mut out[r]);
+    });
+}
+
+/// The blend of [`gradient_noise`](super::gradient_noise) for samples in one lattice cell.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn blend(xs: &[f32], xi: f32, fy: f32, fv: f32, g: &Corners, out: &mut [f32]) {
+    for (o, &x) in out.iter_mut().zip(xs) {
+        let fx = x - xi;
+        let n00 = gradient(g[0], fx, fy);
+        let n10 = gradient(g[1], fx - 1.0, fy);
+        let n01 = gradient(g[2], fx, fy - 1.0);
+        let n11 = gradient(g[3], fx - 1.0, fy - 1.0);
+        let u = fade(fx);
+        let nx0 = n00 + (n10 - n00) * u;
+        let nx1 = n01 + (n11 - n01) * u;
+        *o = (nx0 + (nx1 - nx0) * fv) * std::f32::consts::SQRT_2;
+    }
+}
+
+/// An FFT layer's part along a row: `dc · (mean + amplitude · sample(x − shift, qz))`, as
+/// [`FftGusts::sample`] computes it: the row of texels once, the samples wrapped in one
+/// vectorised loop, then per run of samples inside one texel only the blend.
+#[allow(clippy::too_many_arguments)]
+fn fft_row(
+    f: &FftGusts,
+    xs: &[f32],
+    shift: f32,
+    qz: f32,
+    mean: f32,
+    amplitude: f32,
+    dc: f32,
+    out: &mut [f32],
+    wrapped: &mut [f32],
+) {
+    let nf = f.n as f32;
+    let z = unit_wrap(qz / f.tile) * nf;
+    let j0 = z.floor() as usize % f.n;
+    let j1 = (j0 + 1) % f.n;
+    let fz = z - z.floor();
+    let (r0, r1) = (&f.field[j0 * f.n..][..f.n], &f.field[j1 * f.n..][..f.n]);
+    let wrapped = &mut wrapped[..xs.len()];
+    texel_coordinates(xs, shift, f.tile, nf, wrapped);
+    let step = spacing(xs) / f.tile * nf;
+    runs(wrapped, step, |r, xf| {
+        let i0 = xf as usize % f.n;
+        let i1 = (i0 + 1) % f.n;
+        let corners = [r0[i0], r0[i1], r1[i0], r1[i1]];
+        let c = FftConstants {
+            xf,
+            fz,
+            mean,
+            amplitude,
+            dc,
+        };
+        fft_blend(&wrapped[r.clone()], &corners, &c, &mut out[r]);
+    });
+}
+
+/// `out[k] = unit_wrap((xs[k] − shift) / tile) · n`: each sample's texel coordinate.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn texel_coordinates(xs: &[f32], shift: f32, tile: f32, n: f32, out: &mut [f32]) {
+    for (o, &x) in out.iter_mut().zip(xs) {
+        *o = unit_wrap((x - shift) / tile) * n;
+    }
+}
+
+/// What [`fft_blend`] needs besides the samples: the run's texel column, the row's fraction,
+/// and the layer's mean, amplitude and direction component.
+struct FftConstants {
+    xf: f32,
+    fz: f32,
+    mean: f32,
+    amplitude: f32,
+    dc: f32,
+}
+
+/// The bilinear blend of one texel's four values `[x0z0, x1z0, x0z1, x1z1]` for the samples
+/// in it, added to `out` as the layer's part.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn fft_blend(xw: &[f32], t: &[f32; 4], c: &FftConstants, out: &mut [f32]) {
+    for (o, &x) in out.iter_mut().zip(xw) {
+        let fx = x - c.xf;
+        let a = t[0] + (t[1] - t[0]) * fx;
+        let b = t[2] + (t[3] - t[2]) * fx;
+        *o += c.dc * (c.mean + c.amplitude * (a + (b - a) * c.fz));
+    }
+}
