@@ -121,12 +121,18 @@ pub(super) fn bilinear(
     )
 }
 
+/// A coordinate wrapped into one period `[0, p]`: `t − p·⌊t/p⌋`, as the GPU computes it
+/// (`p` itself only by rounding, where the sampler's index clamp takes it back into the grid).
+#[inline(always)]
+pub(super) fn wrap_coordinate(t: f32, p: f32) -> f32 {
+    t - p * (t / p).floor()
+}
+
 /// Sample indices and weight along one axis. Clamped: `[0, n-1]`; periodic: modulo `period`.
 #[inline]
 pub(super) fn axis(x: f32, n: usize, period: usize, periodic: bool) -> (usize, usize, f32) {
     if periodic {
-        let p = period as f32;
-        let x = x.rem_euclid(p);
+        let x = wrap_coordinate(x, period as f32);
         let i0 = (x.floor() as usize).min(period - 1);
         let f = x - i0 as f32;
         (i0, (i0 + 1) % period, f)
@@ -216,7 +222,11 @@ pub(super) fn departure(
 /// `xs`, `zs`: exactly [`departure`] face by face, but with the row's neighbour rows chosen
 /// once and the interior faces in one vectorisable loop.
 #[allow(clippy::too_many_arguments)]
-#[multiversion(targets = "simd")]
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
 pub(super) fn departures_row(
     g: &Geometry,
     u: &[f32],
@@ -239,7 +249,8 @@ pub(super) fn departures_row(
         let z = j as f32;
         for i in 0..nx {
             let ux = 0.25 * (ub[i] + ub[i + 1] + ut[i] + ut[i + 1]);
-            xs[i] = (i as f32 + 0.5) - ux * cx;
+            // The index as i32: AVX2 has no vector conversion from 64-bit integers.
+            xs[i] = ((i as i32) as f32 + 0.5) - ux * cx;
             zs[i] = z - vr[i] * cz;
         }
     } else {
@@ -258,46 +269,9 @@ pub(super) fn departures_row(
             (&ur[1..nx], &vb[..nx - 1], &vb[1..], &vt[..nx - 1], &vt[1..]);
         for k in 0..nx - 1 {
             let vz = 0.25 * (vbl[k] + vbr[k] + vtl[k] + vtr[k]);
-            xs[k] = (k + 1) as f32 - ui[k] * cx;
+            xs[k] = (k as i32 + 1) as f32 - ui[k] * cx;
             zs[k] = z - vz * cz;
         }
-    }
-}
-
-/// Samples `src` (`is_v`: the v faces) at the departure points `xs`, `zs` of a row of faces
-/// on a periodic grid (wrapping, through [`bilinear`]); faces that are not free get 0.
-/// `shape(value, min, max, k)` shapes each free face's output, `k` being its index in `src`.
-/// Non-periodic grids use the vectorised [`sample_clamped`] and [`correct_clamped`].
-#[allow(clippy::too_many_arguments)]
-#[inline(always)]
-pub(super) fn sample_row(
-    g: &Geometry,
-    src: &[f32],
-    j: usize,
-    is_v: bool,
-    xs: &[f32],
-    zs: &[f32],
-    free: &[u8],
-    out: &mut [f32],
-    shape: impl Fn(f32, f32, f32, usize) -> f32,
-) {
-    debug_assert!(g.periodic);
-    let (w, h) = if is_v {
-        (g.nx, g.ny + 1)
-    } else {
-        (g.nx + 1, g.ny)
-    };
-    // Sample coordinates of the field: v sits half a cell right, u half a cell up.
-    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
-    let row0 = j * w;
-    let free = &free[row0..][..w];
-    for i in 0..w {
-        out[i] = if free[i] == 0 {
-            0.0
-        } else {
-            let (s, lo, hi) = bilinear(g, src, w, h, xs[i] - ox, zs[i] - oz);
-            shape(s, lo, hi, row0 + i)
-        };
     }
 }
 
@@ -322,16 +296,17 @@ pub(super) fn advect_faces(
             || (vec![0.0; w], vec![0.0; w]),
             |(xs, zs), (j, row)| {
                 departures_row(g, u, v, j, is_v, dt, xs, zs);
-                if g.periodic {
-                    sample_row(g, src, j, is_v, xs, zs, free, row, |s, _, _, _| s * keep);
+                let (w, h) = if is_v {
+                    (g.nx, g.ny + 1)
                 } else {
-                    let (w, h) = if is_v {
-                        (g.nx, g.ny + 1)
-                    } else {
-                        (g.nx + 1, g.ny)
-                    };
-                    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
-                    let free = &free[j * w..][..w];
+                    (g.nx + 1, g.ny)
+                };
+                let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
+                let free = &free[j * w..][..w];
+                if g.periodic {
+                    let f = Wrapped::new(src, w, h, g.nx, g.ny);
+                    sample_wrapped(&f, [ox, oz], xs, zs, free, keep, row);
+                } else {
                     sample_clamped(&Clamped::new(src, w, h), [ox, oz], xs, zs, free, keep, row);
                 }
             },
@@ -359,22 +334,18 @@ pub(super) fn maccormack(
         .enumerate()
         .with_min_len(rows_per_job(w))
         .for_each_init(
-            || (vec![0.0; w], vec![0.0; w], vec![0.0; w]),
-            |(xs, zs, checked), (j, row)| {
+            || (vec![0.0; w], vec![0.0; w]),
+            |(xs, zs), (j, row)| {
                 departures_row(g, u, v, j, is_v, dt, xs, zs);
                 let k = j * w;
-                if !g.periodic {
-                    let (free, fwd_row, orig_row) =
-                        (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
+                let (free, fwd_row, orig_row) = (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
+                if g.periodic {
+                    let f = Wrapped::new(orig, w, h, g.nx, g.ny);
+                    correct_wrapped(&f, [ox, oz], xs, zs, free, fwd_row, orig_row, keep, row);
+                } else {
                     let f = Clamped::new(orig, w, h);
                     correct_clamped(&f, [ox, oz], xs, zs, free, fwd_row, orig_row, keep, row);
-                    return;
                 }
-                checked.copy_from_slice(row);
-                let shape = |_, lo: f32, hi: f32, k: usize| {
-                    (fwd[k] + 0.5 * (orig[k] - checked[k - j * w])).clamp(lo, hi) * keep
-                };
-                sample_row(g, orig, j, is_v, xs, zs, free, row, shape);
             },
         );
 }

@@ -396,7 +396,8 @@ impl Solver {
         let periodic = self.params.boundary == Boundary::Periodic;
         let along = |t: f32, n: usize, period: usize| -> (usize, usize, f32) {
             if periodic {
-                let t = t.rem_euclid(period as f32);
+                let p = period as f32;
+                let t = t - p * (t / p).floor();
                 let i0 = (t.floor() as usize).min(period - 1);
                 (i0, (i0 + 1) % period, t - i0 as f32)
             } else {

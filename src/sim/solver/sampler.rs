@@ -1,6 +1,7 @@
-//! The clamped bilinear sampler of the advection passes on non-periodic grids, in vectorised
-//! row loops. Its four loads are unchecked so the loops compile into gathers: the one
-//! `unsafe` block of the solver, kept here beside the checks that make it sound.
+//! The bilinear samplers of the advection passes, clamped (open and closed grids) or wrapped
+//! (periodic grids), in vectorised row loops. Their four loads are unchecked so the loops
+//! compile into gathers: the solver's only `unsafe` blocks, kept here beside the checks that
+//! make them sound.
 
 use super::*;
 
@@ -58,59 +59,139 @@ impl<'a> Clamped<'a> {
     }
 }
 
-/// [`sample_row`] for semi-Lagrangian advection on a non-periodic grid: the bilinear sample of
-/// the field at each departure point (offset by `-o` into sample coordinates), times `keep`;
-/// 0 on faces that are not free. Same arithmetic, same bits; compiled for several SIMD levels.
-#[allow(clippy::too_many_arguments)]
-#[multiversion(targets = "simd")]
-pub(super) fn sample_clamped(
-    f: &Clamped,
-    [ox, oz]: [f32; 2],
-    xs: &[f32],
-    zs: &[f32],
-    free: &[u8],
-    keep: f32,
-    out: &mut [f32],
-) {
-    let n = out.len();
-    let (xs, zs, free) = (&xs[..n], &zs[..n], &free[..n]);
-    for i in 0..n {
-        let (a, b, c, d, fx, fz) = f.corners(xs[i] - ox, zs[i] - oz);
-        let top = a + (b - a) * fx;
-        let bottom = c + (d - c) * fx;
-        let s = top + (bottom - top) * fz;
-        out[i] = if free[i] != 0 { s * keep } else { 0.0 };
+/// The four samples around a departure point of a face field on a periodic grid, which
+/// repeats every `px × pz` samples (`px ≤ w`, `pz ≤ h`: the last face column or row of a
+/// periodic grid repeats the first), as [`bilinear`] wraps them. [`Wrapped::new`] checks.
+pub(super) struct Wrapped<'a> {
+    pub(super) src: &'a [f32],
+    pub(super) w: usize,
+    pub(super) px: f32,
+    pub(super) pz: f32,
+    pub(super) ix: i32,
+    pub(super) iz: i32,
+}
+
+impl<'a> Wrapped<'a> {
+    pub(super) fn new(src: &'a [f32], w: usize, h: usize, px: usize, pz: usize) -> Self {
+        assert!(
+            px >= 1 && pz >= 1 && px <= w && pz <= h && src.len() >= w * h,
+            "a {px}x{pz} period in a {w}x{h} field"
+        );
+        assert!(w * h <= i32::MAX as usize);
+        Self {
+            src,
+            w,
+            px: px as f32,
+            pz: pz as f32,
+            ix: px as i32,
+            iz: pz as i32,
+        }
     }
 }
 
-/// The MacCormack correction of a row on a non-periodic grid: `back` holds φ̌ on entry and
-/// `(φ̂ + (φ − φ̌)/2)` clamped to the range of the four samples of φ around the departure
-/// point, times `keep`, on exit (0 on faces that are not free). As [`maccormack`] computes it
-/// through [`sample_row`], vectorised.
-#[allow(clippy::too_many_arguments)]
-#[multiversion(targets = "simd")]
-pub(super) fn correct_clamped(
-    f: &Clamped,
-    [ox, oz]: [f32; 2],
-    xs: &[f32],
-    zs: &[f32],
-    free: &[u8],
-    fwd: &[f32],
-    orig: &[f32],
-    keep: f32,
-    back: &mut [f32],
-) {
-    let n = back.len();
-    let (xs, zs, free, fwd, orig) = (&xs[..n], &zs[..n], &free[..n], &fwd[..n], &orig[..n]);
-    for i in 0..n {
-        let (a, b, c, d, _, _) = f.corners(xs[i] - ox, zs[i] - oz);
-        let lo = a.min(b).min(c).min(d);
-        let hi = a.max(b).max(c).max(d);
-        let x = fwd[i] + 0.5 * (orig[i] - back[i]);
-        // `x.clamp(lo, hi)` without its `lo ≤ hi` assertion, which would keep the loop
-        // scalar (lo ≤ hi always holds here).
-        let x = if x < lo { lo } else { x };
-        let x = if x > hi { hi } else { x };
-        back[i] = if free[i] != 0 { x * keep } else { 0.0 };
+/// Sample index and fraction along a periodic axis of period `p` (`n` as an integer), as
+/// [`axis`] computes them, with selects instead of the integer modulo so the loops vectorise.
+#[inline(always)]
+fn wrap(t: f32, p: f32, n: i32) -> (i32, i32, f32) {
+    let t = wrap_coordinate(t, p);
+    // `t` lies in [0, p] (NaN converts to 0), so the clamp is what `as usize` and `min` did.
+    let i0 = (t as i32).clamp(0, n - 1);
+    let i1 = if i0 + 1 == n { 0 } else { i0 + 1 };
+    (i0, i1, t - i0 as f32)
+}
+
+impl Wrapped<'_> {
+    /// As [`Clamped::corners`], the indices wrapped: `(i1, j1)` is `(i0 + 1, j0 + 1)` modulo
+    /// the period.
+    #[inline(always)]
+    pub(super) fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
+        let (i0, i1, fx) = wrap(x, self.px, self.ix);
+        let (j0, j1, fz) = wrap(z, self.pz, self.iz);
+        let (r0, r1) = (j0 as usize * self.w, j1 as usize * self.w);
+        let (i0, i1) = (i0 as usize, i1 as usize);
+        // SAFETY: 0 ≤ i0, i1 < px ≤ w and 0 ≤ j0, j1 < pz ≤ h (the clamps and selects in
+        // `wrap`), so every index is below w·h ≤ src.len(), as `new` asserts.
+        let (a, b, c, d) = unsafe {
+            let s = self.src;
+            (
+                *s.get_unchecked(r0 + i0),
+                *s.get_unchecked(r0 + i1),
+                *s.get_unchecked(r1 + i0),
+                *s.get_unchecked(r1 + i1),
+            )
+        };
+        (a, b, c, d, fx, fz)
     }
 }
+
+/// The row loops of one sampler type `$ty`: `$sample` (semi-Lagrangian: the bilinear sample
+/// at each departure point, offset by `-o` into sample coordinates, times `keep`; 0 on faces
+/// that are not free) and `$correct` (MacCormack: `back` holds φ̌ on entry and
+/// `(φ̂ + (φ − φ̌)/2)` clamped to the range of the four samples of φ around the departure
+/// point, times `keep`, on exit). Compiled for several SIMD levels, picked at run time; the
+/// same bits as the reference's sampler. A macro rather than a generic so each loop is
+/// written once and still compiles as plainly as a hand-written one.
+macro_rules! row_samplers {
+    ($ty:ident, $sample:ident, $correct:ident) => {
+        #[allow(clippy::too_many_arguments)]
+        #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+        #[cfg_attr(
+            windloom_static_simd,
+            multiversion(targets = "simd", dispatcher = "static")
+        )]
+        pub(super) fn $sample(
+            f: &$ty,
+            [ox, oz]: [f32; 2],
+            xs: &[f32],
+            zs: &[f32],
+            free: &[u8],
+            keep: f32,
+            out: &mut [f32],
+        ) {
+            let n = out.len();
+            let (xs, zs, free) = (&xs[..n], &zs[..n], &free[..n]);
+            for i in 0..n {
+                let (a, b, c, d, fx, fz) = f.corners(xs[i] - ox, zs[i] - oz);
+                let top = a + (b - a) * fx;
+                let bottom = c + (d - c) * fx;
+                let s = top + (bottom - top) * fz;
+                out[i] = if free[i] != 0 { s * keep } else { 0.0 };
+            }
+        }
+
+        #[allow(clippy::too_many_arguments)]
+        #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+        #[cfg_attr(
+            windloom_static_simd,
+            multiversion(targets = "simd", dispatcher = "static")
+        )]
+        pub(super) fn $correct(
+            f: &$ty,
+            [ox, oz]: [f32; 2],
+            xs: &[f32],
+            zs: &[f32],
+            free: &[u8],
+            fwd: &[f32],
+            orig: &[f32],
+            keep: f32,
+            back: &mut [f32],
+        ) {
+            let n = back.len();
+            let (xs, zs, free, fwd, orig) = (&xs[..n], &zs[..n], &free[..n], &fwd[..n], &orig[..n]);
+            for i in 0..n {
+                let (a, b, c, d, _, _) = f.corners(xs[i] - ox, zs[i] - oz);
+                let lo = a.min(b).min(c).min(d);
+                let hi = a.max(b).max(c).max(d);
+                let x = fwd[i] + 0.5 * (orig[i] - back[i]);
+                // `x.clamp(lo, hi)` without its `lo ≤ hi` assertion, which would keep the
+                // loop scalar (lo ≤ hi always holds here).
+                let x = if x < lo { lo } else { x };
+                let x = if x > hi { hi } else { x };
+                back[i] = if free[i] != 0 { x * keep } else { 0.0 };
+            }
+        }
+    };
+}
+
+row_samplers!(Clamped, sample_clamped, correct_clamped);
+row_samplers!(Wrapped, sample_wrapped, correct_wrapped);
