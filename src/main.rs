@@ -161,7 +161,8 @@ enum Command {
         /// Worker threads (default: all cores).
         #[arg(long)]
         threads: Option<usize>,
-        /// Layout to run (default: the bundled obstacles example, resized to the grid).
+        /// Layout to run, resized to the grid (default: the bundled obstacles example; `all`:
+        /// every bundled example in turn, printed as a JSON array with --json).
         #[arg(long)]
         layout: Option<PathBuf>,
         /// Advection scheme.
@@ -350,7 +351,43 @@ enum AdvectionArg {
     MacCormack,
 }
 
-const BENCH_LAYOUT: &str = include_str!("../layouts/obstacles.json");
+/// The bundled examples `bench --layout all` runs, first the default bench layout.
+const BENCH_LAYOUTS: [(&str, &str); 5] = [
+    (
+        "layouts/obstacles.json",
+        include_str!("../layouts/obstacles.json"),
+    ),
+    (
+        "layouts/meadow.json",
+        include_str!("../layouts/meadow.json"),
+    ),
+    (
+        "layouts/two-winds.json",
+        include_str!("../layouts/two-winds.json"),
+    ),
+    (
+        "layouts/breeze-fft.json",
+        include_str!("../layouts/breeze-fft.json"),
+    ),
+    (
+        "layouts/branching.json",
+        include_str!("../layouts/branching.json"),
+    ),
+];
+
+/// The layouts a solver bench runs: the one given, every bundled example for `all`, or the
+/// obstacles example.
+fn bench_layouts(layout: &Option<PathBuf>) -> anyhow::Result<Vec<(doc::Layout, String)>> {
+    let bundled = |(name, text): (&str, &str)| -> anyhow::Result<(doc::Layout, String)> {
+        let l = doc::parse(text).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        Ok((l, name.to_string()))
+    };
+    match layout {
+        Some(p) if p.as_os_str() == "all" => BENCH_LAYOUTS.into_iter().map(bundled).collect(),
+        Some(p) => Ok(vec![(io::load(p)?, p.display().to_string())]),
+        None => Ok(vec![bundled(BENCH_LAYOUTS[0])?]),
+    }
+}
 
 fn main() -> ExitCode {
     // `RUST_LOG=info` (or `wgpu=warn`, `windloom=debug`…) shows what eframe, wgpu and windloom
@@ -617,72 +654,79 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 }
                 return Ok(ExitCode::SUCCESS);
             }
-            let (mut l, name) = match &layout {
-                Some(p) => (io::load(p)?, p.display().to_string()),
-                None => (
-                    doc::parse(BENCH_LAYOUT).map_err(|e| anyhow::anyhow!("{e}"))?,
-                    "layouts/obstacles.json".to_string(),
-                ),
-            };
-            l.world.grid = [grid, grid];
-            l.sim.pressure_iterations = iterations;
-            l.sim.advection = match advection {
-                AdvectionArg::SemiLagrangian => doc::Advection::SemiLagrangian,
-                AdvectionArg::MacCormack => doc::Advection::MacCormack,
-            };
-            let issues = doc::validate(&l);
-            if let Some(i) = issues.first() {
-                anyhow::bail!("bench settings: {i}");
-            }
-            if backend == Backend::Gpu {
-                let ctx = windloom::gpu::GpuContext::headless()?;
-                let r = windloom::gpu::bench::run(&ctx, &l, &name, warmup, steps)?;
-                if json {
-                    println!("{}", serde_json::to_string(&r)?);
-                } else {
-                    println!(
-                        "{} {}x{}, {} Jacobi iterations, GPU {} ({}): median {:.2} ms, min {:.2} ms per step, {:.1} GB/s effective",
-                        r.layout,
-                        r.grid[0],
-                        r.grid[1],
-                        r.iterations,
-                        r.adapter.name,
-                        r.adapter.device_type,
-                        r.median_ms,
-                        r.min_ms,
-                        r.effective_gb_s
-                    );
-                    for (pass, ms) in &r.passes_ms {
-                        println!("  {pass:<12} {ms:8.3} ms (GPU timestamps)");
+            let many = layout.as_ref().is_some_and(|p| p.as_os_str() == "all");
+            let mut reports = Vec::new();
+            for (mut l, name) in bench_layouts(&layout)? {
+                l.world.grid = [grid, grid];
+                l.sim.pressure_iterations = iterations;
+                l.sim.advection = match advection {
+                    AdvectionArg::SemiLagrangian => doc::Advection::SemiLagrangian,
+                    AdvectionArg::MacCormack => doc::Advection::MacCormack,
+                };
+                let issues = doc::validate(&l);
+                if let Some(i) = issues.first() {
+                    anyhow::bail!("bench settings ({name}): {i}");
+                }
+                let report = if backend == Backend::Gpu {
+                    let ctx = windloom::gpu::GpuContext::headless()?;
+                    let r = windloom::gpu::bench::run(&ctx, &l, &name, warmup, steps)?;
+                    if !json {
+                        println!(
+                            "{} {}x{}, {} Jacobi iterations, GPU {} ({}): median {:.2} ms, min {:.2} ms per step, {:.1} GB/s effective",
+                            r.layout,
+                            r.grid[0],
+                            r.grid[1],
+                            r.iterations,
+                            r.adapter.name,
+                            r.adapter.device_type,
+                            r.median_ms,
+                            r.min_ms,
+                            r.effective_gb_s
+                        );
+                        for (pass, ms) in &r.passes_ms {
+                            println!("  {pass:<12} {ms:8.3} ms (GPU timestamps)");
+                        }
                     }
-                }
-                return Ok(ExitCode::SUCCESS);
+                    serde_json::to_value(&r)?
+                } else {
+                    let pool = rayon::ThreadPoolBuilder::new()
+                        .num_threads(threads.unwrap_or(0))
+                        .build()?;
+                    let report =
+                        pool.install(|| windloom::sim::bench::run_cpu(&l, &name, warmup, steps));
+                    if !json {
+                        println!(
+                            "{} {}x{}, {} Jacobi iterations, {} threads, {}: median {:.2} ms, min {:.2} ms per step",
+                            report.layout,
+                            report.grid[0],
+                            report.grid[1],
+                            report.iterations,
+                            report.threads,
+                            report.cpu_simd,
+                            report.median_ms,
+                            report.min_ms
+                        );
+                        for (pass, ms) in &report.passes_ms {
+                            let mb = report.passes_bytes[pass] as f64 / 1e6;
+                            println!("  {pass:<12} {ms:8.2} ms  {mb:9.1} MB");
+                        }
+                        println!(
+                            "  bandwidth {:.1} GB/s, bound {:.2} ms, ratio {:.2}",
+                            report.bandwidth_gb_s, report.bound_ms, report.ratio_to_bound
+                        );
+                    }
+                    serde_json::to_value(&report)?
+                };
+                reports.push(report);
             }
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads.unwrap_or(0))
-                .build()?;
-            let report = pool.install(|| windloom::sim::bench::run_cpu(&l, &name, warmup, steps));
             if json {
-                println!("{}", serde_json::to_string(&report)?);
-            } else {
-                println!(
-                    "{} {}x{}, {} Jacobi iterations, {} threads: median {:.2} ms, min {:.2} ms per step",
-                    report.layout,
-                    report.grid[0],
-                    report.grid[1],
-                    report.iterations,
-                    report.threads,
-                    report.median_ms,
-                    report.min_ms
-                );
-                for (pass, ms) in &report.passes_ms {
-                    let mb = report.passes_bytes[pass] as f64 / 1e6;
-                    println!("  {pass:<12} {ms:8.2} ms  {mb:9.1} MB");
-                }
-                println!(
-                    "  bandwidth {:.1} GB/s, bound {:.2} ms, ratio {:.2}",
-                    report.bandwidth_gb_s, report.bound_ms, report.ratio_to_bound
-                );
+                // One object for one layout; an array for `--layout all`.
+                let out = if many {
+                    serde_json::Value::Array(reports)
+                } else {
+                    reports.remove(0)
+                };
+                println!("{}", serde_json::to_string(&out)?);
             }
             Ok(ExitCode::SUCCESS)
         }

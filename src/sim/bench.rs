@@ -79,9 +79,21 @@ pub fn measure_bandwidth() -> f64 {
     (2 * n * 4) as f64 / best / 1e9
 }
 
-/// The widest SIMD extension this CPU reports (for the record beside a timing).
+/// The widest SIMD extension the solver's kernels use: the widest this CPU reports (they are
+/// picked at run time), or, in a `windloom_static_simd` build, the widest the build targets.
 pub fn cpu_simd() -> &'static str {
-    #[cfg(target_arch = "x86_64")]
+    // Kernels chosen at compile time: what the build targets, whatever the CPU has.
+    #[cfg(all(target_arch = "x86_64", windloom_static_simd))]
+    {
+        if cfg!(target_feature = "avx512f") {
+            return "avx512 (static)";
+        }
+        if cfg!(target_feature = "avx2") {
+            return "avx2 (static)";
+        }
+        "sse2 (static)"
+    }
+    #[cfg(all(target_arch = "x86_64", not(windloom_static_simd)))]
     {
         if std::arch::is_x86_feature_detected!("avx512f") {
             return "avx512";

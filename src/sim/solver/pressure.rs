@@ -134,7 +134,11 @@ impl Stencil {
 /// cell's `1 / Σw` (0 for cells outside the solve). Branch-free, so it vectorises; rows whose
 /// cells all have four fluid neighbours skip the flags (the same arithmetic, the same bits).
 #[allow(clippy::too_many_arguments)]
-#[multiversion(targets = "simd")]
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
 pub(super) fn jacobi_row(
     st: &Stencil,
     out: &mut [f32],
