@@ -714,6 +714,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                             "  bandwidth {:.1} GB/s, bound {:.2} ms, ratio {:.2}",
                             report.bandwidth_gb_s, report.bound_ms, report.ratio_to_bound
                         );
+                        println!(
+                            "  projection: RMS divergence {:.3e} -> {:.3e} (cut {:.1}x)",
+                            report.divergence_before,
+                            report.divergence_after,
+                            report.divergence_reduction
+                        );
                     }
                     serde_json::to_value(&report)?
                 };

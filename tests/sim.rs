@@ -852,6 +852,62 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
         "bound {bound} vs {want}"
     );
     assert!((j["ratio_to_bound"].as_f64().unwrap() - median / bound).abs() < 1e-9 * median / bound);
+    // The projection of a developed step cuts the divergence (4 Jacobi iterations: a little).
+    let (before, after) = (
+        j["divergence_before"].as_f64().unwrap(),
+        j["divergence_after"].as_f64().unwrap(),
+    );
+    assert!(before > 0.0 && after < before, "{before} -> {after}");
+    let cut = j["divergence_reduction"].as_f64().unwrap();
+    assert!((cut - before / after).abs() <= 1e-3 * cut, "{cut}");
+}
+
+/// `bench --layout all` runs every bundled example and prints a JSON array, one object each.
+#[test]
+fn bench_runs_every_example_as_a_json_array() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bench",
+            "--backend",
+            "cpu",
+            "--grid",
+            "32",
+            "--iterations",
+            "2",
+        ])
+        .args(["--steps", "1", "--warmup", "0", "--layout", "all", "--json"])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let names: Vec<&str> = j
+        .as_array()
+        .expect("an array")
+        .iter()
+        .map(|r| r["layout"].as_str().unwrap())
+        .collect();
+    for name in [
+        "obstacles.json",
+        "meadow.json",
+        "two-winds.json",
+        "breeze-fft.json",
+        "branching.json",
+    ] {
+        assert!(
+            names.iter().any(|n| n.ends_with(name)),
+            "{name} in {names:?}"
+        );
+    }
+    assert!(
+        j.as_array()
+            .unwrap()
+            .iter()
+            .all(|r| r["grid"] == serde_json::json!([32, 32]))
+    );
 }
 
 // ---- The GPU passes against the CPU ---------------------------------------------------------

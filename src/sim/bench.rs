@@ -34,6 +34,12 @@ pub struct BenchReport {
     pub bound_ms: f64,
     /// `median_ms / bound_ms`.
     pub ratio_to_bound: f64,
+    /// RMS divergence over fluid cells before the pressure solve and after the gradient
+    /// subtraction, in one more (untimed) step after the timed ones, and their ratio: how
+    /// much the projection cut the divergence in a step of the developed flow.
+    pub divergence_before: f32,
+    pub divergence_after: f32,
+    pub divergence_reduction: f32,
 }
 
 /// Bytes each pass must read and write for one step (see docs/PERFORMANCE.md).
@@ -143,6 +149,9 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
             *bytes.entry(name).or_default() += b * u64::from(s.params.substeps);
         }
     }
+    s.measure_projection = true;
+    s.step();
+    let (divergence_before, divergence_after) = s.projection.unwrap_or((0.0, 0.0));
     let n = steps.max(1) as u64;
     bytes.values_mut().for_each(|b| *b /= n);
     let bytes_per_step: u64 = bytes.values().sum();
@@ -169,5 +178,8 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         bandwidth_gb_s: bandwidth,
         bound_ms,
         ratio_to_bound: median_ms / bound_ms,
+        divergence_before,
+        divergence_after,
+        divergence_reduction: divergence_before / divergence_after.max(f32::MIN_POSITIVE),
     }
 }

@@ -115,6 +115,12 @@ pub struct Solver {
     pub timings: PassTimes,
     /// Faces the last forces pass visited (rows a splat or ambient layer reaches).
     pub force_faces: usize,
+    /// When set, each substep measures what its projection did: the RMS divergence over
+    /// fluid cells before the pressure solve and after the gradient subtraction, kept in
+    /// [`Self::projection`] (one extra divergence pass; the bench turns it on for one step).
+    pub measure_projection: bool,
+    /// `(before, after)` of the last measured substep.
+    pub projection: Option<(f32, f32)>,
 }
 
 impl Solver {
@@ -230,6 +236,8 @@ impl Solver {
             layout: layout.clone(),
             ambient: Ambient::new(layout),
             timings: PassTimes::default(),
+            measure_projection: false,
+            projection: None,
             force_faces: 0,
         }
     }
@@ -283,10 +291,14 @@ impl Solver {
         let t3 = Instant::now();
         self.compute_divergence();
         let t4 = Instant::now();
+        let before = self.measure_projection.then(|| self.fluid_rms(&self.div));
         self.solve_pressure();
         let t5 = Instant::now();
         self.subtract_gradient();
         let t6 = Instant::now();
+        if let Some(before) = before {
+            self.projection = Some((before, self.divergence_rms()));
+        }
         self.advect(dt);
         let t7 = Instant::now();
         self.time += dt;
@@ -577,8 +589,12 @@ impl Solver {
     /// Recomputes the divergence of the current field and returns its RMS over fluid cells.
     pub fn divergence_rms(&mut self) -> f32 {
         self.compute_divergence();
-        let (sum, n) = self
-            .div
+        self.fluid_rms(&self.div)
+    }
+
+    /// RMS of a cell field over the fluid cells.
+    fn fluid_rms(&self, field: &[f32]) -> f32 {
+        let (sum, n) = field
             .iter()
             .zip(&self.solid)
             .filter(|&(_, &s)| s == 0)
