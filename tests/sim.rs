@@ -791,21 +791,11 @@ fn random_extreme_layouts_run_10000_steps_finite_and_bounded() {
     }
 }
 
-/// `windloom bench --json` prints one JSON object with the fields the performance record
-/// needs, and its bound is the byte count over the bandwidth it measured.
-#[test]
-fn bench_prints_one_json_object_with_the_split_and_the_bound() {
+/// Runs `windloom bench --backend cpu … --json` with `args`; the output of a run that worked.
+fn bench(args: &[&str]) -> std::process::Output {
     let out = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
-        .args([
-            "bench",
-            "--backend",
-            "cpu",
-            "--grid",
-            "64",
-            "--iterations",
-            "4",
-        ])
-        .args(["--steps", "3", "--warmup", "1", "--threads", "2", "--json"])
+        .args(["bench", "--backend", "cpu", "--json"])
+        .args(args)
         .output()
         .unwrap();
     assert!(
@@ -813,6 +803,25 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
+    out
+}
+
+/// `windloom bench --json` prints one JSON object with the fields the performance record
+/// needs, and its bound is the byte count over the bandwidth it measured.
+#[test]
+fn bench_prints_one_json_object_with_the_split_and_the_bound() {
+    let out = bench(&[
+        "--grid",
+        "64",
+        "--iterations",
+        "4",
+        "--steps",
+        "3",
+        "--warmup",
+        "1",
+        "--threads",
+        "2",
+    ]);
     let text = String::from_utf8(out.stdout).unwrap();
     assert_eq!(text.trim().lines().count(), 1, "one line: {text}");
     let j: serde_json::Value = serde_json::from_str(&text).unwrap();
@@ -865,24 +874,18 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
 /// `bench --layout all` runs every bundled example and prints a JSON array, one object each.
 #[test]
 fn bench_runs_every_example_as_a_json_array() {
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
-        .args([
-            "bench",
-            "--backend",
-            "cpu",
-            "--grid",
-            "32",
-            "--iterations",
-            "2",
-        ])
-        .args(["--steps", "1", "--warmup", "0", "--layout", "all", "--json"])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = bench(&[
+        "--grid",
+        "32",
+        "--iterations",
+        "2",
+        "--steps",
+        "1",
+        "--warmup",
+        "0",
+        "--layout",
+        "all",
+    ]);
     let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     let names: Vec<&str> = j
         .as_array()

@@ -42,12 +42,17 @@ fn example(name: &str) -> Layout {
 }
 
 fn harness(doc: Layout) -> Harness<'static, EditorApp> {
+    harness_on(doc, None)
+}
+
+/// The editor on `doc`, read from `path` if given, paused, after its first frames.
+fn harness_on(doc: Layout, path: Option<std::path::PathBuf>) -> Harness<'static, EditorApp> {
     let mut h = Harness::builder()
         .with_size(egui::vec2(1280.0, 800.0))
         .with_max_steps(16)
         .wgpu()
         .build_eframe(move |cc| {
-            let mut app = EditorApp::new(doc, None, &cc.egui_ctx);
+            let mut app = EditorApp::new(doc, path, &cc.egui_ctx);
             app.live.set_playing(false);
             app
         });
@@ -819,18 +824,7 @@ fn a_file_changed_on_disk_is_offered_for_reload_and_never_overwritten_unasked() 
     let dir = tempfile::tempdir().unwrap();
     let level = dir.path().join("level.json");
     windloom::io::save(&level, &example("meadow.json")).unwrap();
-    let opened = level.clone();
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 800.0))
-        .with_max_steps(16)
-        .wgpu()
-        .build_eframe(move |cc| {
-            let doc = windloom::io::load(&opened).unwrap();
-            let mut app = EditorApp::new(doc, Some(opened), &cc.egui_ctx);
-            app.live.set_playing(false);
-            app
-        });
-    h.run_steps(3);
+    let mut h = harness_on(windloom::io::load(&level).unwrap(), Some(level.clone()));
     assert!(h.query_by_label("Reload").is_none(), "no change yet");
     // Our own save is not someone else's change.
     let ctx = h.ctx.clone();

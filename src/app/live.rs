@@ -718,6 +718,16 @@ mod tests {
         Some(GpuContext::from_parts(&adapter, device, queue).unwrap())
     }
 
+    /// An engine asked to run `layout` on `ctx`'s GPU (it may end up on the CPU: the tests
+    /// look at where and why).
+    fn gpu_engine(ctx: &GpuContext, layout: &Layout) -> Engine {
+        let mut e = Engine::new(layout);
+        e.ctx = Some(ctx.clone());
+        e.choice = BackendChoice::Gpu;
+        e.choose(layout);
+        e
+    }
+
     fn small_layout(n: u32) -> Layout {
         let mut l = crate::doc::default_layout();
         l.world.grid = [n, n];
@@ -732,10 +742,7 @@ mod tests {
     fn a_lost_device_moves_the_wind_to_the_cpu() {
         let Some(ctx) = gpu(|_| {}) else { return };
         let layout = small_layout(48);
-        let mut e = Engine::new(&layout);
-        e.ctx = Some(ctx.clone());
-        e.choice = BackendChoice::Gpu;
-        e.choose(&layout);
+        let mut e = gpu_engine(&ctx, &layout);
         assert!(e.gpu.is_some(), "on the GPU first: {:?}", e.notice);
         for _ in 0..5 {
             e.step();
@@ -767,10 +774,7 @@ mod tests {
             return;
         };
         let layout = small_layout(520);
-        let mut e = Engine::new(&layout);
-        e.ctx = Some(ctx.clone());
-        e.choice = BackendChoice::Gpu;
-        e.choose(&layout);
+        let mut e = gpu_engine(&ctx, &layout);
         assert!(e.gpu.is_none());
         let notice = e.notice.clone().unwrap_or_default();
         assert!(
@@ -796,10 +800,7 @@ mod tests {
             return;
         };
         let layout = small_layout(64);
-        let mut e = Engine::new(&layout);
-        e.ctx = Some(ctx.clone());
-        e.choice = BackendChoice::Gpu;
-        e.choose(&layout);
+        let mut e = gpu_engine(&ctx, &layout);
         assert!(e.gpu.is_none());
         let notice = e.notice.clone().unwrap_or_default();
         assert!(
