@@ -162,6 +162,13 @@ fn spacing(xs: &[f32]) -> f32 {
 
 /// `out[k] = gradient_noise(xs[k], y, seed)` for increasing `xs`: the lattice row and the
 /// fade across it once, each lattice point's gradient once, and per sample only the blend.
+/// Compiled for several SIMD levels as a whole, so the blend of each short run inlines
+/// rather than paying a dispatch per run (runs are a few faces long on coarse grids).
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
 fn noise_row(xs: &[f32], y: f32, seed: u32, out: &mut [f32]) {
     let yi = y.floor();
     let fy = y - yi;
@@ -185,11 +192,7 @@ fn noise_row(xs: &[f32], y: f32, seed: u32, out: &mut [f32]) {
 }
 
 /// The blend of [`gradient_noise`](super::gradient_noise) for samples in one lattice cell.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[inline(always)]
 fn blend(xs: &[f32], xi: f32, fy: f32, fv: f32, g: &Corners, out: &mut [f32]) {
     for (o, &x) in out.iter_mut().zip(xs) {
         let fx = x - xi;
@@ -208,6 +211,11 @@ fn blend(xs: &[f32], xi: f32, fy: f32, fv: f32, g: &Corners, out: &mut [f32]) {
 /// [`FftGusts::sample`] computes it: the row of texels once, the samples wrapped in one
 /// vectorised loop, then per run of samples inside one texel only the blend.
 #[allow(clippy::too_many_arguments)]
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
 fn fft_row(
     f: &FftGusts,
     xs: &[f32],
@@ -267,11 +275,7 @@ struct FftConstants {
 
 /// The bilinear blend of one texel's four values `[x0z0, x1z0, x0z1, x1z1]` for the samples
 /// in it, added to `out` as the layer's part.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[inline(always)]
 fn fft_blend(xw: &[f32], t: &[f32; 4], c: &FftConstants, out: &mut [f32]) {
     for (o, &x) in out.iter_mut().zip(xw) {
         let fx = x - c.xf;
