@@ -655,6 +655,14 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 return Ok(ExitCode::SUCCESS);
             }
             let many = layout.as_ref().is_some_and(|p| p.as_os_str() == "all");
+            // One device (or one thread pool) for every layout of the run.
+            let ctx = match backend {
+                Backend::Gpu => Some(windloom::gpu::GpuContext::headless()?),
+                _ => None,
+            };
+            let pool = rayon::ThreadPoolBuilder::new()
+                .num_threads(threads.unwrap_or(0))
+                .build()?;
             let mut reports = Vec::new();
             for (mut l, name) in bench_layouts(&layout)? {
                 l.world.grid = [grid, grid];
@@ -667,9 +675,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 if let Some(i) = issues.first() {
                     anyhow::bail!("bench settings ({name}): {i}");
                 }
-                let report = if backend == Backend::Gpu {
-                    let ctx = windloom::gpu::GpuContext::headless()?;
-                    let r = windloom::gpu::bench::run(&ctx, &l, &name, warmup, steps)?;
+                let report = if let Some(ctx) = &ctx {
+                    let r = windloom::gpu::bench::run(ctx, &l, &name, warmup, steps)?;
                     if !json {
                         println!(
                             "{} {}x{}, {} Jacobi iterations, GPU {} ({}): median {:.2} ms, min {:.2} ms per step, {:.1} GB/s effective",
@@ -689,9 +696,6 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     }
                     serde_json::to_value(&r)?
                 } else {
-                    let pool = rayon::ThreadPoolBuilder::new()
-                        .num_threads(threads.unwrap_or(0))
-                        .build()?;
                     let report =
                         pool.install(|| windloom::sim::bench::run_cpu(&l, &name, warmup, steps));
                     if !json {

@@ -27,15 +27,21 @@ pub struct GpuSolver {
 impl GpuSolver {
     /// A GPU solver for `layout` at rest (the layout must be valid).
     pub fn new(ctx: &GpuContext, layout: &Layout) -> Result<Self, GpuError> {
+        // Checked before the CPU solver that seeds it is made (a refused grid can be large).
         let [nx, ny] = layout.world.grid;
         fits(ctx, nx as usize, ny as usize)?;
-        Self::from_solver(ctx, layout, &Solver::new(layout))
+        Self::build(ctx, layout, &Solver::new(layout))
     }
 
     /// A GPU solver that takes over `cpu`'s running field (velocity, pressure, time).
     /// `layout` must be the one `cpu` was made from.
     pub fn from_solver(ctx: &GpuContext, layout: &Layout, cpu: &Solver) -> Result<Self, GpuError> {
         fits(ctx, cpu.nx, cpu.ny)?;
+        Self::build(ctx, layout, cpu)
+    }
+
+    /// [`Self::from_solver`] once the grid is known to fit.
+    fn build(ctx: &GpuContext, layout: &Layout, cpu: &Solver) -> Result<Self, GpuError> {
         if let Some(f) = ctx.fault() {
             return Err(faulted(f));
         }

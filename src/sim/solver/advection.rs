@@ -132,10 +132,9 @@ pub(super) fn wrap_coordinate(t: f32, p: f32) -> f32 {
 #[inline]
 pub(super) fn axis(x: f32, n: usize, period: usize, periodic: bool) -> (usize, usize, f32) {
     if periodic {
-        let x = wrap_coordinate(x, period as f32);
-        let i0 = (x.floor() as usize).min(period - 1);
-        let f = x - i0 as f32;
-        (i0, (i0 + 1) % period, f)
+        // The same wrap as the vectorised periodic sampler.
+        let (i0, i1, f) = wrap(x, period as f32, period as i32);
+        (i0 as usize, i1 as usize, f)
     } else {
         let x = x.clamp(0.0, (n - 1) as f32);
         let i0 = (x.floor() as usize).min(n.saturating_sub(2));

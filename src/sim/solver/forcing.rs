@@ -115,12 +115,20 @@ impl Forcing<'_> {
         let w = if is_v { g.nx } else { g.nx + 1 };
         let c = usize::from(is_v);
         let ox = if is_v { 0.5 } else { 0.0 };
+        // World x of the faces of a row: the same for every row, so made once per pass.
+        let xs: Vec<f32> = if self.coupling > 0.0 {
+            (0..w as i32)
+                .map(|i| self.origin[0] + (i as f32 + ox) * g.hx)
+                .collect()
+        } else {
+            Vec::new()
+        };
         inc.par_chunks_mut(w)
             .enumerate()
             .with_min_len(rows_per_job(w))
             .map_init(
-                || (RowScratch::default(), Vec::new(), Vec::new()),
-                |(scratch, xs, target), (j, row)| {
+                || (RowScratch::default(), Vec::new()),
+                |(scratch, target), (j, row)| {
                     let reach = self.row_reach(j, w, is_v);
                     if reach.is_empty() {
                         return reach;
@@ -140,10 +148,8 @@ impl Forcing<'_> {
                     }
                     if self.coupling > 0.0 {
                         // The ambient target along the whole row at once, then the pull.
-                        xs.clear();
-                        xs.extend((0..w as i32).map(|i| self.origin[0] + (i as f32 + ox) * g.hx));
                         target.resize(w, 0.0);
-                        self.ambient.component_row(c, z_world, xs, target, scratch);
+                        self.ambient.component_row(c, z_world, &xs, target, scratch);
                         let own = if is_v {
                             &v[j * w..][..w]
                         } else {

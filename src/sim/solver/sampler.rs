@@ -89,10 +89,11 @@ impl<'a> Wrapped<'a> {
     }
 }
 
-/// Sample index and fraction along a periodic axis of period `p` (`n` as an integer), as
-/// [`axis`] computes them, with selects instead of the integer modulo so the loops vectorise.
+/// Sample index and fraction along a periodic axis of period `p` (`n` as an integer): the
+/// coordinate wrapped, its sample clamped into the period (NaN gives 0) and the next one,
+/// with selects instead of an integer modulo so the loops vectorise. [`axis`] uses it too.
 #[inline(always)]
-fn wrap(t: f32, p: f32, n: i32) -> (i32, i32, f32) {
+pub(super) fn wrap(t: f32, p: f32, n: i32) -> (i32, i32, f32) {
     let t = wrap_coordinate(t, p);
     // `t` lies in [0, p] (NaN converts to 0), so the clamp is what `as usize` and `min` did.
     let i0 = (t as i32).clamp(0, n - 1);
