@@ -1846,15 +1846,8 @@ mod gpu {
                 right[2] > 120 && right[0] < 60,
                 "the blue half on the right: {right:?}"
             );
-            // Without the backdrop, soil.
+            // Without the backdrop (the same picture otherwise), soil.
             l.world.map = None;
-            let options = windloom::gpu::grass::PictureOptions {
-                size: [w, h],
-                time: 0.0,
-                camera: Some(camera),
-                paper_literal: false,
-                push: None,
-            };
             let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
             let soil = &px[(((h / 2) * w + w / 4) * 4) as usize..][..3];
             assert!(
@@ -2225,30 +2218,8 @@ mod gpu {
                 });
                 r.paint(&mut pass);
             }
-            let row = (w * 4).div_ceil(256) * 256;
-            let out = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("map test pixels"),
-                size: u64::from(row * h),
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            enc.copy_texture_to_buffer(
-                target.as_image_copy(),
-                wgpu::TexelCopyBufferInfo {
-                    buffer: &out,
-                    layout: wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(row),
-                        rows_per_image: Some(h),
-                    },
-                },
-                target.size(),
-            );
             queue.submit([enc.finish()]);
-            let bytes = windloom::gpu::read_buffer(device, queue, &out).unwrap();
-            (0..h as usize)
-                .flat_map(|y| bytes[y * row as usize..][..w as usize * 4].to_vec())
-                .collect()
+            windloom::gpu::read_texture(device, queue, &target, 4).unwrap()
         }
 
         /// Every pixel of the GPU colour map (speed, and pressure) is the colour the CPU

@@ -57,10 +57,6 @@ impl Watch {
         }
     }
 
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
     /// Looks at the file: a change not seen before, if any. A rewrite with the same content
     /// (a `touch`, a save of identical text) is not a change. Each change is reported once.
     pub fn check(&mut self) -> Option<Change> {
