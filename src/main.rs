@@ -168,6 +168,12 @@ enum Command {
         /// Advection scheme.
         #[arg(long, value_enum, default_value_t = AdvectionArg::SemiLagrangian)]
         advection: AdvectionArg,
+        /// Pressure solve: Jacobi (--iterations sweeps) or multigrid (--cycles V-cycles).
+        #[arg(long, value_enum, default_value_t = PressureArg::Jacobi)]
+        pressure: PressureArg,
+        /// Multigrid V-cycles per step (with --pressure multigrid).
+        #[arg(long, default_value_t = 2)]
+        cycles: u32,
         /// Print one JSON object instead of a table.
         #[arg(long)]
         json: bool,
@@ -349,6 +355,12 @@ impl GrassModelArg {
 enum AdvectionArg {
     SemiLagrangian,
     MacCormack,
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+enum PressureArg {
+    Jacobi,
+    Multigrid,
 }
 
 /// The bundled examples `bench --layout all` runs, first the default bench layout.
@@ -603,6 +615,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             threads,
             layout,
             advection,
+            pressure,
+            cycles,
             json,
             grass,
             model,
@@ -667,6 +681,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             for (mut l, name) in bench_layouts(&layout)? {
                 l.world.grid = [grid, grid];
                 l.sim.pressure_iterations = iterations;
+                l.sim.pressure_cycles = cycles;
+                l.sim.pressure = match pressure {
+                    PressureArg::Jacobi => doc::PressureSolve::Jacobi,
+                    PressureArg::Multigrid => doc::PressureSolve::Multigrid,
+                };
                 l.sim.advection = match advection {
                     AdvectionArg::SemiLagrangian => doc::Advection::SemiLagrangian,
                     AdvectionArg::MacCormack => doc::Advection::MacCormack,
@@ -679,11 +698,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     let r = windloom::gpu::bench::run(ctx, &l, &name, warmup, steps)?;
                     if !json {
                         println!(
-                            "{} {}x{}, {} Jacobi iterations, GPU {} ({}): median {:.2} ms, min {:.2} ms per step, {:.1} GB/s effective",
+                            "{} {}x{}, {}, GPU {} ({}): median {:.2} ms, min {:.2} ms per step, {:.1} GB/s effective",
                             r.layout,
                             r.grid[0],
                             r.grid[1],
-                            r.iterations,
+                            r.solve,
                             r.adapter.name,
                             r.adapter.device_type,
                             r.median_ms,
@@ -700,11 +719,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         pool.install(|| windloom::sim::bench::run_cpu(&l, &name, warmup, steps));
                     if !json {
                         println!(
-                            "{} {}x{}, {} Jacobi iterations, {} threads, {}: median {:.2} ms, min {:.2} ms per step",
+                            "{} {}x{}, {}, {} threads, {}: median {:.2} ms, min {:.2} ms per step",
                             report.layout,
                             report.grid[0],
                             report.grid[1],
-                            report.iterations,
+                            report.solve,
                             report.threads,
                             report.cpu_simd,
                             report.median_ms,

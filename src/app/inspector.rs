@@ -365,9 +365,31 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
     let mut s = app.doc.sim;
     let mut changed = false;
     egui::Grid::new("sim").num_columns(2).show(ui, |ui| {
-        changed |= row(ui, "Pressure iterations", |ui| {
-            ui.add(egui::Slider::new(&mut s.pressure_iterations, 1..=200))
-        });
+        let l = ui.label("Pressure solve");
+        egui::ComboBox::from_id_salt("pressure")
+            .selected_text(format!("{:?}", s.pressure))
+            .show_ui(ui, |ui| {
+                for p in [doc::PressureSolve::Jacobi, doc::PressureSolve::Multigrid] {
+                    changed |= ui
+                        .selectable_value(&mut s.pressure, p, format!("{p:?}"))
+                        .changed();
+                }
+            })
+            .response
+            .labelled_by(l.id)
+            .on_hover_text(
+                "Jacobi: cheap sweeps that leave large-scale divergence on big grids. \
+                 Multigrid: V-cycles that remove it at every scale.",
+            );
+        ui.end_row();
+        changed |= match s.pressure {
+            doc::PressureSolve::Jacobi => row(ui, "Pressure iterations", |ui| {
+                ui.add(egui::Slider::new(&mut s.pressure_iterations, 1..=200))
+            }),
+            doc::PressureSolve::Multigrid => row(ui, "V-cycles", |ui| {
+                ui.add(egui::Slider::new(&mut s.pressure_cycles, 1..=20))
+            }),
+        };
         changed |= row(ui, "Vorticity", |ui| {
             ui.add(egui::Slider::new(&mut s.vorticity, 0.0..=20.0))
         });

@@ -11,8 +11,8 @@ pub use parse::{Diagnostic, Diagnostics, parse, schema, to_json};
 pub use types::*;
 pub use validate::{
     COORD_MAX, DT_MAX, DT_MIN, GRID_AXIS_MAX, GRID_AXIS_MIN, GRID_MEMORY_BUDGET, Issue, LENGTH_MIN,
-    RADIUS_MAX, SOLVER_BYTES_PER_CELL, STRENGTH_MAX, WORLD_SIZE_MAX, WORLD_SIZE_MIN, for_each_ear,
-    grid_memory, polygon_area, validate,
+    MULTIGRID_BYTES_PER_CELL, RADIUS_MAX, SOLVER_BYTES_PER_CELL, STRENGTH_MAX, WORLD_SIZE_MAX,
+    WORLD_SIZE_MIN, for_each_ear, grid_memory, polygon_area, validate,
 };
 
 /// The bundled default layout (`layouts/meadow.json`), embedded in the binary.

@@ -266,8 +266,12 @@ pub struct SimParams {
     pub dt: f32,
     /// Solver substeps per step (each of `dt / substeps`).
     pub substeps: u32,
-    /// Jacobi iterations per projection.
+    /// How the projection solves for pressure: Jacobi iterations or multigrid V-cycles.
+    pub pressure: PressureSolve,
+    /// Jacobi iterations per projection (`pressure = "jacobi"`).
     pub pressure_iterations: u32,
+    /// V-cycles per projection (`pressure = "multigrid"`).
+    pub pressure_cycles: u32,
     /// Warm start: the previous pressure is multiplied by this (0 = cold start).
     pub pressure_decay: f32,
     /// Vorticity confinement strength ε in `f = ε·h·w·N̂` (h the cell size in metres). The
@@ -289,7 +293,9 @@ impl Default for SimParams {
         Self {
             dt: 1.0 / 60.0,
             substeps: 1,
+            pressure: PressureSolve::Jacobi,
             pressure_iterations: 20,
+            pressure_cycles: 2,
             pressure_decay: 0.8,
             vorticity: 2.0,
             velocity_dissipation: 0.2,
@@ -299,6 +305,18 @@ impl Default for SimParams {
             advection: Advection::SemiLagrangian,
         }
     }
+}
+
+/// The pressure solve of each projection.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum PressureSolve {
+    /// `pressure_iterations` Jacobi sweeps: cheap, but they remove only the divergence that
+    /// varies over a few cells, so large grids keep much of the rest.
+    #[default]
+    Jacobi,
+    /// `pressure_cycles` multigrid V-cycles: every scale of the divergence at once.
+    Multigrid,
 }
 
 /// What happens at the edge of the world.

@@ -7,6 +7,10 @@ use std::fmt;
 /// The solver's working memory per grid cell in bytes (velocity faces, temporaries, pressure,
 /// divergence, curl, solid mask). The CPU solver checks its own allocation against this.
 pub const SOLVER_BYTES_PER_CELL: u64 = 56;
+/// What the multigrid hierarchy adds per grid cell (`sim.pressure = "multigrid"`): the fine
+/// level's links and diagonal (16) and the coarser levels' links and unknowns (at most 28 over
+/// all of them, when every level halves one axis only).
+pub const MULTIGRID_BYTES_PER_CELL: u64 = 44;
 /// Largest solver memory a layout may ask for: 2 GiB.
 pub const GRID_MEMORY_BUDGET: u64 = 2 << 30;
 /// Grid axes must lie in this range.
@@ -46,9 +50,13 @@ impl fmt::Display for Issue {
     }
 }
 
-/// Bytes the solver needs for an `nx × ny` grid.
-pub fn grid_memory(grid: [u32; 2]) -> u64 {
-    u64::from(grid[0]) * u64::from(grid[1]) * SOLVER_BYTES_PER_CELL
+/// Bytes the solver needs for an `nx × ny` grid with the given pressure solve.
+pub fn grid_memory(grid: [u32; 2], pressure: PressureSolve) -> u64 {
+    let per_cell = match pressure {
+        PressureSolve::Jacobi => SOLVER_BYTES_PER_CELL,
+        PressureSolve::Multigrid => SOLVER_BYTES_PER_CELL + MULTIGRID_BYTES_PER_CELL,
+    };
+    u64::from(grid[0]) * u64::from(grid[1]) * per_cell
 }
 
 /// A number as a person reads it: `0.5`, `-120`, but `3e38` and `1e-40` rather than forty
@@ -171,7 +179,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
             format!("must be {VERSION} once loaded, got {}", layout.version),
         );
     }
-    check_world(&mut c, &layout.world);
+    check_world(&mut c, &layout.world, layout.sim.pressure);
 
     let mut tree_ids = HashMap::new();
     let mut node_ids = HashMap::new();
@@ -318,7 +326,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
     c.issues
 }
 
-fn check_world(c: &mut Checker, w: &World) {
+fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
     c.positive_from("world.size[0]", w.size[0], WORLD_SIZE_MIN, WORLD_SIZE_MAX);
     c.positive_from("world.size[1]", w.size[1], WORLD_SIZE_MIN, WORLD_SIZE_MAX);
     c.point("world.origin", w.origin);
@@ -332,7 +340,7 @@ fn check_world(c: &mut Checker, w: &World) {
             );
         }
     }
-    let bytes = grid_memory(w.grid);
+    let bytes = grid_memory(w.grid, pressure);
     if axes_ok && bytes > GRID_MEMORY_BUDGET {
         c.push(
             "world.grid",
@@ -377,6 +385,12 @@ fn check_sim(c: &mut Checker, s: &SimParams) {
         c.push(
             "sim.substeps",
             format!("must be between 1 and 16, got {}", s.substeps),
+        );
+    }
+    if !(1..=20).contains(&s.pressure_cycles) {
+        c.push(
+            "sim.pressure_cycles",
+            format!("must be between 1 and 20, got {}", s.pressure_cycles),
         );
     }
     if !(1..=1000).contains(&s.pressure_iterations) {

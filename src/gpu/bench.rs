@@ -27,6 +27,11 @@ pub struct GpuBenchReport {
     pub layout: String,
     pub grid: [usize; 2],
     pub iterations: u32,
+    /// The pressure solve: `jacobi` or `multigrid`, with its V-cycles per projection.
+    pub pressure: crate::doc::PressureSolve,
+    pub cycles: u32,
+    /// The same in words, e.g. "20 Jacobi iterations" or "2 multigrid V-cycles".
+    pub solve: String,
     pub steps: usize,
     /// Milliseconds per step, submission to completion, median and best.
     pub median_ms: f64,
@@ -86,6 +91,9 @@ pub fn run(
         layout: name.to_string(),
         grid: [s.nx, s.ny],
         iterations: layout.sim.pressure_iterations,
+        pressure: layout.sim.pressure,
+        cycles: layout.sim.pressure_cycles,
+        solve: crate::sim::bench::solve_words(&layout.sim),
         steps: steps.max(1),
         median_ms,
         min_ms: totals.iter().copied().fold(f64::MAX, f64::min),

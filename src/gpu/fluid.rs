@@ -6,6 +6,8 @@
 //! semi-Lagrangian and limited MacCormack advection with dissipation, and the periodic face
 //! sync — with every boundary mode and obstacle masks. See `docs/SOLVER.md`.
 
+use super::multigrid::{Fine, GpuMultigrid};
+use crate::doc::{Boundary, PressureSolve};
 use crate::sim::Solver;
 use crate::sim::forces::{ArrowSplat, LayerParams};
 use crate::sim::solver::MAX_SPEED;
@@ -99,6 +101,13 @@ pub struct GpuFluid {
     gusts: wgpu::Buffer,
     kernels: std::collections::HashMap<&'static str, Kernel>,
     bind_groups: std::sync::Mutex<BindGroups>,
+    /// The pressure solve [`Self::pressure`] records, and the multigrid V-cycles.
+    pub pressure_solve: PressureSolve,
+    pub pressure_cycles: usize,
+    /// What the multigrid hierarchy is built from (on first use): the pressure flags, cell
+    /// size and boundary of the CPU solver this was made from.
+    mg_source: (Vec<u8>, [f32; 2], Boundary),
+    multigrid: std::sync::OnceLock<GpuMultigrid>,
     profiler: std::sync::Mutex<Option<Profiler>>,
 }
 
@@ -121,7 +130,7 @@ fn pass_of(kernel: &str) -> &'static str {
         "curl" => "curl",
         "force" | "apply_u" | "apply_v" => "confinement",
         "divergence" => "divergence",
-        "decay" | "main" => "pressure",
+        "decay" | "main" | "mg_smooth" | "mg_restrict" | "mg_prolong" => "pressure",
         "u_faces" | "v_faces" => "gradient",
         "sync_u" | "sync_v" => "periodic",
         _ => "advection",
@@ -267,6 +276,10 @@ impl GpuFluid {
             kernels,
             bind_groups: Default::default(),
             profiler: Default::default(),
+            pressure_solve: sp.pressure,
+            pressure_cycles: sp.pressure_cycles as usize,
+            mg_source: (solver.flags.clone(), [solver.hx, solver.hz], sp.boundary),
+            multigrid: Default::default(),
         }
     }
 
@@ -377,29 +390,19 @@ impl GpuFluid {
                 entries: &entries,
             })
         });
-        let mut profiler = self.profiler.lock().unwrap_or_else(|e| e.into_inner());
-        let timestamp_writes = profiler.as_mut().and_then(|p| {
-            let n = p.passes.len() as u32;
-            (n < PROFILED_DISPATCHES).then(|| {
-                p.passes.push(pass_of(kernel));
-                wgpu::ComputePassTimestampWrites {
-                    query_set: &p.set,
-                    beginning_of_pass_write_index: Some(2 * n),
-                    end_of_pass_write_index: Some(2 * n + 1),
-                }
-            })
+        self.with_timestamps(kernel, &mut |timestamp_writes| {
+            let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(kernel),
+                timestamp_writes,
+            });
+            pass.set_pipeline(&k.pipeline);
+            pass.set_bind_group(0, &*group, &[]);
+            if y == 1 {
+                pass.dispatch_workgroups(groups(x, 64), 1, 1);
+            } else {
+                pass.dispatch_workgroups(groups(x, 8), groups(y, 8), 1);
+            }
         });
-        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-            label: Some(kernel),
-            timestamp_writes,
-        });
-        pass.set_pipeline(&k.pipeline);
-        pass.set_bind_group(0, &*group, &[]);
-        if y == 1 {
-            pass.dispatch_workgroups(groups(x, 64), 1, 1);
-        } else {
-            pass.dispatch_workgroups(groups(x, 8), groups(y, 8), 1);
-        }
     }
 
     /// Starts timing every dispatch with timestamp queries; false when the device cannot.
@@ -631,8 +634,9 @@ impl GpuFluid {
         self.dispatch(device, enc, "divergence", &b, (self.nx, self.ny));
     }
 
-    /// Records the pressure solve: the warm start's decay, then `iterations` Jacobi sweeps.
-    /// Twin of [`Solver::solve_pressure`].
+    /// Records the pressure solve: the warm start's decay, then `iterations` Jacobi sweeps or
+    /// (`pressure_solve` multigrid) `pressure_cycles` V-cycles. Twin of
+    /// [`Solver::solve_pressure`].
     pub fn pressure(
         &self,
         device: &wgpu::Device,
@@ -641,6 +645,19 @@ impl GpuFluid {
     ) {
         let (nx, ny) = (self.nx, self.ny);
         self.dispatch(device, enc, "decay", &[(6, &self.p)], (nx * ny, 1));
+        if self.pressure_solve == PressureSolve::Multigrid {
+            let stamp =
+                |kernel: &str, f: &mut dyn FnMut(Option<wgpu::ComputePassTimestampWrites<'_>>)| {
+                    self.with_timestamps(kernel, f)
+                };
+            let fine = Fine {
+                stamp: &stamp,
+                ..self.fine()
+            };
+            self.multigrid(device)
+                .record_cycles(device, enc, fine, self.pressure_cycles);
+            return;
+        }
         for k in 0..iterations {
             let (from, to) = if k % 2 == 0 {
                 (&self.p, &self.p_tmp)
@@ -659,6 +676,45 @@ impl GpuFluid {
         if iterations % 2 == 1 {
             enc.copy_buffer_to_buffer(&self.p_tmp, 0, &self.p, 0, self.p.size());
         }
+    }
+
+    /// The multigrid hierarchy, built and uploaded on first use.
+    pub fn multigrid(&self, device: &wgpu::Device) -> &GpuMultigrid {
+        self.multigrid.get_or_init(|| {
+            let (flags, [hx, hz], boundary) = &self.mg_source;
+            GpuMultigrid::new(device, (self.nx, self.ny), (*hx, *hz), flags, *boundary)
+        })
+    }
+
+    /// The finest level's arrays of the multigrid solve (tests drive single passes on them).
+    pub fn fine(&self) -> Fine<'_> {
+        Fine {
+            p: &self.p,
+            p_tmp: &self.p_tmp,
+            div: &self.div,
+            stamp: &super::multigrid::no_stamp,
+        }
+    }
+
+    /// Calls `f` with the timestamp writes for a pass of `kernel` when profiling.
+    fn with_timestamps(
+        &self,
+        kernel: &str,
+        f: &mut dyn FnMut(Option<wgpu::ComputePassTimestampWrites<'_>>),
+    ) {
+        let mut profiler = self.profiler.lock().unwrap_or_else(|e| e.into_inner());
+        let timestamp_writes = profiler.as_mut().and_then(|p| {
+            let n = p.passes.len() as u32;
+            (n < PROFILED_DISPATCHES).then(|| {
+                p.passes.push(pass_of(kernel));
+                wgpu::ComputePassTimestampWrites {
+                    query_set: &p.set,
+                    beginning_of_pass_write_index: Some(2 * n),
+                    end_of_pass_write_index: Some(2 * n + 1),
+                }
+            })
+        });
+        f(timestamp_writes);
     }
 
     /// Records the gradient subtraction. Twin of [`Solver::subtract_gradient`].

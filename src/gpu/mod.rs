@@ -8,6 +8,7 @@ mod context;
 pub mod fluid;
 pub mod grass;
 pub mod mapview;
+pub mod multigrid;
 mod solver;
 
 pub use context::{GpuContext, GpuError, Submitter, device_descriptor, is_software};

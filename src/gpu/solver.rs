@@ -120,6 +120,8 @@ impl GpuSolver {
         let dt = self.params.dt / n as f32;
         let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
         let iterations = self.params.pressure_iterations as usize;
+        self.fluid.pressure_solve = self.params.pressure;
+        self.fluid.pressure_cycles = self.params.pressure_cycles as usize;
         let maccormack = self.params.advection == Advection::MacCormack;
         for _ in 0..n {
             let splats = agc_splats(&self.layout, self.time);

@@ -3,7 +3,8 @@
 //! can be compared with the bandwidth bound. Speed is measured here, never asserted in tests.
 
 use super::Solver;
-use crate::doc::{Advection, Layout};
+use super::solver::Multigrid;
+use crate::doc::{Advection, Layout, PressureSolve};
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -15,6 +16,11 @@ pub struct BenchReport {
     pub layout: String,
     pub grid: [usize; 2],
     pub iterations: u32,
+    /// The pressure solve: `jacobi` or `multigrid`, with its V-cycles per projection.
+    pub pressure: PressureSolve,
+    pub cycles: u32,
+    /// The same in words, e.g. "20 Jacobi iterations" or "2 multigrid V-cycles".
+    pub solve: String,
     pub steps: usize,
     pub threads: usize,
     /// The widest SIMD extension the CPU reports; the vectorised kernels are compiled for
@@ -42,6 +48,14 @@ pub struct BenchReport {
     pub divergence_reduction: f32,
 }
 
+/// The pressure solve in words.
+pub fn solve_words(p: &crate::doc::SimParams) -> String {
+    match p.pressure {
+        PressureSolve::Jacobi => format!("{} Jacobi iterations", p.pressure_iterations),
+        PressureSolve::Multigrid => format!("{} multigrid V-cycles", p.pressure_cycles),
+    }
+}
+
 /// Bytes each pass must read and write for one step (see docs/PERFORMANCE.md).
 pub fn pass_bytes(s: &Solver, force_faces: usize) -> Vec<(&'static str, u64)> {
     let c = (s.nx * s.ny) as u64;
@@ -61,10 +75,28 @@ pub fn pass_bytes(s: &Solver, force_faces: usize) -> Vec<(&'static str, u64)> {
         ("curl", 4 * f + 5 * c),
         ("confinement", confinement),
         ("divergence", 4 * f + 5 * c),
-        ("pressure", 8 * c + 13 * c * k),
+        ("pressure", pressure_bytes(s, k)),
         ("gradient", 4 * c + 9 * f),
         ("advection", advection),
     ]
+}
+
+/// Bytes of one projection's pressure solve: Jacobi's warm start and `k` iterations, or the
+/// multigrid V-cycles (see [`Multigrid::cycle_bytes`]).
+fn pressure_bytes(s: &Solver, k: u64) -> u64 {
+    let c = (s.nx * s.ny) as u64;
+    match s.params.pressure {
+        PressureSolve::Jacobi => 8 * c + 13 * c * k,
+        PressureSolve::Multigrid => {
+            let cycles = u64::from(s.params.pressure_cycles);
+            let per_cycle = match &s.multigrid {
+                Some(mg) => mg.cycle_bytes(),
+                None => Multigrid::new(s.nx, s.ny, s.hx, s.hz, &s.flags, s.params.boundary)
+                    .cycle_bytes(),
+            };
+            cycles * per_cycle
+        }
+    }
 }
 
 /// Best-of-five parallel copy bandwidth over 2 × 256 MiB, in GB/s (read + write bytes).
@@ -163,6 +195,9 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         layout: name.to_string(),
         grid: [s.nx, s.ny],
         iterations: s.params.pressure_iterations,
+        pressure: s.params.pressure,
+        cycles: s.params.pressure_cycles,
+        solve: solve_words(&s.params),
         steps: steps.max(1),
         threads: rayon::current_num_threads(),
         cpu_simd: cpu_simd(),

@@ -11,7 +11,7 @@
 
 use super::forces::{Ambient, ArrowSplat, agc_splats};
 use super::obstacles;
-use crate::doc::{Advection, Boundary, Layout, SOLVER_BYTES_PER_CELL, SimParams};
+use crate::doc::{Advection, Boundary, Layout, PressureSolve, SimParams, grid_memory};
 use multiversion::multiversion;
 use rayon::prelude::*;
 use std::ops::{Range, RangeInclusive};
@@ -19,11 +19,13 @@ use std::time::Instant;
 
 mod advection;
 mod forcing;
+pub(crate) mod multigrid;
 mod pressure;
 mod reference;
 mod sampler;
 
 use advection::*;
+pub(crate) use multigrid::Multigrid;
 use pressure::*;
 use sampler::*;
 
@@ -121,6 +123,9 @@ pub struct Solver {
     pub measure_projection: bool,
     /// `(before, after)` of the last measured substep.
     pub projection: Option<(f32, f32)>,
+    /// The multigrid hierarchy, made by the first multigrid solve (it depends only on the
+    /// grid, the obstacles and the boundary, which a solver keeps for life).
+    pub(crate) multigrid: Option<Multigrid>,
 }
 
 impl Solver {
@@ -239,6 +244,7 @@ impl Solver {
             measure_projection: false,
             projection: None,
             force_faces: 0,
+            multigrid: None,
         }
     }
 
@@ -256,12 +262,13 @@ impl Solver {
             + self.p_tmp.len();
         let f32s = f32s + self.inv_w.len();
         let bytes = self.solid.len() + self.u_free.len() + self.v_free.len() + self.flags.len();
-        (f32s * 4 + bytes) as u64
+        let mg = self.multigrid.as_ref().map_or(0, Multigrid::bytes);
+        (f32s * 4 + bytes + mg) as u64
     }
 
-    /// Upper bound used by validation for the same grid.
+    /// Upper bound used by validation for the same grid and pressure solve.
     pub fn memory_budget(&self) -> u64 {
-        (self.nx * self.ny) as u64 * SOLVER_BYTES_PER_CELL
+        grid_memory([self.nx as u32, self.ny as u32], self.params.pressure)
     }
 
     /// Replaces the layout the forces come from (an edit), keeping the running field. Grid,

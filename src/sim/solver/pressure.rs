@@ -1,13 +1,22 @@
 //! Step 5, the pressure solve: the warm start and Jacobi iterations, cache-blocked (each band
 //! of rows runs many iterations while it is in cache), and the plain sweep they must equal.
 
+use super::multigrid::{Level, add_correction};
 use super::*;
 
 impl Solver {
-    /// Steps 5: warm start and Jacobi iterations for `∇²p = div`, blocked for cache: each band
+    /// Step 5, the pressure solve `∇²p = div` the layout asks for (`sim.pressure`).
+    pub fn solve_pressure(&mut self) {
+        match self.params.pressure {
+            PressureSolve::Jacobi => self.solve_pressure_jacobi(),
+            PressureSolve::Multigrid => self.solve_pressure_multigrid(),
+        }
+    }
+
+    /// Step 5 by Jacobi: warm start and Jacobi iterations, blocked for cache: each band
     /// of rows runs many iterations while its rows are in cache (see [`jacobi_band`]). The
     /// result is bit-for-bit that of [`Self::jacobi_iteration`] repeated.
-    pub fn solve_pressure(&mut self) {
+    pub fn solve_pressure_jacobi(&mut self) {
         let decay = self.params.pressure_decay;
         let k = self.params.pressure_iterations as usize;
         if k == 0 {
@@ -27,6 +36,19 @@ impl Solver {
 
     /// `levels` Jacobi iterations from `p × scale` into `p` (through `p_tmp`).
     fn jacobi_blocked(&mut self, levels: usize, scale: f32) {
+        self.sweep_blocked(levels, scale, None, None);
+    }
+
+    /// `levels` blocked passes from `p × scale` (plus a prolonged coarse correction when
+    /// given) into `p`: Jacobi iterations, or, with `red_black = Some(c)`, red–black half
+    /// sweeps starting with colour `c` (see [`JacobiCtx`]).
+    pub(super) fn sweep_blocked(
+        &mut self,
+        levels: usize,
+        scale: f32,
+        red_black: Option<usize>,
+        correction: Option<&Level>,
+    ) {
         let (nx, ny) = (self.nx, self.ny);
         let threads = rayon::current_num_threads();
         // Two bands per thread for balance, but each well over the 2 × levels ghost rows a
@@ -43,6 +65,8 @@ impl Solver {
             regular: &self.row_regular,
             wraps: self.params.boundary == Boundary::Periodic,
             scale,
+            red_black,
+            correction,
         };
         self.p_tmp
             .par_chunks_mut(band * nx)
@@ -54,7 +78,7 @@ impl Solver {
         std::mem::swap(&mut self.p, &mut self.p_tmp);
     }
 
-    fn stencil(&self) -> Stencil {
+    pub(super) fn stencil(&self) -> Stencil {
         Stencil::new(self.hx, self.hz)
     }
 
@@ -205,65 +229,120 @@ pub(super) struct JacobiCtx<'a> {
     /// Periodic: rows wrap around, so ghost rows continue past the grid's ends.
     pub(super) wraps: bool,
     pub(super) scale: f32,
+    /// Red–black Gauss–Seidel instead of Jacobi: pass `t` (from 1) updates only the cells
+    /// with `(i + j) % 2 == (c + t − 1) % 2` and copies the others.
+    pub(super) red_black: Option<usize>,
+    /// Multigrid: the finest level, whose expanded coarse correction is added to the input
+    /// rows as they are read (the prolongation fused into the first smoothing pass).
+    pub(super) correction: Option<&'a Level>,
 }
 
-/// `levels` Jacobi iterations for output rows `a..b`, written to `out`, in one sweep down the
-/// band: iteration `t` trails iteration `t − 1` by one row, and each keeps only its last three
-/// rows (a ring), so the band's working set stays in cache while every iteration runs. To
-/// produce rows `a..b` after `levels` iterations, iteration `t` must cover `levels − t` extra
-/// rows on each side (the trapezoid); those ghost rows are recomputed by the neighbouring
-/// bands, with the same arithmetic, so the result does not depend on the banding.
+/// `levels` Jacobi iterations (or red–black half sweeps) for output rows `a..b`, written to
+/// `out`: [`band_passes`] with the Jacobi row.
 pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, levels: usize) {
-    let (nx, ny) = (c.nx, c.ny);
+    let nx = c.nx;
+    let input = |j: usize, dst: &mut [f32]| {
+        let src = &c.src[j * nx..][..nx];
+        for (d, s) in dst.iter_mut().zip(src) {
+            *d = s * c.scale;
+        }
+        if let Some(f) = c.correction {
+            add_correction(f, j, dst, c.inv_w);
+        }
+    };
+    let pass = |t: usize, j: usize, dst: &mut [f32], below: &[f32], row: &[f32], above: &[f32]| {
+        jacobi_row(
+            &c.st,
+            dst,
+            below,
+            row,
+            above,
+            &c.div[j * nx..][..nx],
+            &c.flags[j * nx..][..nx],
+            &c.inv_w[j * nx..][..nx],
+            c.regular[j],
+        );
+        if let Some(c0) = c.red_black {
+            keep_other_colour(dst, row, j + c0 + t - 1);
+        }
+    };
+    band_passes(nx, c.ny, c.wraps, out, a, b, levels, input, pass);
+}
+
+/// Red–black: keeps `prev` in the cells of the colour not updated by this pass, those with
+/// `(i + k) % 2 == 1` (`k` = row + colour).
+pub(super) fn keep_other_colour(dst: &mut [f32], prev: &[f32], k: usize) {
+    let off = 1 - k % 2;
+    let mut pairs = dst.chunks_exact_mut(2);
+    for (d, p) in (&mut pairs).zip(prev.chunks_exact(2)) {
+        d[off] = p[off];
+    }
+    if off == 0 && !pairs.into_remainder().is_empty() {
+        let n = dst.len();
+        dst[n - 1] = prev[n - 1];
+    }
+}
+
+/// `levels` passes for output rows `a..b`, written to `out`, in one sweep down the band:
+/// `input(j, row)` fills row `j` of pass 0, and `pass(t, j, dst, below, row, above)` makes
+/// row `j` of pass `t` from pass `t − 1`'s rows. Pass `t` trails pass `t − 1` by one row,
+/// and each keeps only its last three rows (a ring), so the band's working set stays in
+/// cache while every pass runs. To produce rows `a..b` after `levels` passes, pass `t` must
+/// cover `levels − t` extra rows on each side (the trapezoid); those ghost rows are
+/// recomputed by the neighbouring bands, with the same arithmetic, so the result does not
+/// depend on the banding. Rows wrap when `wraps`; otherwise the first and last rows have no
+/// neighbour beyond the grid (its weight is zero) and get the row itself.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn band_passes(
+    nx: usize,
+    ny: usize,
+    wraps: bool,
+    out: &mut [f32],
+    a: usize,
+    b: usize,
+    levels: usize,
+    mut input: impl FnMut(usize, &mut [f32]),
+    pass: impl Fn(usize, usize, &mut [f32], &[f32], &[f32], &[f32]),
+) {
     let k = levels as isize;
     let (a, b) = (a as isize, b as isize);
     let lo = |t: isize| {
         let r = a - (k - t);
-        if c.wraps { r } else { r.max(0) }
+        if wraps { r } else { r.max(0) }
     };
     let hi = |t: isize| {
         let r = b + (k - t);
-        if c.wraps { r } else { r.min(ny as isize) }
+        if wraps { r } else { r.min(ny as isize) }
     };
     let wrap = |r: isize| r.rem_euclid(ny as isize) as usize;
     let slot = |r: isize| r.rem_euclid(3) as usize * nx;
-    // Rings for iterations 0..levels (0 is the scaled input); the last writes to `out`.
+    // Rings for passes 0..levels (0 is the input); the last writes to `out`.
     let mut ring = vec![0.0f32; levels * 3 * nx];
     for r in lo(0)..hi(0) + k {
         if r < hi(0) {
-            let src = &c.src[wrap(r) * nx..][..nx];
-            let dst = &mut ring[slot(r)..][..nx];
-            for (d, s) in dst.iter_mut().zip(src) {
-                *d = s * c.scale;
-            }
+            input(wrap(r), &mut ring[slot(r)..][..nx]);
         }
         for t in 1..=k {
             let s = r - t;
             if s < lo(t) || s >= hi(t) {
                 continue;
             }
-            // Without wrapping, the first and last rows have no neighbour beyond the grid
-            // (its weight is zero): any finite row will do, so pass the row itself.
             let sb = if s > lo(t - 1) { s - 1 } else { s };
             let sa = if s + 1 < hi(t - 1) { s + 1 } else { s };
             let (prev, cur) = ring.split_at_mut(t as usize * 3 * nx);
             let prev = &prev[(t as usize - 1) * 3 * nx..];
-            let j = wrap(s);
             let dst = if t == k {
                 &mut out[(s - a) as usize * nx..][..nx]
             } else {
                 &mut cur[slot(s)..][..nx]
             };
-            jacobi_row(
-                &c.st,
+            pass(
+                t as usize,
+                wrap(s),
                 dst,
                 &prev[slot(sb)..][..nx],
                 &prev[slot(s)..][..nx],
                 &prev[slot(sa)..][..nx],
-                &c.div[j * nx..][..nx],
-                &c.flags[j * nx..][..nx],
-                &c.inv_w[j * nx..][..nx],
-                c.regular[j],
             );
         }
     }

@@ -1,0 +1,597 @@
+//! The multigrid pressure solve on the GPU (`sim.pressure = "multigrid"`): the CPU builds the
+//! hierarchy ([`Multigrid::new`], the same levels, links and interpolation tables as the CPU
+//! solver's) and uploads it once; a V-cycle is then red–black half sweeps, restrictions and
+//! prolongations, each a compute pass (`shaders/mg_*.wgsl`) whose CPU twin is the function of
+//! `sim::solver::multigrid` it names. Every level keeps its explicit links, the finest too.
+
+use crate::doc::Boundary;
+use crate::sim::solver::multigrid::{Multigrid, POST_SWEEPS, PRE_SWEEPS, coarsest_sweeps};
+use bytemuck::{Pod, Zeroable};
+use wgpu::util::DeviceExt;
+
+/// One level's parameters; mirrors `struct Mg` in `shaders/mg_common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct MgParams {
+    pub nx: u32,
+    pub ny: u32,
+    pub cnx: u32,
+    pub cny: u32,
+    pub wraps: u32,
+    pub colour: u32,
+    pub coarse_x: u32,
+    pub coarse_z: u32,
+    pub b_scale: f32,
+    pub _pad: [f32; 3],
+}
+
+/// The multigrid header every multigrid pass is compiled with.
+pub const MG_COMMON: &str = include_str!("../../shaders/mg_common.wgsl");
+
+/// The multigrid passes: `(name, source)`, each compiled after [`MG_COMMON`].
+pub const MG_SHADERS: [(&str, &str); 3] = [
+    ("mg_smooth", include_str!("../../shaders/mg_smooth.wgsl")),
+    (
+        "mg_restrict",
+        include_str!("../../shaders/mg_restrict.wgsl"),
+    ),
+    ("mg_prolong", include_str!("../../shaders/mg_prolong.wgsl")),
+];
+
+/// The full WGSL of multigrid pass `name`.
+pub fn shader_source(name: &str) -> Option<String> {
+    MG_SHADERS
+        .iter()
+        .find(|(n, _)| *n == name)
+        .map(|(_, s)| format!("{MG_COMMON}\n{s}"))
+}
+
+/// One level's buffers on the GPU (the finest level's unknowns, scratch and right-hand side
+/// are the solver's pressure, its scratch and the divergence, passed in).
+struct GpuLevel {
+    nx: usize,
+    ny: usize,
+    ax: wgpu::Buffer,
+    az: wgpu::Buffer,
+    diag: wgpu::Buffer,
+    inv_d: wgpu::Buffer,
+    x: wgpu::Buffer,
+    tmp: wgpu::Buffer,
+    b: wgpu::Buffer,
+    from_x: wgpu::Buffer,
+    from_z: wgpu::Buffer,
+    /// Parameters for colour 0 and colour 1 (restriction and prolongation use the first).
+    params: [wgpu::Buffer; 2],
+}
+
+struct Pass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+}
+
+/// Bind groups by (pass, level, colour, direction).
+type Groups = std::collections::HashMap<(&'static str, usize, usize, u8), wgpu::BindGroup>;
+
+/// The hierarchy on the GPU and the passes that run a V-cycle on it.
+pub struct GpuMultigrid {
+    levels: Vec<GpuLevel>,
+    coarsest_sweeps: usize,
+    smooth: Pass,
+    restrict: Pass,
+    prolong: Pass,
+    /// Bind groups, made on first use and kept (the buffers live as long as the grid).
+    groups: std::sync::Mutex<Groups>,
+}
+
+fn storage(device: &wgpu::Device, label: &str, data: &[u8]) -> wgpu::Buffer {
+    // wgpu refuses empty bindings: a level without a table gets one zero element.
+    let data = if data.is_empty() {
+        &[0u8; 12][..]
+    } else {
+        data
+    };
+    super::storage(device, label, data)
+}
+
+impl GpuMultigrid {
+    /// Builds the hierarchy for a grid of `nx × ny` cells of `hx × hz` metres with the CPU
+    /// solver's pressure `flags`, and uploads it.
+    pub fn new(
+        device: &wgpu::Device,
+        (nx, ny): (usize, usize),
+        (hx, hz): (f32, f32),
+        flags: &[u8],
+        boundary: Boundary,
+    ) -> Self {
+        Self::upload(
+            device,
+            &Multigrid::new(nx, ny, hx, hz, flags, boundary),
+            hx * hz,
+        )
+    }
+
+    /// Uploads a hierarchy built on the CPU (`vol`: the finest cell's area, `−vol` scaling the
+    /// divergence into the finest right-hand side).
+    pub(crate) fn upload(device: &wgpu::Device, mg: &Multigrid, vol: f32) -> Self {
+        let n = mg.levels.len();
+        let levels = (0..n)
+            .map(|l| {
+                let lv = &mg.levels[l];
+                let coarse = mg.levels.get(l + 1);
+                let f = |label: &str, v: &[f32]| storage(device, label, bytemuck::cast_slice(v));
+                let cells = vec![0.0f32; lv.nx * lv.ny];
+                let params = [0u32, 1].map(|colour| {
+                    let p = MgParams {
+                        nx: lv.nx as u32,
+                        ny: lv.ny as u32,
+                        cnx: coarse.map_or(0, |c| c.nx as u32),
+                        cny: coarse.map_or(0, |c| c.ny as u32),
+                        wraps: u32::from(lv.x_axis.wraps),
+                        colour,
+                        coarse_x: u32::from(coarse.is_some_and(|c| c.x_axis.coarsened)),
+                        coarse_z: u32::from(coarse.is_some_and(|c| c.z_axis.coarsened)),
+                        b_scale: if l == 0 { -vol } else { 1.0 },
+                        _pad: [0.0; 3],
+                    };
+                    device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                        label: Some("multigrid level"),
+                        contents: bytemuck::bytes_of(&p),
+                        usage: wgpu::BufferUsages::UNIFORM,
+                    })
+                });
+                GpuLevel {
+                    nx: lv.nx,
+                    ny: lv.ny,
+                    ax: f("mg ax", &lv.ax),
+                    az: f("mg az", &lv.az),
+                    diag: f("mg diag", &lv.diag),
+                    inv_d: f("mg inv_d", &lv.inv_d),
+                    x: f("mg x", &cells),
+                    tmp: f("mg tmp", &cells),
+                    b: f("mg b", &cells),
+                    from_x: storage(device, "mg from_x", bytemuck::cast_slice(&lv.from_x)),
+                    from_z: storage(device, "mg from_z", bytemuck::cast_slice(&lv.from_z)),
+                    params,
+                }
+            })
+            .collect();
+        let pass = |name: &str| {
+            let source = shader_source(name).expect("listed");
+            let module = device.create_shader_module(wgpu::ShaderModuleDescriptor {
+                label: Some(name),
+                source: wgpu::ShaderSource::Wgsl(source.into()),
+            });
+            let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(name),
+                layout: None,
+                module: &module,
+                entry_point: Some("main"),
+                compilation_options: Default::default(),
+                cache: None,
+            });
+            let layout = pipeline.get_bind_group_layout(0);
+            Pass { pipeline, layout }
+        };
+        Self {
+            levels,
+            coarsest_sweeps: coarsest_sweeps(mg.levels.last().expect("one level at least")),
+            smooth: pass("mg_smooth"),
+            restrict: pass("mg_restrict"),
+            prolong: pass("mg_prolong"),
+            groups: Default::default(),
+        }
+    }
+
+    /// Levels, finest first, as `(nx, ny)`.
+    pub fn sizes(&self) -> Vec<(usize, usize)> {
+        self.levels.iter().map(|l| (l.nx, l.ny)).collect()
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn run(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+        (pass, name): (&Pass, &'static str),
+        key: (usize, usize, u8),
+        buffers: &[(u32, &wgpu::Buffer)],
+        (x, y): (usize, usize),
+    ) {
+        let mut groups = self.groups.lock().unwrap_or_else(|e| e.into_inner());
+        let group = groups
+            .entry((name, key.0, key.1, key.2))
+            .or_insert_with(|| {
+                let entries: Vec<_> = buffers
+                    .iter()
+                    .map(|&(binding, b)| wgpu::BindGroupEntry {
+                        binding,
+                        resource: b.as_entire_binding(),
+                    })
+                    .collect();
+                device.create_bind_group(&wgpu::BindGroupDescriptor {
+                    label: Some(name),
+                    layout: &pass.layout,
+                    entries: &entries,
+                })
+            });
+        (fine.stamp)(name, &mut |timestamp_writes| {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some(name),
+                timestamp_writes,
+            });
+            cp.set_pipeline(&pass.pipeline);
+            cp.set_bind_group(0, &*group, &[]);
+            cp.dispatch_workgroups((x as u32).div_ceil(8), (y as u32).div_ceil(8), 1);
+        });
+    }
+
+    /// The level's `(x, tmp, b)`: the solver's own on the finest level.
+    fn arrays<'a>(
+        &'a self,
+        l: usize,
+        fine: Fine<'a>,
+    ) -> (&'a wgpu::Buffer, &'a wgpu::Buffer, &'a wgpu::Buffer) {
+        if l == 0 {
+            (fine.p, fine.p_tmp, fine.div)
+        } else {
+            let lv = &self.levels[l];
+            (&lv.x, &lv.tmp, &lv.b)
+        }
+    }
+
+    /// Records `sweeps` red–black sweeps on level `l`, colour `first` first (an even number
+    /// of half sweeps, so the result is back in the level's `x`). Twin of
+    /// `multigrid::sweeps`.
+    pub fn record_sweeps(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+        l: usize,
+        sweeps: usize,
+        first: usize,
+    ) {
+        for h in 0..2 * sweeps {
+            self.record_half_sweep(device, enc, fine, l, (first + h) % 2, h % 2 == 1);
+        }
+    }
+
+    /// Records one half sweep of colour `colour` on level `l`, from `x` into `tmp` (`back`:
+    /// from `tmp` into `x`).
+    pub fn record_half_sweep(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+        l: usize,
+        colour: usize,
+        back: bool,
+    ) {
+        let lv = &self.levels[l];
+        let (x, tmp, b) = self.arrays(l, fine);
+        let (from, to) = if back { (tmp, x) } else { (x, tmp) };
+        let buffers = [
+            (0, &lv.params[colour]),
+            (1, from),
+            (2, to),
+            (3, b),
+            (4, &lv.ax),
+            (5, &lv.az),
+            (6, &lv.inv_d),
+        ];
+        let key = (l, colour, u8::from(back));
+        self.run(
+            device,
+            enc,
+            fine,
+            (&self.smooth, "mg_smooth"),
+            key,
+            &buffers,
+            (lv.nx, lv.ny),
+        );
+    }
+
+    /// Records the restriction of level `l`'s residual into level `l + 1`'s right-hand side.
+    /// Twin of `multigrid::restrict`.
+    pub fn record_restrict(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+        l: usize,
+    ) {
+        let lv = &self.levels[l];
+        let (x, _, b) = self.arrays(l, fine);
+        let c = &self.levels[l + 1];
+        let buffers = [
+            (0, &lv.params[0]),
+            (1, x),
+            (3, b),
+            (4, &lv.ax),
+            (5, &lv.az),
+            (6, &lv.diag),
+            (7, &c.b),
+        ];
+        self.run(
+            device,
+            enc,
+            fine,
+            (&self.restrict, "mg_restrict"),
+            (l, 0, 0),
+            &buffers,
+            (c.nx, c.ny),
+        );
+    }
+
+    /// Records the prolongation of level `l + 1`'s correction into level `l`'s unknowns.
+    /// Twin of `multigrid::expand` then `multigrid::add_correction` on every row.
+    pub fn record_prolong(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+        l: usize,
+    ) {
+        let lv = &self.levels[l];
+        let (x, _, _) = self.arrays(l, fine);
+        let c = &self.levels[l + 1];
+        let buffers = [
+            (0, &lv.params[0]),
+            (2, x),
+            (3, &c.x),
+            (6, &c.inv_d),
+            (7, &lv.inv_d),
+            (8, &lv.from_x),
+            (9, &lv.from_z),
+        ];
+        self.run(
+            device,
+            enc,
+            fine,
+            (&self.prolong, "mg_prolong"),
+            (l, 0, 0),
+            &buffers,
+            (lv.nx, lv.ny),
+        );
+    }
+
+    /// Records `cycles` V-cycles on the finest level (the warm start already in `fine.p`).
+    /// Twin of `Multigrid::solve`.
+    pub fn record_cycles(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+        cycles: usize,
+    ) {
+        let n = self.levels.len();
+        for _ in 0..cycles {
+            if n == 1 {
+                self.record_sweeps(device, enc, fine, 0, self.coarsest_sweeps, 0);
+                continue;
+            }
+            for l in 0..n - 1 {
+                self.record_sweeps(device, enc, fine, l, PRE_SWEEPS, 0);
+                self.record_restrict(device, enc, fine, l);
+                enc.clear_buffer(&self.levels[l + 1].x, 0, None);
+            }
+            self.record_sweeps(device, enc, fine, n - 1, self.coarsest_sweeps, 0);
+            for l in (0..n - 1).rev() {
+                self.record_prolong(device, enc, fine, l);
+                self.record_sweeps(device, enc, fine, l, POST_SWEEPS, 1);
+            }
+        }
+    }
+
+    /// Reads level `l`'s unknowns and right-hand side back (tests; waits for the GPU).
+    pub fn read_level(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        l: usize,
+    ) -> Result<(Vec<f32>, Vec<f32>), super::GpuError> {
+        let lv = &self.levels[l];
+        let read = |b: &wgpu::Buffer| -> Result<Vec<f32>, super::GpuError> {
+            let bytes = super::read_buffer_via(
+                device,
+                &|cb| {
+                    queue.submit([cb]);
+                },
+                b,
+            )?;
+            Ok(bytemuck::cast_slice::<u8, f32>(&bytes).to_vec())
+        };
+        Ok((read(&lv.x)?, read(&lv.b)?))
+    }
+
+    /// Writes level `l`'s unknowns and right-hand side (tests).
+    pub fn write_level(&self, queue: &wgpu::Queue, l: usize, x: &[f32], b: &[f32]) {
+        let lv = &self.levels[l];
+        queue.write_buffer(&lv.x, 0, bytemuck::cast_slice(x));
+        queue.write_buffer(&lv.b, 0, bytemuck::cast_slice(b));
+    }
+
+    /// Bytes the hierarchy holds on the GPU.
+    pub fn bytes(&self) -> u64 {
+        self.levels
+            .iter()
+            .map(|l| {
+                [
+                    &l.ax, &l.az, &l.diag, &l.inv_d, &l.x, &l.tmp, &l.b, &l.from_x, &l.from_z,
+                ]
+                .iter()
+                .map(|b| b.size())
+                .sum::<u64>()
+            })
+            .sum()
+    }
+}
+
+/// Hands a pass its timestamp writes (the fluid passes' profiler, when it runs): called with
+/// the pass's name and a function that begins the pass with them.
+pub type Stamp<'a> = &'a dyn Fn(&str, &mut dyn FnMut(Option<wgpu::ComputePassTimestampWrites<'_>>));
+
+/// No timestamps.
+pub fn no_stamp(_: &str, f: &mut dyn FnMut(Option<wgpu::ComputePassTimestampWrites<'_>>)) {
+    f(None);
+}
+
+/// The finest level's unknowns, scratch and right-hand side: the solver's pressure, its
+/// scratch buffer and the divergence.
+#[derive(Clone, Copy)]
+pub struct Fine<'a> {
+    pub p: &'a wgpu::Buffer,
+    pub p_tmp: &'a wgpu::Buffer,
+    pub div: &'a wgpu::Buffer,
+    pub stamp: Stamp<'a>,
+}
+
+#[cfg(test)]
+mod tests {
+    //! Each multigrid pass on the GPU (lavapipe in CI, which must have it) against its CPU
+    //! twin, from the same random state, on the obstacles example with non-square cells and
+    //! every boundary mode; then whole V-cycles.
+    use super::*;
+    use crate::gpu::{GpuContext, GpuError, read_buffer};
+    use crate::sim::Solver;
+    use crate::sim::solver::multigrid::{add_correction, expand, half_sweeps, restrict, sweeps};
+
+    fn context() -> Option<GpuContext> {
+        match GpuContext::headless() {
+            Ok(c) => Some(c),
+            Err(e @ GpuError::NoAdapter(_)) if std::env::var_os("CI").is_none() => {
+                eprintln!("\n!!! SKIPPING a GPU test: {e}\n");
+                None
+            }
+            Err(e) => panic!("CI requires a GPU adapter (lavapipe): {e}"),
+        }
+    }
+
+    fn noise(n: usize, seed: u64, a: f32) -> Vec<f32> {
+        let mut s = seed;
+        (0..n)
+            .map(|_| {
+                s = s
+                    .wrapping_mul(6364136223846793005)
+                    .wrapping_add(1442695040888963407);
+                ((s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * a
+            })
+            .collect()
+    }
+
+    /// Max |GPU − CPU| within `rel` of the CPU field's peak.
+    fn check(what: &str, gpu: &[f32], cpu: &[f32], rel: f32) {
+        assert_eq!(gpu.len(), cpu.len(), "{what}");
+        let peak = cpu.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+        let err = gpu
+            .iter()
+            .zip(cpu)
+            .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()));
+        println!("{what}: max |GPU − CPU| {err:.2e}, peak {peak:.3}");
+        assert!(peak > 0.0, "{what}: an all-zero field tests nothing");
+        assert!(
+            err <= rel * peak,
+            "{what}: {err} over {} (peak {peak})",
+            rel * peak
+        );
+    }
+
+    #[test]
+    fn each_multigrid_pass_and_whole_cycles_match_the_cpu() {
+        let Some(ctx) = context() else { return };
+        let (device, queue) = (&ctx.device, &ctx.queue);
+        let mut layout = crate::doc::parse(include_str!("../../layouts/obstacles.json")).unwrap();
+        // Odd sizes on purpose (coarse cells with one child) and non-square cells.
+        layout.world.grid = [41, 27];
+        for (k, boundary) in [Boundary::Closed, Boundary::Open, Boundary::Periodic]
+            .into_iter()
+            .enumerate()
+        {
+            layout.sim.boundary = boundary;
+            let s = Solver::new(&layout);
+            let (nx, ny, vol) = (s.nx, s.ny, s.hx * s.hz);
+            let mut mg = Multigrid::new(nx, ny, s.hx, s.hz, &s.flags, boundary);
+            assert!(mg.levels.len() >= 3, "{:?}", mg.levels.len());
+            let gpu = GpuMultigrid::upload(device, &mg, vol);
+            let seed = 10 * k as u64;
+            let (p0, div) = (noise(nx * ny, seed, 2.0), noise(nx * ny, seed + 1, 3.0));
+            let buf = |v: &[f32]| crate::gpu::storage(device, "test", bytemuck::cast_slice(v));
+            let (p, p_tmp, d) = (buf(&p0), buf(&p0), buf(&div));
+            let fine = Fine {
+                p: &p,
+                p_tmp: &p_tmp,
+                div: &d,
+                stamp: &no_stamp,
+            };
+            let read = |b: &wgpu::Buffer| -> Vec<f32> {
+                bytemuck::cast_slice(&read_buffer(device, queue, b).unwrap()).to_vec()
+            };
+            let record = |f: &dyn Fn(&mut wgpu::CommandEncoder)| {
+                queue.write_buffer(&p, 0, bytemuck::cast_slice(&p0));
+                let mut enc = device.create_command_encoder(&Default::default());
+                f(&mut enc);
+                queue.submit([enc.finish()]);
+            };
+            let tag = |what: &str| format!("{what} ({boundary:?})");
+
+            // One half sweep of each colour on the finest level.
+            for colour in [0, 1] {
+                let mut cpu = vec![0.0; nx * ny];
+                half_sweeps(&mg.levels[0], &p0, &mut cpu, &div, -vol, 1, colour, false);
+                record(&|e| gpu.record_half_sweep(device, e, fine, 0, colour, false));
+                check(
+                    &tag(&format!("smooth colour {colour}")),
+                    &read(&p_tmp),
+                    &cpu,
+                    1e-5,
+                );
+            }
+            // Two sweeps on a coarse level (its own unknowns and right-hand side).
+            let lv = &mg.levels[1];
+            let (x1, b1) = (
+                noise(lv.nx * lv.ny, seed + 2, 1.0),
+                noise(lv.nx * lv.ny, seed + 3, 1.0),
+            );
+            let (mut cx, mut ct) = (x1.clone(), x1.clone());
+            sweeps(lv, &mut cx, &mut ct, &b1, 1.0, 2, 1, false);
+            gpu.write_level(queue, 1, &x1, &b1);
+            record(&|e| gpu.record_sweeps(device, e, fine, 1, 2, 1));
+            check(
+                &tag("smooth level 1"),
+                &gpu.read_level(device, queue, 1).unwrap().0,
+                &cx,
+                1e-5,
+            );
+
+            // Restriction of the finest residual.
+            let (f, c) = mg.levels.split_at_mut(1);
+            restrict(&f[0], &p0, &div, -vol, &mut c[0]);
+            record(&|e| gpu.record_restrict(device, e, fine, 0));
+            check(
+                &tag("restrict"),
+                &gpu.read_level(device, queue, 1).unwrap().1,
+                &mg.levels[1].b,
+                1e-5,
+            );
+
+            // Prolongation of a coarse correction.
+            mg.levels[1].x.clone_from(&x1);
+            let (f, c) = mg.levels.split_at_mut(1);
+            expand(&mut f[0], &c[0]);
+            let mut cpu = p0.clone();
+            for (j, row) in cpu.chunks_mut(nx).enumerate() {
+                add_correction(&f[0], j, row, &f[0].inv_d);
+            }
+            gpu.write_level(queue, 1, &x1, &b1);
+            record(&|e| gpu.record_prolong(device, e, fine, 0));
+            check(&tag("prolong"), &read(&p), &cpu, 1e-5);
+
+            // Two whole V-cycles.
+            let (mut x, mut t) = (p0.clone(), p0.clone());
+            mg.solve(&mut x, &mut t, &div, -vol, 2);
+            record(&|e| gpu.record_cycles(device, e, fine, 2));
+            check(&tag("two V-cycles"), &read(&p), &x, 1e-4);
+        }
+    }
+}
