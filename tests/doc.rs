@@ -244,6 +244,36 @@ fn absurd_sizes_are_rejected_with_the_budget() {
 }
 
 #[test]
+fn pressure_solve_settings_are_checked() {
+    let cycles = small_text().replacen("\"pressure_cycles\": 2", "\"pressure_cycles\": 0", 1);
+    has(
+        &errors(&cycles),
+        "sim.pressure_cycles: must be between 1 and 20, got 0",
+    );
+    let unknown =
+        small_text().replacen("\"pressure\": \"jacobi\"", "\"pressure\": \"conjugate\"", 1);
+    has(
+        &errors(&unknown),
+        "sim.pressure: unknown variant `conjugate`",
+    );
+    // 5000² fits the budget with Jacobi, not with multigrid's hierarchy on top.
+    let big = small_text().replacen(
+        "\"grid\": [\n      50,\n      40",
+        "\"grid\": [\n      5000,\n      5000",
+        1,
+    );
+    assert!(
+        doc::parse(&big).is_ok(),
+        "5000x5000 with Jacobi fits the budget"
+    );
+    let big_mg = big.replacen("\"pressure\": \"jacobi\"", "\"pressure\": \"multigrid\"", 1);
+    has(
+        &errors(&big_mg),
+        "world.grid: 5000x5000 needs 2384 MiB of solver memory, over the budget of 2048 MiB",
+    );
+}
+
+#[test]
 fn wrong_types_name_the_field() {
     let text = small_text().replacen("\"strength\": 25.0", "\"strength\": \"strong\"", 1);
     has(

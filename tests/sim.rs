@@ -1319,17 +1319,57 @@ mod gpu {
     #[test]
     fn whole_runs_agree_with_the_cpu() {
         let Some(ctx) = context() else { return };
-        for (name, grid, advection) in [
-            ("meadow.json", [60, 40], Advection::SemiLagrangian),
-            ("breeze-fft.json", [48, 48], Advection::SemiLagrangian),
-            ("branching.json", [60, 40], Advection::SemiLagrangian),
-            ("two-winds.json", [60, 40], Advection::SemiLagrangian),
-            ("obstacles.json", [48, 48], Advection::SemiLagrangian),
-            ("two-winds.json", [60, 40], Advection::MacCormack),
+        use windloom::doc::PressureSolve::{Jacobi, Multigrid};
+        for (name, grid, advection, pressure) in [
+            ("meadow.json", [60, 40], Advection::SemiLagrangian, Jacobi),
+            (
+                "breeze-fft.json",
+                [48, 48],
+                Advection::SemiLagrangian,
+                Jacobi,
+            ),
+            (
+                "branching.json",
+                [60, 40],
+                Advection::SemiLagrangian,
+                Jacobi,
+            ),
+            (
+                "two-winds.json",
+                [60, 40],
+                Advection::SemiLagrangian,
+                Jacobi,
+            ),
+            (
+                "obstacles.json",
+                [48, 48],
+                Advection::SemiLagrangian,
+                Jacobi,
+            ),
+            ("two-winds.json", [60, 40], Advection::MacCormack, Jacobi),
+            (
+                "meadow.json",
+                [60, 40],
+                Advection::SemiLagrangian,
+                Multigrid,
+            ),
+            (
+                "breeze-fft.json",
+                [48, 48],
+                Advection::SemiLagrangian,
+                Multigrid,
+            ),
+            (
+                "obstacles.json",
+                [48, 48],
+                Advection::SemiLagrangian,
+                Multigrid,
+            ),
         ] {
             let mut l = example(name);
             l.world.grid = grid;
             l.sim.advection = advection;
+            l.sim.pressure = pressure;
             let mut cpu = Solver::new(&l);
             let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
             for _ in 0..200 {
@@ -1347,7 +1387,7 @@ mod gpu {
             let (ea, eb) = (energy(&a), energy(&b));
             let (sa, sb) = (mean_speed(&a), mean_speed(&b));
             println!(
-                "{name} ({advection:?}): 200 steps, max |Δv| {err:.2e} of peak {peak:.2}, energy {ea:.1} vs {eb:.1}, mean speed {sa:.3} vs {sb:.3}"
+                "{name} ({advection:?}, {pressure:?}): 200 steps, max |Δv| {err:.2e} of peak {peak:.2}, energy {ea:.1} vs {eb:.1}, mean speed {sa:.3} vs {sb:.3}"
             );
             assert!(peak > 1.0, "{name}: the wind blows");
             // At these grids and lengths the flows have not yet diverged: point by point too.
