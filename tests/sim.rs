@@ -1037,12 +1037,16 @@ mod gpu {
         on_disk.sort();
         // Headers, validated inside every pass they are prepended to.
         on_disk.retain(|n| {
-            n != "map_common.wgsl" && n != "grass_common.wgsl" && n != "grass_shape.wgsl"
+            n != "map_common.wgsl"
+                && n != "grass_common.wgsl"
+                && n != "grass_shape.wgsl"
+                && n != "mg_common.wgsl"
         });
         let mut listed: Vec<String> = SHADERS
             .iter()
             .chain(mapview::SHADERS.iter())
             .chain(windloom::gpu::grass::SHADERS.iter())
+            .chain(windloom::gpu::multigrid::MG_SHADERS.iter())
             .map(|(n, _)| format!("{n}.wgsl"))
             .collect();
         listed.sort();
@@ -1062,6 +1066,11 @@ mod gpu {
                 windloom::gpu::grass::SHADERS
                     .iter()
                     .map(|(n, _)| (n, windloom::gpu::grass::shader_source(n).unwrap())),
+            )
+            .chain(
+                windloom::gpu::multigrid::MG_SHADERS
+                    .iter()
+                    .map(|(n, _)| (n, windloom::gpu::multigrid::shader_source(n).unwrap())),
             );
         for (name, source) in sources {
             let module = naga::front::wgsl::parse_str(&source)
