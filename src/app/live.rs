@@ -659,6 +659,7 @@ fn worker(
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::gpu::test_context;
 
     /// A field that went non-finite is contained: zeroed, stepping stops, the snapshot says
     /// so; a Reset (a rebuild) brings the wind back.
@@ -698,26 +699,6 @@ mod tests {
         );
     }
 
-    /// The software adapter, or `None` (loudly) where there is none; CI must have one.
-    fn gpu(limits: impl FnOnce(&mut wgpu::Limits)) -> Option<GpuContext> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
-        let adapter = match pollster::block_on(
-            instance.request_adapter(&wgpu::RequestAdapterOptions::default()),
-        ) {
-            Ok(a) => a,
-            Err(e) if std::env::var_os("CI").is_none() => {
-                eprintln!("SKIPPED: no GPU adapter ({e}); CI requires one");
-                return None;
-            }
-            Err(e) => panic!("CI requires a GPU adapter (lavapipe): {e}"),
-        };
-        let mut desc = crate::gpu::device_descriptor(&adapter);
-        limits(&mut desc.required_limits);
-        let (device, queue) = pollster::block_on(adapter.request_device(&desc)).unwrap();
-        Some(GpuContext::from_parts(&adapter, device, queue).unwrap())
-    }
-
     /// An engine asked to run `layout` on `ctx`'s GPU (it may end up on the CPU: the tests
     /// look at where and why).
     fn gpu_engine(ctx: &GpuContext, layout: &Layout) -> Engine {
@@ -740,7 +721,9 @@ mod tests {
     /// rebuild does not go back to the dead device.
     #[test]
     fn a_lost_device_moves_the_wind_to_the_cpu() {
-        let Some(ctx) = gpu(|_| {}) else { return };
+        let Some(ctx) = test_context(|_| {}) else {
+            return;
+        };
         let layout = small_layout(48);
         let mut e = gpu_engine(&ctx, &layout);
         assert!(e.gpu.is_some(), "on the GPU first: {:?}", e.notice);
@@ -770,7 +753,7 @@ mod tests {
     /// why, instead of a validation error (a panic) at the first step.
     #[test]
     fn a_grid_over_the_buffer_limit_runs_on_the_cpu() {
-        let Some(ctx) = gpu(|l| l.max_storage_buffer_binding_size = 1 << 20) else {
+        let Some(ctx) = test_context(|l| l.max_storage_buffer_binding_size = 1 << 20) else {
             return;
         };
         let layout = small_layout(520);
@@ -796,7 +779,7 @@ mod tests {
     /// pipeline, the wind on the CPU, and no fault left on the device.
     #[test]
     fn a_device_that_cannot_make_the_passes_runs_the_wind_on_the_cpu() {
-        let Some(ctx) = gpu(|l| *l = wgpu::Limits::downlevel_defaults()) else {
+        let Some(ctx) = test_context(|l| *l = wgpu::Limits::downlevel_defaults()) else {
             return;
         };
         let layout = small_layout(64);

@@ -14,6 +14,29 @@ mod solver;
 pub use context::{GpuContext, GpuError, Submitter, device_descriptor, is_software};
 pub use solver::GpuSolver;
 
+/// The default adapter (lavapipe in CI) with the passes' device descriptor, `limits` changed
+/// by the caller, or `None` (loudly) where there is none; CI must have one. For the library's
+/// own GPU tests.
+#[cfg(test)]
+pub(crate) fn test_context(limits: impl FnOnce(&mut wgpu::Limits)) -> Option<GpuContext> {
+    let instance =
+        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let adapter =
+        match pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
+        {
+            Ok(a) => a,
+            Err(e) if std::env::var_os("CI").is_none() => {
+                eprintln!("SKIPPED: no GPU adapter ({e}); CI requires one");
+                return None;
+            }
+            Err(e) => panic!("CI requires a GPU adapter (lavapipe): {e}"),
+        };
+    let mut desc = device_descriptor(&adapter);
+    limits(&mut desc.required_limits);
+    let (device, queue) = pollster::block_on(adapter.request_device(&desc)).unwrap();
+    Some(GpuContext::from_parts(&adapter, device, queue).unwrap())
+}
+
 /// A bind-group-layout entry for a buffer at `binding` (the passes' explicit layouts).
 pub(crate) fn buffer_entry(
     binding: u32,

@@ -119,7 +119,8 @@ impl GpuMultigrid {
                 let lv = &mg.levels[l];
                 let coarse = mg.levels.get(l + 1);
                 let f = |label: &str, v: &[f32]| storage(device, label, bytemuck::cast_slice(v));
-                let cells = vec![0.0f32; lv.nx * lv.ny];
+                // The finest level's unknowns, scratch and right-hand side are the solver's.
+                let cells = vec![0.0f32; if l == 0 { 0 } else { lv.nx * lv.ny }];
                 let params = [0u32, 1].map(|colour| {
                     let p = MgParams {
                         nx: lv.nx as u32,
@@ -180,11 +181,6 @@ impl GpuMultigrid {
             prolong: pass("mg_prolong"),
             groups: Default::default(),
         }
-    }
-
-    /// Levels, finest first, as `(nx, ny)`.
-    pub fn sizes(&self) -> Vec<(usize, usize)> {
-        self.levels.iter().map(|l| (l.nx, l.ny)).collect()
     }
 
     #[allow(clippy::too_many_arguments)]
@@ -411,21 +407,6 @@ impl GpuMultigrid {
         queue.write_buffer(&lv.x, 0, bytemuck::cast_slice(x));
         queue.write_buffer(&lv.b, 0, bytemuck::cast_slice(b));
     }
-
-    /// Bytes the hierarchy holds on the GPU.
-    pub fn bytes(&self) -> u64 {
-        self.levels
-            .iter()
-            .map(|l| {
-                [
-                    &l.ax, &l.az, &l.diag, &l.inv_d, &l.x, &l.tmp, &l.b, &l.from_x, &l.from_z,
-                ]
-                .iter()
-                .map(|b| b.size())
-                .sum::<u64>()
-            })
-            .sum()
-    }
 }
 
 /// Hands a pass its timestamp writes (the fluid passes' profiler, when it runs): called with
@@ -453,20 +434,9 @@ mod tests {
     //! twin, from the same random state, on the obstacles example with non-square cells and
     //! every boundary mode; then whole V-cycles.
     use super::*;
-    use crate::gpu::{GpuContext, GpuError, read_buffer};
+    use crate::gpu::read_buffer;
     use crate::sim::Solver;
     use crate::sim::solver::multigrid::{add_correction, expand, half_sweeps, restrict, sweeps};
-
-    fn context() -> Option<GpuContext> {
-        match GpuContext::headless() {
-            Ok(c) => Some(c),
-            Err(e @ GpuError::NoAdapter(_)) if std::env::var_os("CI").is_none() => {
-                eprintln!("\n!!! SKIPPING a GPU test: {e}\n");
-                None
-            }
-            Err(e) => panic!("CI requires a GPU adapter (lavapipe): {e}"),
-        }
-    }
 
     fn noise(n: usize, seed: u64, a: f32) -> Vec<f32> {
         let mut s = seed;
@@ -499,7 +469,9 @@ mod tests {
 
     #[test]
     fn each_multigrid_pass_and_whole_cycles_match_the_cpu() {
-        let Some(ctx) = context() else { return };
+        let Some(ctx) = crate::gpu::test_context(|_| {}) else {
+            return;
+        };
         let (device, queue) = (&ctx.device, &ctx.queue);
         let mut layout = crate::doc::parse(include_str!("../../layouts/obstacles.json")).unwrap();
         // Odd sizes on purpose (coarse cells with one child) and non-square cells.

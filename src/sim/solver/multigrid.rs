@@ -407,10 +407,20 @@ impl Level {
         f32s * 4 + axes * 8 + (self.from_x.len() + self.from_z.len()) * 12
     }
 
-    /// Rows `below`, `above` of row `j` (wrapped; at a closed end the row itself, whose link
-    /// there is 0).
-    fn rows_around(&self, j: usize) -> (usize, usize) {
-        neighbours(j, self.ny, self.z_axis.wraps)
+    /// `out = Σ a x_n` for row `j`, from its rows `below`, `row`, `above` (wrapped; at a
+    /// closed end the row itself, whose link there is 0).
+    fn link_sum(&self, j: usize, out: &mut [f32], below: &[f32], row: &[f32], above: &[f32]) {
+        let nx = self.nx;
+        link_sum_row(
+            out,
+            below,
+            row,
+            above,
+            &self.ax[j * (nx + 1)..][..nx + 1],
+            &self.az[j * nx..][..nx],
+            &self.az[(j + 1) * nx..][..nx],
+            self.x_axis.wraps,
+        );
     }
 }
 
@@ -487,27 +497,24 @@ impl Multigrid {
         b_scale: f32,
         cycles: usize,
     ) {
+        let b = b.iter().map(|v| b_scale * v).collect();
+        put(
+            &mut self.levels[0],
+            std::mem::take(x),
+            std::mem::take(tmp),
+            b,
+        );
         for _ in 0..cycles {
-            let f = &self.levels[0];
-            if self.levels.len() == 1 {
-                sweeps(f, x, tmp, b, b_scale, coarsest_sweeps(f), 0, false);
-                continue;
-            }
-            sweeps(f, x, tmp, b, b_scale, PRE_SWEEPS, 0, false);
-            let (fine, coarse) = self.levels.split_at_mut(1);
-            restrict(&fine[0], x, b, b_scale, &mut coarse[0]);
-            self.cycle_from(1);
-            let (fine, coarse) = self.levels.split_at_mut(1);
-            expand(&mut fine[0], &coarse[0]);
-            sweeps(&fine[0], x, tmp, b, b_scale, POST_SWEEPS, 1, true);
+            self.cycle(0);
         }
+        (*x, *tmp, _) = take(&mut self.levels[0]);
     }
 
-    /// A V-cycle on level `l ≥ 1` from zero, for the right-hand side its `b` holds.
-    fn cycle_from(&mut self, l: usize) {
+    /// A V-cycle on level `l` from its `x`, for the right-hand side its `b` holds (a
+    /// restriction leaves the coarser level's `x` at zero).
+    fn cycle(&mut self, l: usize) {
         let n = self.levels.len();
         let lv = &mut self.levels[l];
-        lv.x.fill(0.0);
         let (mut x, mut t, b) = take(lv);
         if l == n - 1 {
             sweeps(lv, &mut x, &mut t, &b, 1.0, coarsest_sweeps(lv), 0, false);
@@ -519,7 +526,7 @@ impl Multigrid {
             let (fine, coarse) = self.levels.split_at_mut(l + 1);
             restrict(&fine[l], &x, &b, 1.0, &mut coarse[0]);
         }
-        self.cycle_from(l + 1);
+        self.cycle(l + 1);
         let (fine, coarse) = self.levels.split_at_mut(l + 1);
         let f = &mut fine[l];
         expand(f, &coarse[0]);
@@ -574,14 +581,10 @@ pub(crate) fn sweeps(
     first: usize,
     correct: bool,
 ) {
-    let mut left = 2 * n;
-    let mut correct = correct;
-    while left > 0 {
-        let passes = left.min(MAX_BLOCK_LEVELS);
-        half_sweeps(lv, x, tmp, b, b_scale, passes, first, correct);
+    for (done, passes) in blocks(2 * n) {
+        let colour = (first + done) % 2;
+        half_sweeps(lv, x, tmp, b, b_scale, passes, colour, correct && done == 0);
         std::mem::swap(x, tmp);
-        left -= passes;
-        correct = false;
     }
 }
 
@@ -598,35 +601,20 @@ pub(crate) fn half_sweeps(
     correct: bool,
 ) {
     let (nx, ny) = (lv.nx, lv.ny);
-    let threads = rayon::current_num_threads();
-    let band = ny.div_ceil(2 * threads).max(4 * passes).min(ny);
     let pass = |t: usize, j: usize, dst: &mut [f32], below: &[f32], row: &[f32], above: &[f32]| {
-        link_sum_row(
-            dst,
-            below,
-            row,
-            above,
-            &lv.ax[j * (nx + 1)..][..nx + 1],
-            &lv.az[j * nx..][..nx],
-            &lv.az[(j + 1) * nx..][..nx],
-            lv.x_axis.wraps,
-        );
+        lv.link_sum(j, dst, below, row, above);
         relax_row(dst, &b[j * nx..][..nx], b_scale, &lv.inv_d[j * nx..][..nx]);
         keep_other_colour(dst, row, j + first + t - 1);
     };
-    out.par_chunks_mut(band * nx)
-        .enumerate()
-        .for_each(|(k, out)| {
-            let a = k * band;
-            let input = |j: usize, dst: &mut [f32]| {
-                dst.copy_from_slice(&x[j * nx..][..nx]);
-                if correct {
-                    add_correction(lv, j, dst, &lv.inv_d);
-                }
-            };
-            let b = a + out.len() / nx;
-            band_passes(nx, ny, lv.z_axis.wraps, out, a, b, passes, input, pass);
-        });
+    for_each_band(out, nx, ny, passes, |a, b, out| {
+        let input = |j: usize, dst: &mut [f32]| {
+            dst.copy_from_slice(&x[j * nx..][..nx]);
+            if correct {
+                add_correction(lv, j, dst, &lv.inv_d);
+            }
+        };
+        band_passes(nx, ny, lv.z_axis.wraps, out, a, b, passes, input, pass);
+    });
 }
 
 /// `out = Σ a x_n` over a row's four links (the row's ends wrap when `wraps`; otherwise
@@ -701,17 +689,9 @@ fn residual_row(s: &mut [f32], x: &[f32], b: &[f32], b_scale: f32, diag: &[f32])
 /// The residual of row `j` of `lv` into `out`.
 pub(crate) fn residual(lv: &Level, x: &[f32], b: &[f32], b_scale: f32, j: usize, out: &mut [f32]) {
     let nx = lv.nx;
-    let (jb, jt) = lv.rows_around(j);
-    link_sum_row(
-        out,
-        &x[jb * nx..][..nx],
-        &x[j * nx..][..nx],
-        &x[jt * nx..][..nx],
-        &lv.ax[j * (nx + 1)..][..nx + 1],
-        &lv.az[j * nx..][..nx],
-        &lv.az[(j + 1) * nx..][..nx],
-        lv.x_axis.wraps,
-    );
+    let (jb, jt) = neighbours(j, lv.ny, lv.z_axis.wraps);
+    let row = |k: usize| &x[k * nx..][..nx];
+    lv.link_sum(j, out, row(jb), row(j), row(jt));
     residual_row(
         out,
         &x[j * nx..][..nx],
@@ -722,13 +702,14 @@ pub(crate) fn residual(lv: &Level, x: &[f32], b: &[f32], b_scale: f32, j: usize,
 }
 
 /// The coarse right-hand side: each coarse cell sums its children's residuals (`residual_row`
-/// makes row `j`'s residual in a finer-row buffer).
+/// makes row `j`'s residual in a finer-row buffer); the coarse unknowns start from zero.
 fn restrict_rows(
     c: &mut Level,
     fine_nx: usize,
     fine_ny: usize,
     residual_row: impl Fn(usize, &mut [f32]) + Sync,
 ) {
+    c.x.fill(0.0);
     let (xa, za, mx) = (&c.x_axis, &c.z_axis, c.nx);
     c.b.par_chunks_mut(mx)
         .enumerate()
@@ -858,16 +839,8 @@ fn fine_residual_row(
 ) {
     let n = row.len();
     let (wx, wz) = (st.wx, st.wz);
-    #[inline(always)]
-    fn pick(fl: u8, bit: u8, x: f32) -> f32 {
-        if fl & bit != 0 { x } else { 0.0 }
-    }
-    #[inline(always)]
-    fn count(fl: u8, bit: u8) -> f32 {
-        f32::from(u8::from(fl & bit != 0) + u8::from(fl & (bit << EDGE) != 0))
-    }
     let cell = |fl: u8, l: f32, r: f32, b: f32, a: f32, p: f32, d: f32| {
-        let ws = wx * (count(fl, L) + count(fl, R)) + wz * (count(fl, B) + count(fl, T));
+        let ws = st.weight_sum(fl);
         let s = wx * (pick(fl, L, l) + pick(fl, R, r)) + wz * (pick(fl, B, b) + pick(fl, T, a));
         if fl != 0 { vol * (s - d - ws * p) } else { 0.0 }
     };
@@ -901,25 +874,20 @@ impl Solver {
         });
         let cycles = self.params.pressure_cycles as usize;
         if mg.levels.len() == 1 {
-            // Too small to coarsen: sweeps alone.
-            let mut left = 2 * 2 * (self.nx + self.ny) * cycles;
-            let mut scale = decay;
-            while left > 0 {
-                let passes = left.min(MAX_BLOCK_LEVELS);
-                self.sweep_blocked(passes, scale, Some(0), None);
-                (left, scale) = (left - passes, 1.0);
-            }
+            // Too small to coarsen: sweeps alone, as on a coarsest level.
+            let passes = 2 * coarsest_sweeps(&mg.levels[0]) * cycles;
+            self.sweeps_blocked(passes, decay, Some(0), None);
             self.multigrid = Some(mg);
             return;
         }
         for cycle in 0..cycles {
             let scale = if cycle == 0 { decay } else { 1.0 };
-            self.sweep_blocked(2 * PRE_SWEEPS, scale, Some(0), None);
+            self.sweeps_blocked(2 * PRE_SWEEPS, scale, Some(0), None);
             self.restrict_fine(&mut mg.levels[1]);
-            mg.cycle_from(1);
+            mg.cycle(1);
             let (fine, coarse) = mg.levels.split_at_mut(1);
             expand(&mut fine[0], &coarse[0]);
-            self.sweep_blocked(2 * POST_SWEEPS, 1.0, Some(1), Some(&mg.levels[0]));
+            self.sweeps_blocked(2 * POST_SWEEPS, 1.0, Some(1), Some(&mg.levels[0]));
         }
         self.multigrid = Some(mg);
     }

@@ -23,26 +23,34 @@ impl Solver {
             self.p.par_iter_mut().for_each(|p| *p *= decay);
             return;
         }
-        let groups = k.div_ceil(MAX_BLOCK_LEVELS);
-        let mut done = 0;
-        for g in 0..groups {
-            let levels = (k - done).div_ceil(groups - g);
-            // The warm start's decay is applied as the first block reads p (×1 is exact).
-            let scale = if g == 0 { decay } else { 1.0 };
-            self.jacobi_blocked(levels, scale);
-            done += levels;
+        // The warm start's decay is applied as the first block reads p (×1 is exact).
+        self.sweeps_blocked(k, decay, None, None);
+    }
+
+    /// `passes` blocked passes from `p × scale` (plus a prolonged coarse correction when
+    /// given) into `p`, in [`blocks`]: Jacobi iterations, or, with `red_black = Some(c)`,
+    /// red–black half sweeps starting with colour `c`. The scale and the correction go with
+    /// the first block; each block's colours continue the previous block's.
+    pub(super) fn sweeps_blocked(
+        &mut self,
+        passes: usize,
+        scale: f32,
+        red_black: Option<usize>,
+        correction: Option<&Level>,
+    ) {
+        for (done, levels) in blocks(passes) {
+            let first = done == 0;
+            self.sweep_blocked(
+                levels,
+                if first { scale } else { 1.0 },
+                red_black.map(|c| (c + done) % 2),
+                correction.filter(|_| first),
+            );
         }
     }
 
-    /// `levels` Jacobi iterations from `p × scale` into `p` (through `p_tmp`).
-    fn jacobi_blocked(&mut self, levels: usize, scale: f32) {
-        self.sweep_blocked(levels, scale, None, None);
-    }
-
-    /// `levels` blocked passes from `p × scale` (plus a prolonged coarse correction when
-    /// given) into `p`: Jacobi iterations, or, with `red_black = Some(c)`, red–black half
-    /// sweeps starting with colour `c` (see [`JacobiCtx`]).
-    pub(super) fn sweep_blocked(
+    /// One blocked pass of `levels ≤ MAX_BLOCK_LEVELS` passes (see [`JacobiCtx`]).
+    fn sweep_blocked(
         &mut self,
         levels: usize,
         scale: f32,
@@ -50,10 +58,6 @@ impl Solver {
         correction: Option<&Level>,
     ) {
         let (nx, ny) = (self.nx, self.ny);
-        let threads = rayon::current_num_threads();
-        // Two bands per thread for balance, but each well over the 2 × levels ghost rows a
-        // band recomputes at its ends.
-        let band = ny.div_ceil(2 * threads).max(4 * levels).min(ny);
         let ctx = JacobiCtx {
             nx,
             ny,
@@ -68,13 +72,9 @@ impl Solver {
             red_black,
             correction,
         };
-        self.p_tmp
-            .par_chunks_mut(band * nx)
-            .enumerate()
-            .for_each(|(b, out)| {
-                let a = b * band;
-                jacobi_band(&ctx, out, a, a + out.len() / nx, levels);
-            });
+        for_each_band(&mut self.p_tmp, nx, ny, levels, |a, b, out| {
+            jacobi_band(&ctx, out, a, b, levels);
+        });
         std::mem::swap(&mut self.p, &mut self.p_tmp);
     }
 
@@ -123,6 +123,46 @@ impl Solver {
 /// ghost rows each band recomputes (≈ levels² rows) outweigh the cache savings.
 pub(super) const MAX_BLOCK_LEVELS: usize = 24;
 
+/// Splits `total` passes into blocks of at most [`MAX_BLOCK_LEVELS`], as even as possible:
+/// `(passes before the block, passes in it)`.
+pub(super) fn blocks(total: usize) -> impl Iterator<Item = (usize, usize)> {
+    let groups = total.div_ceil(MAX_BLOCK_LEVELS);
+    let mut done = 0;
+    (0..groups).map(move |g| {
+        let n = (total - done).div_ceil(groups - g);
+        done += n;
+        (done - n, n)
+    })
+}
+
+/// Runs `band(a, b, rows)` in parallel over the bands of rows `a..b` of a blocked pass of
+/// `levels` passes over an `nx × ny` grid written to `out`: two bands per thread for
+/// balance, but each well over the 2 × levels ghost rows a band recomputes at its ends.
+pub(super) fn for_each_band(
+    out: &mut [f32],
+    nx: usize,
+    ny: usize,
+    levels: usize,
+    band: impl Fn(usize, usize, &mut [f32]) + Sync,
+) {
+    let rows = ny
+        .div_ceil(2 * rayon::current_num_threads())
+        .max(4 * levels)
+        .min(ny);
+    out.par_chunks_mut(rows * nx)
+        .enumerate()
+        .for_each(|(k, out)| {
+            let a = k * rows;
+            band(a, a + out.len() / nx, out);
+        });
+}
+
+/// `x` where pressure flags `fl` have `bit`, else 0.
+#[inline(always)]
+pub(super) fn pick(fl: u8, bit: u8, x: f32) -> f32 {
+    if fl & bit != 0 { x } else { 0.0 }
+}
+
 /// Weights of the pressure stencil: `1/hx²`, `1/hz²`, and the inverse of their sum for a cell
 /// with four fluid neighbours.
 #[derive(Clone, Copy)]
@@ -145,10 +185,17 @@ impl Stencil {
     /// `1 / Σw` for a cell with pressure flags `fl` (fluid and open-edge neighbours count;
     /// 0 when none does). For four fluid neighbours this is exactly `inv_regular`.
     pub(super) fn inv_weight(&self, fl: u8) -> f32 {
+        let ws = self.weight_sum(fl);
+        if ws > 0.0 { 1.0 / ws } else { 0.0 }
+    }
+
+    /// `Σw` for a cell with pressure flags `fl`: the weights of its fluid and open-edge
+    /// neighbours.
+    #[inline(always)]
+    pub(super) fn weight_sum(&self, fl: u8) -> f32 {
         let n =
             |b: u8| f32::from(u8::from(fl & b != 0)) + f32::from(u8::from(fl & (b << EDGE) != 0));
-        let ws = self.wx * (n(L) + n(R)) + self.wz * (n(B) + n(T));
-        if ws > 0.0 { 1.0 / ws } else { 0.0 }
+        self.wx * (n(L) + n(R)) + self.wz * (n(B) + n(T))
     }
 }
 
@@ -180,10 +227,6 @@ pub(super) fn jacobi_row(
         wz,
         inv_regular,
     } = *st;
-    #[inline(always)]
-    pub(super) fn pick(fl: u8, bit: u8, x: f32) -> f32 {
-        if fl & bit != 0 { x } else { 0.0 }
-    }
     let cell = |i: usize, l: f32, r: f32| {
         let fl = f[i];
         (wx * (pick(fl, L, l) + pick(fl, R, r))
