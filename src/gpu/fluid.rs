@@ -679,15 +679,15 @@ impl GpuFluid {
     }
 
     /// The multigrid hierarchy, built and uploaded on first use.
-    pub fn multigrid(&self, device: &wgpu::Device) -> &GpuMultigrid {
+    fn multigrid(&self, device: &wgpu::Device) -> &GpuMultigrid {
         self.multigrid.get_or_init(|| {
             let (flags, [hx, hz], boundary) = &self.mg_source;
             GpuMultigrid::new(device, (self.nx, self.ny), (*hx, *hz), flags, *boundary)
         })
     }
 
-    /// The finest level's arrays of the multigrid solve (tests drive single passes on them).
-    pub fn fine(&self) -> Fine<'_> {
+    /// The finest level's arrays of the multigrid solve: pressure, its scratch, divergence.
+    fn fine(&self) -> Fine<'_> {
         Fine {
             p: &self.p,
             p_tmp: &self.p_tmp,
