@@ -734,8 +734,12 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                             println!("  {pass:<12} {ms:8.2} ms  {mb:9.1} MB");
                         }
                         println!(
-                            "  bandwidth {:.1} GB/s, bound {:.2} ms, ratio {:.2}",
-                            report.bandwidth_gb_s, report.bound_ms, report.ratio_to_bound
+                            "  bandwidth {:.1} GB/s, bound {:.2} ms, ratio {:.2}; unfused bound {:.2} ms, ratio {:.2}",
+                            report.bandwidth_gb_s,
+                            report.bound_ms,
+                            report.ratio_to_bound,
+                            report.unfused_bound_ms,
+                            report.ratio_to_unfused_bound
                         );
                         println!(
                             "  projection: RMS divergence {:.3e} -> {:.3e} (cut {:.1}x)",

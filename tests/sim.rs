@@ -569,6 +569,76 @@ fn fast_passes_match_the_reference_bit_for_bit() {
     }
 }
 
+/// Steps 2–4 fused into one banded sweep give the bits of the curl, confinement and
+/// divergence passes run one after another: every boundary, the smallest and odd grids,
+/// obstacles, non-square cells, and 1–3 threads (which move the band edges).
+#[test]
+fn the_fused_vorticity_sweep_gives_the_three_passes_bits() {
+    let dt = 1.0 / 60.0;
+    for boundary in [Boundary::Open, Boundary::Closed, Boundary::Periodic] {
+        for grid in [[8, 8], [13, 9], [41, 70], [90, 33]] {
+            let mut l = example("obstacles.json");
+            l.world.grid = grid;
+            l.world.size[1] *= 0.7;
+            l.sim.boundary = boundary;
+            l.sim.vorticity = 8.0;
+            let seeded = || {
+                let mut s = Solver::new(&l);
+                let (u, v) = s.faces_mut();
+                let nu = u.len();
+                u.copy_from_slice(
+                    &noise_field(nu, 5)
+                        .iter()
+                        .map(|x| 6.0 * x)
+                        .collect::<Vec<_>>(),
+                );
+                let nv = v.len();
+                v.copy_from_slice(
+                    &noise_field(nv, 6)
+                        .iter()
+                        .map(|x| 6.0 * x)
+                        .collect::<Vec<_>>(),
+                );
+                s.enforce_boundaries();
+                s
+            };
+            let mut want = seeded();
+            want.compute_curl();
+            want.confine_vorticity(dt);
+            want.compute_divergence();
+            let bits = |s: &Solver| -> Vec<u32> {
+                [&s.u, &s.v, &s.curl, &s.div]
+                    .into_iter()
+                    .flat_map(|f| f.iter().map(|x| x.to_bits()))
+                    .collect()
+            };
+            let want_bits = bits(&want);
+            assert!(
+                want.curl.iter().any(|&w| w != 0.0) && want.div.iter().any(|&d| d != 0.0),
+                "{boundary:?} {grid:?}: a field to compare"
+            );
+            for threads in [1, 2, 3] {
+                let pool = rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .unwrap();
+                let got = pool.install(|| {
+                    let mut s = seeded();
+                    assert!(s.fuses_vorticity());
+                    s.vorticity_divergence(dt);
+                    bits(&s)
+                });
+                let first = want_bits.iter().zip(&got).position(|(a, b)| a != b);
+                assert!(
+                    first.is_none(),
+                    "{boundary:?} {grid:?}, {threads} threads: first differing value {first:?} \
+                     (u, v, curl, div concatenated)"
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn maccormack_keeps_a_gust_sharper_than_semi_lagrangian() {
     let peak_after = |adv: doc::Advection| {
@@ -932,11 +1002,11 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
     assert_eq!(j["iterations"], 4);
     assert_eq!(j["steps"], 3);
     assert_eq!(j["threads"], 2);
+    // The obstacles layout confines vorticity, so the CPU step fuses curl, confinement and
+    // divergence into one sweep and reports it as one pass.
     let passes = [
         "forces",
-        "curl",
-        "confinement",
-        "divergence",
+        "curl_confinement_divergence",
         "pressure",
         "gradient",
         "advection",
@@ -947,7 +1017,19 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
         assert!(ms >= 0.0, "{p}: {ms}");
         bytes += j["passes_bytes"][p].as_u64().unwrap();
     }
+    assert_eq!(j["passes_ms"].as_object().unwrap().len(), passes.len());
+    assert_eq!(j["passes_bytes"].as_object().unwrap().len(), passes.len());
     assert_eq!(j["bytes_per_step"].as_u64().unwrap(), bytes);
+    // The unfused pipeline's count: three passes (curl 4F + 5C, confinement 32C + 9F,
+    // divergence 4F + 5C) where the fused sweep moves 9F + 9C.
+    let (c, f) = (64 * 64, 2 * 65 * 64);
+    let substeps = example("obstacles.json").sim.substeps.max(1) as u64;
+    let unfused = j["unfused_bytes_per_step"].as_u64().unwrap();
+    assert_eq!(
+        unfused - bytes,
+        (8 * f + 33 * c) * substeps,
+        "unfused {unfused}, fused {bytes}"
+    );
     // Pressure: 8 bytes/cell warm start + 13 bytes/cell per iteration.
     assert_eq!(j["passes_bytes"]["pressure"], 64 * 64 * (8 + 13 * 4));
     let (median, min) = (
@@ -964,6 +1046,11 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
         "bound {bound} vs {want}"
     );
     assert!((j["ratio_to_bound"].as_f64().unwrap() - median / bound).abs() < 1e-9 * median / bound);
+    let unfused_bound = j["unfused_bound_ms"].as_f64().unwrap();
+    let want = unfused as f64 / (bw * 1e9) * 1e3;
+    assert!((unfused_bound - want).abs() <= 1e-9 * want.max(1.0));
+    let ratio = j["ratio_to_unfused_bound"].as_f64().unwrap();
+    assert!((ratio - median / unfused_bound).abs() < 1e-9 * ratio);
     // The projection of a developed step cuts the divergence (4 Jacobi iterations: a little).
     let (before, after) = (
         j["divergence_before"].as_f64().unwrap(),

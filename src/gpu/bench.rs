@@ -75,7 +75,10 @@ pub fn run(
     // The byte count of a step whose forces reach every face (an upper bound for arrows).
     let cpu = Solver::new(layout);
     let faces = (cpu.nx + 1) * cpu.ny + cpu.nx * (cpu.ny + 1);
-    let bytes_per_step: u64 = pass_bytes(&cpu, faces).iter().map(|(_, b)| b).sum::<u64>()
+    let bytes_per_step: u64 = pass_bytes(&cpu, faces, false)
+        .iter()
+        .map(|(_, b)| b)
+        .sum::<u64>()
         * u64::from(layout.sim.substeps.max(1));
     let median_ms = median(&mut totals.clone());
     let info = &ctx.adapter;

@@ -40,6 +40,11 @@ pub struct BenchReport {
     pub bound_ms: f64,
     /// `median_ms / bound_ms`.
     pub ratio_to_bound: f64,
+    /// The same step's bytes and bound were steps 2–4 three passes (the unfused pipeline,
+    /// the reference the fused sweep is measured against), and `median_ms` over that bound.
+    pub unfused_bytes_per_step: u64,
+    pub unfused_bound_ms: f64,
+    pub ratio_to_unfused_bound: f64,
     /// RMS divergence over fluid cells before the pressure solve and after the gradient
     /// subtraction, in one more (untimed) step after the timed ones, and their ratio: how
     /// much the projection cut the divergence in a step of the developed flow.
@@ -56,8 +61,10 @@ pub fn solve_words(p: &crate::doc::SimParams) -> String {
     }
 }
 
-/// Bytes each pass must read and write for one step (see docs/PERFORMANCE.md).
-pub fn pass_bytes(s: &Solver, force_faces: usize) -> Vec<(&'static str, u64)> {
+/// Bytes each pass must read and write for one step (see docs/PERFORMANCE.md): with `fused`,
+/// steps 2–4 as the CPU step runs them when it fuses them (one sweep), else as three passes
+/// (the GPU's, and the CPU's without vorticity confinement).
+pub fn pass_bytes(s: &Solver, force_faces: usize, fused: bool) -> Vec<(&'static str, u64)> {
     let c = (s.nx * s.ny) as u64;
     let f = ((s.nx + 1) * s.ny + s.nx * (s.ny + 1)) as u64;
     let k = u64::from(s.params.pressure_iterations);
@@ -70,15 +77,25 @@ pub fn pass_bytes(s: &Solver, force_faces: usize) -> Vec<(&'static str, u64)> {
     } else {
         0
     };
-    vec![
-        ("forces", 25 * force_faces as u64),
-        ("curl", 4 * f + 5 * c),
-        ("confinement", confinement),
-        ("divergence", 4 * f + 5 * c),
+    // Fused: the faces and their free masks read once, the solid mask once, the new faces,
+    // the curl and the divergence written once.
+    let steps_2_4 = if fused && s.fuses_vorticity() {
+        vec![("curl_confinement_divergence", 9 * f + 9 * c)]
+    } else {
+        vec![
+            ("curl", 4 * f + 5 * c),
+            ("confinement", confinement),
+            ("divergence", 4 * f + 5 * c),
+        ]
+    };
+    let mut passes = vec![("forces", 25 * force_faces as u64)];
+    passes.extend(steps_2_4);
+    passes.extend([
         ("pressure", pressure_bytes(s, k)),
         ("gradient", 4 * c + 9 * f),
         ("advection", advection),
-    ]
+    ]);
+    passes
 }
 
 /// Bytes of one projection's pressure solve: Jacobi's warm start and `k` iterations, or the
@@ -169,17 +186,26 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
     let mut totals = Vec::with_capacity(steps);
     let mut per_pass: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     let mut bytes: BTreeMap<&'static str, u64> = BTreeMap::new();
+    let mut unfused_bytes = 0;
     for _ in 0..steps.max(1) {
         s.timings = Default::default();
         let t = Instant::now();
         s.step();
         totals.push(t.elapsed().as_secs_f64() * 1e3);
+        let passes = pass_bytes(&s, s.force_faces, true);
         for (name, secs) in s.timings.as_pairs() {
-            per_pass.entry(name).or_default().push(secs * 1e3);
+            if passes.iter().any(|(p, _)| *p == name) {
+                per_pass.entry(name).or_default().push(secs * 1e3);
+            }
         }
-        for (name, b) in pass_bytes(&s, s.force_faces) {
+        for (name, b) in passes {
             *bytes.entry(name).or_default() += b * u64::from(s.params.substeps);
         }
+        unfused_bytes += pass_bytes(&s, s.force_faces, false)
+            .iter()
+            .map(|(_, b)| b)
+            .sum::<u64>()
+            * u64::from(s.params.substeps);
     }
     s.measure_projection = true;
     s.step();
@@ -187,6 +213,8 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
     let n = steps.max(1) as u64;
     bytes.values_mut().for_each(|b| *b /= n);
     let bytes_per_step: u64 = bytes.values().sum();
+    let unfused_bytes_per_step = unfused_bytes / n;
+    let unfused_bound_ms = unfused_bytes_per_step as f64 / (bandwidth * 1e9) * 1e3;
     let median_ms = median(&mut totals.clone());
     let min_ms = totals.iter().copied().fold(f64::MAX, f64::min);
     let bound_ms = bytes_per_step as f64 / (bandwidth * 1e9) * 1e3;
@@ -213,6 +241,9 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         bandwidth_gb_s: bandwidth,
         bound_ms,
         ratio_to_bound: median_ms / bound_ms,
+        unfused_bytes_per_step,
+        unfused_bound_ms,
+        ratio_to_unfused_bound: median_ms / unfused_bound_ms,
         divergence_before,
         divergence_after,
         divergence_reduction: divergence_before / divergence_after.max(f32::MIN_POSITIVE),

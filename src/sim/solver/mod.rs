@@ -23,6 +23,7 @@ pub(crate) mod multigrid;
 mod pressure;
 mod reference;
 mod sampler;
+mod vorticity;
 
 use advection::*;
 pub(crate) use multigrid::Multigrid;
@@ -48,6 +49,9 @@ pub struct PassTimes {
     pub curl: f64,
     pub confinement: f64,
     pub divergence: f64,
+    /// Steps 2–4 fused into one sweep (the step's path when vorticity confinement is on;
+    /// curl, confinement and divergence then stay 0).
+    pub curl_confinement_divergence: f64,
     pub pressure: f64,
     pub gradient: f64,
     pub advection: f64,
@@ -59,17 +63,22 @@ impl PassTimes {
             + self.curl
             + self.confinement
             + self.divergence
+            + self.curl_confinement_divergence
             + self.pressure
             + self.gradient
             + self.advection
     }
 
-    pub fn as_pairs(&self) -> [(&'static str, f64); 7] {
+    pub fn as_pairs(&self) -> [(&'static str, f64); 8] {
         [
             ("forces", self.forces),
             ("curl", self.curl),
             ("confinement", self.confinement),
             ("divergence", self.divergence),
+            (
+                "curl_confinement_divergence",
+                self.curl_confinement_divergence,
+            ),
             ("pressure", self.pressure),
             ("gradient", self.gradient),
             ("advection", self.advection),
@@ -292,11 +301,20 @@ impl Solver {
         let t0 = Instant::now();
         self.apply_forces(dt);
         let t1 = Instant::now();
-        self.compute_curl();
+        let fused = self.fuses_vorticity();
+        if fused {
+            self.vorticity_divergence(dt);
+        } else {
+            self.compute_curl();
+        }
         let t2 = Instant::now();
-        self.confine_vorticity(dt);
+        if !fused {
+            self.confine_vorticity(dt);
+        }
         let t3 = Instant::now();
-        self.compute_divergence();
+        if !fused {
+            self.compute_divergence();
+        }
         let t4 = Instant::now();
         let before = self.measure_projection.then(|| self.fluid_rms(&self.div));
         self.solve_pressure();
@@ -310,161 +328,25 @@ impl Solver {
         let t7 = Instant::now();
         self.time += dt;
         let tm = &mut self.timings;
-        tm.forces += (t1 - t0).as_secs_f64();
-        tm.curl += (t2 - t1).as_secs_f64();
-        tm.confinement += (t3 - t2).as_secs_f64();
-        tm.divergence += (t4 - t3).as_secs_f64();
-        tm.pressure += (t5 - t4).as_secs_f64();
-        tm.gradient += (t6 - t5).as_secs_f64();
-        tm.advection += (t7 - t6).as_secs_f64();
-    }
-
-    /// Step 2: vorticity at cell centres, `∂v/∂x − ∂u/∂z`, central differences (one-sided at
-    /// non-periodic edges).
-    pub fn compute_curl(&mut self) {
-        let (nx, ny, hx, hz) = (self.nx, self.ny, self.hx, self.hz);
-        let periodic = self.params.boundary == Boundary::Periodic;
-        let (u, v, solid) = (&self.u, &self.v, &self.solid);
-        let w = nx + 1;
-        self.curl
-            .par_chunks_mut(nx)
-            .enumerate()
-            .with_min_len(rows_per_job(nx))
-            .for_each(|(j, row)| {
-                let (jb, jt) = neighbours(j, ny, periodic);
-                let dz = hz * (jt as f32 - jb as f32).abs().clamp(1.0, 2.0);
-                let (ub, ut) = (&u[jb * w..][..w], &u[jt * w..][..w]);
-                let (v0, v1) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
-                let sd = &solid[j * nx..][..nx];
-                for i in row_ends(nx) {
-                    let (il, ir) = neighbours(i, nx, periodic);
-                    let vc = |i: usize| 0.5 * (v0[i] + v1[i]);
-                    let dx = hx * (ir as f32 - il as f32).abs().clamp(1.0, 2.0);
-                    let dvdx = (vc(ir) - vc(il)) / dx;
-                    let dudz = (0.5 * (ut[i] + ut[i + 1]) - 0.5 * (ub[i] + ub[i + 1])) / dz;
-                    row[i] = if sd[i] != 0 { 0.0 } else { dvdx - dudz };
-                }
-                let Some(n) = nx.checked_sub(2) else { return };
-                let dx = hx * 2.0; // |ir − il| = 2 inside the row
-                let (o, sd) = (&mut row[1..=n], &sd[1..=n]);
-                let (v0l, v0r, v1l, v1r) = (&v0[..n], &v0[2..], &v1[..n], &v1[2..]);
-                let (ub0, ub1, ut0, ut1) = (&ub[1..=n], &ub[2..=n + 1], &ut[1..=n], &ut[2..=n + 1]);
-                for k in 0..n {
-                    let dvdx = (0.5 * (v0r[k] + v1r[k]) - 0.5 * (v0l[k] + v1l[k])) / dx;
-                    let dudz = (0.5 * (ut0[k] + ut1[k]) - 0.5 * (ub0[k] + ub1[k])) / dz;
-                    o[k] = if sd[k] != 0 { 0.0 } else { dvdx - dudz };
-                }
-            });
-    }
-
-    /// Step 3: vorticity confinement, `f = ε h w (N_z, −N_x)` with `N` the unit gradient of
-    /// `|w|`, pushing along the rotation so small eddies survive advection.
-    pub fn confine_vorticity(&mut self, dt: f32) {
-        let eps = self.params.vorticity;
-        if eps <= 0.0 {
-            return;
+        let secs = |a: Instant, b: Instant| (b - a).as_secs_f64();
+        tm.forces += secs(t0, t1);
+        if fused {
+            tm.curl_confinement_divergence += secs(t1, t4);
+        } else {
+            tm.curl += secs(t1, t2);
+            tm.confinement += secs(t2, t3);
+            tm.divergence += secs(t3, t4);
         }
-        let (nx, ny) = (self.nx, self.ny);
-        let periodic = self.params.boundary == Boundary::Periodic;
-        let h = self.hx.min(self.hz);
-        let curl = &self.curl;
-        #[inline(always)]
-        fn force(eps_h: (f32, f32), w: f32, l: f32, r: f32, b: f32, t: f32) -> (f32, f32) {
-            let gx = 0.5 * (r.abs() - l.abs());
-            let gz = 0.5 * (t.abs() - b.abs());
-            let len = (gx * gx + gz * gz).sqrt() + 1e-5;
-            let s = eps_h.0 * eps_h.1 * w / len;
-            (s * gz, -s * gx)
-        }
-        // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
-        self.p_tmp
-            .par_chunks_mut(nx)
-            .zip(self.div.par_chunks_mut(nx))
-            .enumerate()
-            .with_min_len(rows_per_job(nx))
-            .for_each(|(j, (fx, fz))| {
-                let (jb, jt) = neighbours(j, ny, periodic);
-                let c = &curl[j * nx..][..nx];
-                let (cb, ct) = (&curl[jb * nx..][..nx], &curl[jt * nx..][..nx]);
-                for i in row_ends(nx) {
-                    let (il, ir) = neighbours(i, nx, periodic);
-                    (fx[i], fz[i]) = force((eps, h), c[i], c[il], c[ir], cb[i], ct[i]);
-                }
-                let Some(n) = nx.checked_sub(2) else { return };
-                let (fxi, fzi) = (&mut fx[1..=n], &mut fz[1..=n]);
-                let (cl, cc, cr) = (&c[..n], &c[1..=n], &c[2..]);
-                let (cb, ct) = (&cb[1..=n], &ct[1..=n]);
-                for k in 0..n {
-                    (fxi[k], fzi[k]) = force((eps, h), cc[k], cl[k], cr[k], cb[k], ct[k]);
-                }
-            });
-        let (fx, fz) = (&self.p_tmp, &self.div);
-        let (u_free, v_free) = (&self.u_free, &self.v_free);
-        let add = |x: f32, a: f32, b: f32| clamp_speed(x + dt * 0.5 * (a + b));
-        self.u
-            .par_chunks_mut(nx + 1)
-            .enumerate()
-            .with_min_len(rows_per_job(nx + 1))
-            .for_each(|(j, row)| {
-                let free = &u_free[j * (nx + 1)..][..nx + 1];
-                let f = &fx[j * nx..][..nx];
-                // End faces: the wrapped cell when periodic, else the one cell beside them.
-                let (first, last) = if periodic { (nx - 1, 0) } else { (0, nx - 1) };
-                if free[0] != 0 {
-                    row[0] = add(row[0], f[first], f[0]);
-                }
-                if free[nx] != 0 {
-                    row[nx] = add(row[nx], f[nx - 1], f[last]);
-                }
-                let (r, fr) = (&mut row[1..nx], &free[1..nx]);
-                let (a, b) = (&f[..nx - 1], &f[1..]);
-                for k in 0..nx - 1 {
-                    r[k] = if fr[k] != 0 {
-                        add(r[k], a[k], b[k])
-                    } else {
-                        r[k]
-                    };
-                }
-            });
-        self.v
-            .par_chunks_mut(nx)
-            .enumerate()
-            .with_min_len(rows_per_job(nx))
-            .for_each(|(j, row)| {
-                let jb = match j {
-                    0 if periodic => ny - 1,
-                    0 => 0,
-                    _ => j - 1,
-                };
-                let jt = if j == ny {
-                    if periodic { 0 } else { ny - 1 }
-                } else {
-                    j
-                };
-                let free = &v_free[j * nx..][..nx];
-                let (a, b) = (&fz[jb * nx..][..nx], &fz[jt * nx..][..nx]);
-                for i in 0..nx {
-                    row[i] = if free[i] != 0 {
-                        add(row[i], a[i], b[i])
-                    } else {
-                        row[i]
-                    };
-                }
-            });
-        self.sync_periodic();
+        tm.pressure += secs(t4, t5);
+        tm.gradient += secs(t5, t6);
+        tm.advection += secs(t6, t7);
     }
 
-    /// Step 4: divergence per cell, `(u_R − u_L)/hx + (v_T − v_B)/hz` (0 in solids).
-    pub fn compute_divergence(&mut self) {
-        let (nx, hx, hz) = (self.nx, self.hx, self.hz);
-        let (u, v, solid) = (&self.u, &self.v, &self.solid);
-        self.div
-            .par_chunks_mut(nx)
-            .enumerate()
-            .with_min_len(rows_per_job(nx))
-            .for_each(|(j, row)| {
-                divergence_row(row, j, nx, hx, hz, u, v, solid);
-            });
+    /// True when the step runs steps 2–4 as one fused sweep ([`Self::vorticity_divergence`]):
+    /// whenever vorticity confinement is on (without it there is nothing to fuse but the
+    /// curl, which only the views read).
+    pub fn fuses_vorticity(&self) -> bool {
+        self.params.vorticity > 0.0
     }
 
     /// Step 6: subtract the pressure gradient from every free face (others are zeroed).
@@ -652,30 +534,6 @@ impl Solver {
             .chain(&self.p)
             .flat_map(|x| x.to_le_bytes())
             .collect()
-    }
-}
-
-#[allow(clippy::too_many_arguments)]
-fn divergence_row(
-    row: &mut [f32],
-    j: usize,
-    nx: usize,
-    hx: f32,
-    hz: f32,
-    u: &[f32],
-    v: &[f32],
-    solid: &[u8],
-) {
-    let ur = &u[j * (nx + 1)..(j + 1) * (nx + 1)];
-    let vb = &v[j * nx..(j + 1) * nx];
-    let vt = &v[(j + 1) * nx..(j + 2) * nx];
-    let s = &solid[j * nx..(j + 1) * nx];
-    for i in 0..nx {
-        row[i] = if s[i] != 0 {
-            0.0
-        } else {
-            (ur[i + 1] - ur[i]) / hx + (vt[i] - vb[i]) / hz
-        };
     }
 }
 

@@ -1,0 +1,486 @@
+//! Steps 2–4: the curl, vorticity confinement and the divergence. Each is a pass of its own
+//! (the GPU's twins, and what the per-pass tests compare), and [`Solver::vorticity_divergence`]
+//! runs all three as one sweep down bands of rows, each row computed by the same row kernels,
+//! so the fused sweep gives the passes' bits while reading the faces once instead of three
+//! times and never writing the cell-centred forces out.
+
+use super::*;
+
+impl Solver {
+    /// Steps 2–4 as the step runs them: one fused sweep (see the module notes), or, without
+    /// vorticity confinement, the curl and divergence passes.
+    pub fn vorticity_divergence(&mut self, dt: f32) {
+        let eps = self.params.vorticity;
+        if eps <= 0.0 {
+            self.compute_curl();
+            self.compute_divergence();
+            return;
+        }
+        let (nx, ny) = (self.nx, self.ny);
+        let ctx = Fused {
+            nx,
+            ny,
+            hx: self.hx,
+            hz: self.hz,
+            eps_h: (eps, self.hx.min(self.hz)),
+            dt,
+            periodic: self.params.boundary == Boundary::Periodic,
+            u: &self.u,
+            v: &self.v,
+            solid: &self.solid,
+            u_free: &self.u_free,
+            v_free: &self.v_free,
+        };
+        // Two bands per thread; each recomputes up to three rows of curl and two of forces
+        // beyond its ends, so bands stay well over that.
+        let rows = ny
+            .div_ceil(2 * rayon::current_num_threads())
+            .max(16)
+            .min(ny);
+        let (v_rows, v_last) = self.v_tmp.split_at_mut(ny * nx);
+        self.curl
+            .par_chunks_mut(rows * nx)
+            .zip(self.div.par_chunks_mut(rows * nx))
+            .zip(self.u_tmp.par_chunks_mut(rows * (nx + 1)))
+            .zip(v_rows.par_chunks_mut(rows * nx))
+            .enumerate()
+            .for_each(|(k, (((curl, div), u), v))| {
+                let a = k * rows;
+                ctx.band(a, a + curl.len() / nx, Out { curl, div, u, v });
+            });
+        // The last row of v faces: a copy of the first when periodic (below); otherwise its
+        // force is the last cell row's, made again from the finished curl.
+        if !ctx.periodic {
+            let (mut fx, mut fz) = (vec![0.0; nx], vec![0.0; nx]);
+            let j = ny - 1;
+            let (jb, jt) = neighbours(j, ny, false);
+            let c = |r: usize| &self.curl[r * nx..][..nx];
+            force_row(&mut fx, &mut fz, c(j), c(jb), c(jt), ctx.eps_h, false);
+            v_last.copy_from_slice(&self.v[ny * nx..]);
+            add_v_row(v_last, &self.v_free[ny * nx..], &fz, &fz, dt);
+        }
+        std::mem::swap(&mut self.u, &mut self.u_tmp);
+        std::mem::swap(&mut self.v, &mut self.v_tmp);
+        self.sync_periodic();
+    }
+
+    /// Step 2: vorticity at cell centres, `∂v/∂x − ∂u/∂z`, central differences (one-sided at
+    /// non-periodic edges).
+    pub fn compute_curl(&mut self) {
+        let (nx, ny) = (self.nx, self.ny);
+        let (hx, hz) = (self.hx, self.hz);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let (u, v, solid) = (&self.u, &self.v, &self.solid);
+        self.curl
+            .par_chunks_mut(nx)
+            .enumerate()
+            .with_min_len(rows_per_job(nx))
+            .for_each(|(j, row)| curl_row(row, j, nx, ny, hx, hz, periodic, u, v, solid));
+    }
+
+    /// Step 3: vorticity confinement, `f = ε h w (N_z, −N_x)` with `N` the unit gradient of
+    /// `|w|`, pushing along the rotation so small eddies survive advection.
+    pub fn confine_vorticity(&mut self, dt: f32) {
+        let eps = self.params.vorticity;
+        if eps <= 0.0 {
+            return;
+        }
+        let (nx, ny) = (self.nx, self.ny);
+        let periodic = self.params.boundary == Boundary::Periodic;
+        let eps_h = (eps, self.hx.min(self.hz));
+        let curl = &self.curl;
+        // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
+        self.p_tmp
+            .par_chunks_mut(nx)
+            .zip(self.div.par_chunks_mut(nx))
+            .enumerate()
+            .with_min_len(rows_per_job(nx))
+            .for_each(|(j, (fx, fz))| {
+                let (jb, jt) = neighbours(j, ny, periodic);
+                let c = |r: usize| &curl[r * nx..][..nx];
+                force_row(fx, fz, c(j), c(jb), c(jt), eps_h, periodic);
+            });
+        let (fx, fz) = (&self.p_tmp, &self.div);
+        let (u_free, v_free) = (&self.u_free, &self.v_free);
+        self.u
+            .par_chunks_mut(nx + 1)
+            .enumerate()
+            .with_min_len(rows_per_job(nx + 1))
+            .for_each(|(j, row)| {
+                let free = &u_free[j * (nx + 1)..][..nx + 1];
+                add_u_row(row, free, &fx[j * nx..][..nx], periodic, dt);
+            });
+        self.v
+            .par_chunks_mut(nx)
+            .enumerate()
+            .with_min_len(rows_per_job(nx))
+            .for_each(|(j, row)| {
+                let (jb, jt) = face_cells(j, ny, periodic);
+                let free = &v_free[j * nx..][..nx];
+                add_v_row(row, free, &fz[jb * nx..][..nx], &fz[jt * nx..][..nx], dt);
+            });
+        self.sync_periodic();
+    }
+
+    /// Step 4: divergence per cell, `(u_R − u_L)/hx + (v_T − v_B)/hz` (0 in solids).
+    pub fn compute_divergence(&mut self) {
+        let (nx, hx, hz) = (self.nx, self.hx, self.hz);
+        let (u, v, solid) = (&self.u, &self.v, &self.solid);
+        self.div
+            .par_chunks_mut(nx)
+            .enumerate()
+            .with_min_len(rows_per_job(nx))
+            .for_each(|(j, row)| {
+                divergence_row(
+                    row,
+                    &u[j * (nx + 1)..][..nx + 1],
+                    &v[j * nx..][..nx],
+                    &v[(j + 1) * nx..][..nx],
+                    &solid[j * nx..][..nx],
+                    hx,
+                    hz,
+                );
+            });
+    }
+}
+
+/// The cells below and above v face row `j` (the end rows wrap when periodic, else see the
+/// one cell beside them).
+fn face_cells(j: usize, ny: usize, periodic: bool) -> (usize, usize) {
+    let jb = match j {
+        0 if periodic => ny - 1,
+        0 => 0,
+        _ => j - 1,
+    };
+    let jt = match j {
+        _ if j < ny => j,
+        _ if periodic => 0,
+        _ => ny - 1,
+    };
+    (jb, jt)
+}
+
+/// Row `j` of the curl from the faces `u`, `v` (whole arrays).
+#[allow(clippy::too_many_arguments)]
+fn curl_row(
+    row: &mut [f32],
+    j: usize,
+    nx: usize,
+    ny: usize,
+    hx: f32,
+    hz: f32,
+    periodic: bool,
+    u: &[f32],
+    v: &[f32],
+    solid: &[u8],
+) {
+    let w = nx + 1;
+    let (jb, jt) = neighbours(j, ny, periodic);
+    let dz = hz * (jt as f32 - jb as f32).abs().clamp(1.0, 2.0);
+    let (ub, ut) = (&u[jb * w..][..w], &u[jt * w..][..w]);
+    let (v0, v1) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
+    let sd = &solid[j * nx..][..nx];
+    for i in row_ends(nx) {
+        let (il, ir) = neighbours(i, nx, periodic);
+        let vc = |i: usize| 0.5 * (v0[i] + v1[i]);
+        let dx = hx * (ir as f32 - il as f32).abs().clamp(1.0, 2.0);
+        let dvdx = (vc(ir) - vc(il)) / dx;
+        let dudz = (0.5 * (ut[i] + ut[i + 1]) - 0.5 * (ub[i] + ub[i + 1])) / dz;
+        row[i] = if sd[i] != 0 { 0.0 } else { dvdx - dudz };
+    }
+    if nx > 2 {
+        curl_interior(row, sd, ub, ut, v0, v1, hx * 2.0, dz);
+    }
+}
+
+/// The curl of a row's interior cells (`|ir − il| = 2` there, so `dx = 2 hx`).
+#[allow(clippy::too_many_arguments)]
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn curl_interior(
+    row: &mut [f32],
+    sd: &[u8],
+    ub: &[f32],
+    ut: &[f32],
+    v0: &[f32],
+    v1: &[f32],
+    dx: f32,
+    dz: f32,
+) {
+    let n = row.len() - 2;
+    let (o, sd) = (&mut row[1..=n], &sd[1..=n]);
+    let (v0l, v0r, v1l, v1r) = (&v0[..n], &v0[2..], &v1[..n], &v1[2..]);
+    let (ub0, ub1, ut0, ut1) = (&ub[1..=n], &ub[2..=n + 1], &ut[1..=n], &ut[2..=n + 1]);
+    for k in 0..n {
+        let dvdx = (0.5 * (v0r[k] + v1r[k]) - 0.5 * (v0l[k] + v1l[k])) / dx;
+        let dudz = (0.5 * (ut0[k] + ut1[k]) - 0.5 * (ub0[k] + ub1[k])) / dz;
+        o[k] = if sd[k] != 0 { 0.0 } else { dvdx - dudz };
+    }
+}
+
+/// The confinement force of one cell from its curl `w` and its neighbours' `l, r, b, t`.
+#[inline(always)]
+fn force(eps_h: (f32, f32), w: f32, l: f32, r: f32, b: f32, t: f32) -> (f32, f32) {
+    let gx = 0.5 * (r.abs() - l.abs());
+    let gz = 0.5 * (t.abs() - b.abs());
+    let len = (gx * gx + gz * gz).sqrt() + 1e-5;
+    let s = eps_h.0 * eps_h.1 * w / len;
+    (s * gz, -s * gx)
+}
+
+/// The cell-centred confinement force of a row, `(fx, fz)`, from its curl `c` and the curl
+/// rows below and above it.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn force_row(
+    fx: &mut [f32],
+    fz: &mut [f32],
+    c: &[f32],
+    cb: &[f32],
+    ct: &[f32],
+    eps_h: (f32, f32),
+    periodic: bool,
+) {
+    let nx = c.len();
+    for i in row_ends(nx) {
+        let (il, ir) = neighbours(i, nx, periodic);
+        (fx[i], fz[i]) = force(eps_h, c[i], c[il], c[ir], cb[i], ct[i]);
+    }
+    let Some(n) = nx.checked_sub(2) else { return };
+    let (fxi, fzi) = (&mut fx[1..=n], &mut fz[1..=n]);
+    let (cl, cc, cr) = (&c[..n], &c[1..=n], &c[2..]);
+    let (cb, ct) = (&cb[1..=n], &ct[1..=n]);
+    for k in 0..n {
+        (fxi[k], fzi[k]) = force(eps_h, cc[k], cl[k], cr[k], cb[k], ct[k]);
+    }
+}
+
+/// Adds the force `f` (cell-centred x, one row) to a row of u faces where they are free: each
+/// face gets the mean of the cells beside it (the end faces: the wrapped cell when periodic,
+/// else the one cell beside them).
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
+    let nx = f.len();
+    let add = |x: f32, a: f32, b: f32| clamp_speed(x + dt * 0.5 * (a + b));
+    let (first, last) = if periodic { (nx - 1, 0) } else { (0, nx - 1) };
+    if free[0] != 0 {
+        row[0] = add(row[0], f[first], f[0]);
+    }
+    if free[nx] != 0 {
+        row[nx] = add(row[nx], f[nx - 1], f[last]);
+    }
+    let (r, fr) = (&mut row[1..nx], &free[1..nx]);
+    let (a, b) = (&f[..nx - 1], &f[1..]);
+    // Computed everywhere, kept where free: branch-free, so it vectorises.
+    for k in 0..nx - 1 {
+        let x = r[k];
+        r[k] = if fr[k] != 0 { add(x, a[k], b[k]) } else { x };
+    }
+}
+
+/// Adds the mean of the z forces of the cells below (`a`) and above (`b`) to a row of v faces
+/// where they are free.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32) {
+    let add = |x: f32, a: f32, b: f32| clamp_speed(x + dt * 0.5 * (a + b));
+    let n = row.len();
+    let (free, a, b) = (&free[..n], &a[..n], &b[..n]);
+    // Computed everywhere, kept where free: branch-free, so it vectorises.
+    for i in 0..n {
+        let x = row[i];
+        row[i] = if free[i] != 0 { add(x, a[i], b[i]) } else { x };
+    }
+}
+
+/// One row of the divergence: `(u_R − u_L)/hx + (v_T − v_B)/hz` from its u faces `ur`
+/// (`nx + 1`) and the v face rows below and above it (0 in solids).
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(super) fn divergence_row(
+    row: &mut [f32],
+    ur: &[f32],
+    vb: &[f32],
+    vt: &[f32],
+    s: &[u8],
+    hx: f32,
+    hz: f32,
+) {
+    let n = row.len();
+    let (ul, urr, vb, vt, s) = (&ur[..n], &ur[1..=n], &vb[..n], &vt[..n], &s[..n]);
+    for i in 0..n {
+        row[i] = if s[i] != 0 {
+            0.0
+        } else {
+            (urr[i] - ul[i]) / hx + (vt[i] - vb[i]) / hz
+        };
+    }
+}
+
+/// What every band of the fused sweep reads.
+struct Fused<'a> {
+    nx: usize,
+    ny: usize,
+    hx: f32,
+    hz: f32,
+    eps_h: (f32, f32),
+    dt: f32,
+    periodic: bool,
+    u: &'a [f32],
+    v: &'a [f32],
+    solid: &'a [u8],
+    u_free: &'a [u8],
+    v_free: &'a [u8],
+}
+
+/// A band's rows of the fused sweep's outputs (`v`: its faces' rows, the band's first face
+/// row to the one below its last cell row's top face).
+struct Out<'a> {
+    curl: &'a mut [f32],
+    div: &'a mut [f32],
+    u: &'a mut [f32],
+    v: &'a mut [f32],
+}
+
+impl Fused<'_> {
+    /// Cell rows `a..b` of the fused sweep: going down the band, each row's curl, then the
+    /// forces of the row before it (whose curl neighbours are now known), its u faces and the
+    /// v face below it, then the divergence of the row before that (whose faces are now all
+    /// updated). Rows are virtual (they run past the grid's ends when periodic and wrap to
+    /// real rows); curl and forces live in three-row rings, and rows beyond the band are
+    /// computed but not written.
+    fn band(&self, a: usize, b: usize, out: Out) {
+        let (nx, ny, per) = (self.nx, self.ny, self.periodic);
+        let (a, b, n) = (a as isize, b as isize, ny as isize);
+        let real = |s: isize| s.rem_euclid(n) as usize;
+        // The rows either side of virtual row `s` (clamped at non-periodic ends).
+        let side = |s: isize| {
+            if per {
+                (s - 1, s + 1)
+            } else {
+                ((s - 1).max(0), (s + 1).min(n - 1))
+            }
+        };
+        // Face f lies between cells f − 1 and f: faces a..=b need forces a − 1 ..= b.
+        let (fa, fb) = if per {
+            (a - 1, b)
+        } else {
+            ((a - 1).max(0), b.min(n - 1))
+        };
+        let (ca, cb) = (side(fa).0, side(fb).1);
+        let slot = |s: isize| s.rem_euclid(3) as usize * nx;
+        let mut curl = vec![0.0f32; 3 * nx];
+        let (mut fx, mut fz) = (vec![0.0f32; 3 * nx], vec![0.0f32; 3 * nx]);
+        // Face b's new values (the band's top face belongs to the next band).
+        let mut top = vec![0.0f32; nx];
+        let Out {
+            curl: curl_out,
+            div,
+            u: u_out,
+            v: v_out,
+        } = out;
+        let w = nx + 1;
+        let mut next_div = a;
+        for s in ca..=cb + 1 {
+            if s <= cb {
+                let r = real(s);
+                let dst = &mut curl[slot(s)..][..nx];
+                curl_row(
+                    dst, r, nx, ny, self.hx, self.hz, per, self.u, self.v, self.solid,
+                );
+                if (a..b).contains(&s) {
+                    curl_out[(s - a) as usize * nx..][..nx].copy_from_slice(dst);
+                }
+            }
+            let t = s - 1;
+            if t < fa || t > fb {
+                continue;
+            }
+            let (tb, tt) = side(t);
+            force_row(
+                &mut fx[slot(t)..][..nx],
+                &mut fz[slot(t)..][..nx],
+                &curl[slot(t)..][..nx],
+                &curl[slot(tb)..][..nx],
+                &curl[slot(tt)..][..nx],
+                self.eps_h,
+                per,
+            );
+            if (a..b).contains(&t) {
+                let r = real(t);
+                let row = &mut u_out[(t - a) as usize * w..][..w];
+                row.copy_from_slice(&self.u[r * w..][..w]);
+                add_u_row(
+                    row,
+                    &self.u_free[r * w..][..w],
+                    &fx[slot(t)..][..nx],
+                    per,
+                    self.dt,
+                );
+            }
+            // The faces whose forces are now all known: face t, and past a closed or open
+            // top the grid's last face (its one cell is t).
+            let last = if !per && t == n - 1 { n } else { t };
+            for f in t..=last {
+                if f < a || f > b {
+                    continue;
+                }
+                let (below, above) = if per {
+                    (f - 1, f)
+                } else {
+                    ((f - 1).max(0), f.min(n - 1))
+                };
+                let r = if per { real(f) } else { f as usize };
+                let dst = if f < b {
+                    &mut v_out[(f - a) as usize * nx..][..nx]
+                } else {
+                    &mut top[..]
+                };
+                dst.copy_from_slice(&self.v[r * nx..][..nx]);
+                add_v_row(
+                    dst,
+                    &self.v_free[r * nx..][..nx],
+                    &fz[slot(below)..][..nx],
+                    &fz[slot(above)..][..nx],
+                    self.dt,
+                );
+            }
+            // Divergence of the rows whose top face is done.
+            while next_div < b && next_div < last {
+                let k = (next_div - a) as usize;
+                let vt = if next_div + 1 < b {
+                    &v_out[(k + 1) * nx..][..nx]
+                } else {
+                    &top[..]
+                };
+                divergence_row(
+                    &mut div[k * nx..][..nx],
+                    &u_out[k * w..][..w],
+                    &v_out[k * nx..][..nx],
+                    vt,
+                    &self.solid[real(next_div) * nx..][..nx],
+                    self.hx,
+                    self.hz,
+                );
+                next_div += 1;
+            }
+        }
+        debug_assert_eq!(next_div, b, "every row's divergence was made");
+    }
+}
