@@ -7,16 +7,11 @@ impl Solver {
     /// Step 7: advection (semi-Lagrangian or limited MacCormack) with dissipation
     /// `vel / (1 + dissipation × dt)` folded into the same write.
     pub fn advect(&mut self, dt: f32) {
-        self.advect_with(dt, advect_faces, maccormack);
-    }
-
-    /// Advection with the given kernels for one face field (the fast or the reference ones).
-    fn advect_with(&mut self, dt: f32, advect_faces: FaceKernel, maccormack: FaceKernel) {
         let g = self.geometry();
         let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
+        let (u, v) = (&self.u, &self.v);
         match self.params.advection {
             Advection::SemiLagrangian => {
-                let (u, v) = (&self.u, &self.v);
                 advect_faces(&g, u, v, u, &mut self.u_tmp, dt, keep, &self.u_free, false);
                 advect_faces(&g, u, v, v, &mut self.v_tmp, dt, keep, &self.v_free, true);
                 std::mem::swap(&mut self.u, &mut self.u_tmp);
@@ -25,36 +20,15 @@ impl Solver {
             Advection::MacCormack => {
                 // Forward: φ̂ = A(φ); backward: φ̌ = A⁻¹(φ̂); φ' = φ̂ + (φ − φ̌)/2, clamped to
                 // the forward stencil's range so the correction cannot create new extrema.
-                let (u, v) = (&self.u, &self.v);
+                // The backward step and the correction share one sweep (see [`maccormack`]).
                 advect_faces(&g, u, v, u, &mut self.u_tmp, dt, 1.0, &self.u_free, false);
                 advect_faces(&g, u, v, v, &mut self.v_tmp, dt, 1.0, &self.v_free, true);
-                advect_faces(
-                    &g,
-                    u,
-                    v,
-                    &self.u_tmp,
-                    &mut self.u_hat,
-                    -dt,
-                    1.0,
-                    &self.u_free,
-                    false,
-                );
-                advect_faces(
-                    &g,
-                    u,
-                    v,
-                    &self.v_tmp,
-                    &mut self.v_hat,
-                    -dt,
-                    1.0,
-                    &self.v_free,
-                    true,
-                );
+                let (u_fwd, v_fwd) = (&self.u_tmp, &self.v_tmp);
                 maccormack(
                     &g,
                     u,
                     v,
-                    &self.u_tmp,
+                    u_fwd,
                     &mut self.u_hat,
                     dt,
                     keep,
@@ -65,7 +39,7 @@ impl Solver {
                     &g,
                     u,
                     v,
-                    &self.v_tmp,
+                    v_fwd,
                     &mut self.v_hat,
                     dt,
                     keep,
@@ -79,11 +53,6 @@ impl Solver {
         self.sync_periodic();
     }
 }
-
-/// A pass over one face field: `(geometry, u, v, source, destination, dt, keep, free,
-/// is_v)`, as [`advect_faces`] and [`maccormack`] (and their reference twins) take it.
-pub(super) type FaceKernel =
-    fn(&Geometry, &[f32], &[f32], &[f32], &mut [f32], f32, f32, &[u8], bool);
 
 #[derive(Clone, Copy)]
 pub(super) struct Geometry {
@@ -312,14 +281,19 @@ pub(super) fn advect_faces(
         );
 }
 
-/// MacCormack correction: `back` holds φ̌ on entry and the limited result on exit.
+/// MacCormack's backward step and correction of one face field in one sweep, row by row:
+/// the points the row's faces reach in `dt`, where φ̌ = A⁻¹(φ̂) samples the forward result
+/// `fwd` (into `dst`'s row, still in cache for the next loop), and their departure points,
+/// around which the limiter reads the four samples of φ; then `dst = (φ̂ + (φ − φ̌)/2)`
+/// clamped to that range, times `keep`. The same two row kernels the separate sweeps ran,
+/// so the same bits, without φ̌ making a round trip through memory.
 #[allow(clippy::too_many_arguments)]
 pub(super) fn maccormack(
     g: &Geometry,
     u: &[f32],
     v: &[f32],
     fwd: &[f32],
-    back: &mut [f32],
+    dst: &mut [f32],
     dt: f32,
     keep: f32,
     free: &[u8],
@@ -328,22 +302,29 @@ pub(super) fn maccormack(
     let w = if is_v { g.nx } else { g.nx + 1 };
     let orig = if is_v { v } else { u };
     let h = if is_v { g.ny + 1 } else { g.ny };
-    let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
-    back.par_chunks_mut(w)
+    let o = if is_v { [0.5, 0.0] } else { [0.0, 0.5] };
+    dst.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
         .for_each_init(
             || (vec![0.0; w], vec![0.0; w]),
             |(xs, zs), (j, row)| {
-                departures_row(g, u, v, j, is_v, dt, xs, zs);
                 let k = j * w;
                 let (free, fwd_row, orig_row) = (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
+                departures_row(g, u, v, j, is_v, -dt, xs, zs);
+                if g.periodic {
+                    let f = Wrapped::new(fwd, w, h, g.nx, g.ny);
+                    sample_wrapped(&f, o, xs, zs, free, 1.0, row);
+                } else {
+                    sample_clamped(&Clamped::new(fwd, w, h), o, xs, zs, free, 1.0, row);
+                }
+                departures_row(g, u, v, j, is_v, dt, xs, zs);
                 if g.periodic {
                     let f = Wrapped::new(orig, w, h, g.nx, g.ny);
-                    correct_wrapped(&f, [ox, oz], xs, zs, free, fwd_row, orig_row, keep, row);
+                    correct_wrapped(&f, o, xs, zs, free, fwd_row, orig_row, keep, row);
                 } else {
                     let f = Clamped::new(orig, w, h);
-                    correct_clamped(&f, [ox, oz], xs, zs, free, fwd_row, orig_row, keep, row);
+                    correct_clamped(&f, o, xs, zs, free, fwd_row, orig_row, keep, row);
                 }
             },
         );
