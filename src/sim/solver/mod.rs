@@ -119,8 +119,10 @@ pub struct Solver {
     pub(crate) flags: Vec<u8>,
     /// Per cell: `1 / Σ w` of the neighbours in its pressure stencil (0 outside the solve).
     pub(crate) inv_w: Vec<f32>,
-    /// Rows whose interior cells all have four fluid neighbours (the Jacobi fast path).
-    row_regular: Vec<bool>,
+    /// Per row, the runs `(start, end)` of interior cells (1..nx − 1) that do not have four
+    /// fluid neighbours (solids, cells beside them), merged across short gaps: the Jacobi
+    /// row runs everything else on its fast path.
+    row_irregular: Vec<Vec<(usize, usize)>>,
     layout: Layout,
     ambient: Ambient,
     pub timings: PassTimes,
@@ -217,8 +219,8 @@ impl Solver {
         );
         let stencil = Stencil::new(hx, hz);
         let inv_w = flags.iter().map(|&fl| stencil.inv_weight(fl)).collect();
-        let row_regular = (0..ny)
-            .map(|j| (1..nx.saturating_sub(1)).all(|i| flags[j * nx + i] == ALL_FLUID))
+        let row_irregular = (0..ny)
+            .map(|j| irregular_runs(&flags[j * nx..][..nx]))
             .collect();
 
         let cells = nx * ny;
@@ -246,7 +248,7 @@ impl Solver {
             v_free,
             flags,
             inv_w,
-            row_regular,
+            row_irregular,
             layout: layout.clone(),
             ambient: Ambient::new(layout),
             timings: PassTimes::default(),
@@ -535,6 +537,27 @@ impl Solver {
             .flat_map(|x| x.to_le_bytes())
             .collect()
     }
+}
+
+/// Runs shorter than this apart are merged, so the Jacobi row never switches paths for a few
+/// cells (its fast loop wants whole vectors).
+const RUN_GAP: usize = 16;
+
+/// The runs `(start, end)` of interior cells of a row of pressure flags (cells 1..n − 1)
+/// whose flags are not [`ALL_FLUID`], merged across gaps shorter than [`RUN_GAP`].
+fn irregular_runs(flags: &[u8]) -> Vec<(usize, usize)> {
+    let interior = flags.len().saturating_sub(1);
+    let mut runs: Vec<(usize, usize)> = Vec::new();
+    for (i, &fl) in flags.iter().enumerate().take(interior).skip(1) {
+        if fl == ALL_FLUID {
+            continue;
+        }
+        match runs.last_mut() {
+            Some(last) if i - last.1 < RUN_GAP => last.1 = i + 1,
+            _ => runs.push((i, i + 1)),
+        }
+    }
+    runs
 }
 
 /// Rows per rayon job for a row of `width` cells: enough work (~8k cells) that scheduling

@@ -66,7 +66,7 @@ impl Solver {
             div: &self.div,
             flags: &self.flags,
             inv_w: &self.inv_w,
-            regular: &self.row_regular,
+            irregular: &self.row_irregular,
             wraps: self.params.boundary == Boundary::Periodic,
             scale,
             red_black,
@@ -88,7 +88,7 @@ impl Solver {
     pub fn jacobi_iteration(&mut self) {
         let (nx, ny) = (self.nx, self.ny);
         let st = self.stencil();
-        let (p, div, flags, regular) = (&self.p, &self.div, &self.flags, &self.row_regular);
+        let (p, div, flags, runs) = (&self.p, &self.div, &self.flags, &self.row_irregular);
         let inv_w = &self.inv_w;
         let wraps = self.params.boundary == Boundary::Periodic;
         self.p_tmp
@@ -112,7 +112,7 @@ impl Solver {
                     &div[j * nx..(j + 1) * nx],
                     &flags[j * nx..(j + 1) * nx],
                     &inv_w[j * nx..(j + 1) * nx],
-                    regular[j],
+                    &runs[j],
                 );
             });
         std::mem::swap(&mut self.p, &mut self.p_tmp);
@@ -202,8 +202,10 @@ impl Stencil {
 /// One Jacobi row from the previous iterate's rows `below`, `row`, `above` (rows wrap at the
 /// grid's ends): `p = (wx (p_L + p_R) + wz (p_B + p_T) − div) / Σw`, where a neighbour that
 /// does not take part (solid, wall, open edge at p = 0) contributes 0 and `inv_w` holds the
-/// cell's `1 / Σw` (0 for cells outside the solve). Branch-free, so it vectorises; rows whose
-/// cells all have four fluid neighbours skip the flags (the same arithmetic, the same bits).
+/// cell's `1 / Σw` (0 for cells outside the solve). Branch-free, so it vectorises; interior
+/// cells outside the row's `irregular` runs all have four fluid neighbours and skip the
+/// flags (the same arithmetic, the same bits: `pick` keeps every neighbour and `1 / Σw` is
+/// exactly `inv_regular` there).
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
@@ -219,7 +221,7 @@ pub(super) fn jacobi_row(
     d: &[f32],
     f: &[u8],
     inv_w: &[f32],
-    regular: bool,
+    irregular: &[(usize, usize)],
 ) {
     let nx = out.len();
     let Stencil {
@@ -240,23 +242,33 @@ pub(super) fn jacobi_row(
         return;
     }
     out[nx - 1] = cell(nx - 1, row[nx - 2], row[0]);
-    let n = nx - 2;
-    let (o, l, r) = (&mut out[1..=n], &row[..n], &row[2..n + 2]);
-    let (b, a, dd) = (&below[1..=n], &above[1..=n], &d[1..=n]);
-    if regular {
-        for i in 0..n {
-            o[i] = (wx * (l[i] + r[i]) + wz * (b[i] + a[i]) - dd[i]) * inv_regular;
+    // Interior cells a..b, on the fast path or through the flags.
+    let span = |out: &mut [f32], a: usize, b: usize, flagged: bool| {
+        let n = b - a;
+        let (o, l, r) = (&mut out[a..b], &row[a - 1..][..n], &row[a + 1..][..n]);
+        let (bl, ab, dd) = (&below[a..b], &above[a..b], &d[a..b]);
+        if flagged {
+            let (ff, iw) = (&f[a..b], &inv_w[a..b]);
+            for i in 0..n {
+                let fl = ff[i];
+                o[i] = (wx * (pick(fl, L, l[i]) + pick(fl, R, r[i]))
+                    + wz * (pick(fl, B, bl[i]) + pick(fl, T, ab[i]))
+                    - dd[i])
+                    * iw[i];
+            }
+        } else {
+            for i in 0..n {
+                o[i] = (wx * (l[i] + r[i]) + wz * (bl[i] + ab[i]) - dd[i]) * inv_regular;
+            }
         }
-    } else {
-        let (ff, iw) = (&f[1..=n], &inv_w[1..=n]);
-        for i in 0..n {
-            let fl = ff[i];
-            o[i] = (wx * (pick(fl, L, l[i]) + pick(fl, R, r[i]))
-                + wz * (pick(fl, B, b[i]) + pick(fl, T, a[i]))
-                - dd[i])
-                * iw[i];
-        }
+    };
+    let mut next = 1;
+    for &(a, b) in irregular {
+        span(out, next, a, false);
+        span(out, a, b, true);
+        next = b;
     }
+    span(out, next, nx - 1, false);
 }
 
 /// What every band of a blocked Jacobi pass reads.
@@ -268,7 +280,7 @@ pub(super) struct JacobiCtx<'a> {
     pub(super) div: &'a [f32],
     pub(super) flags: &'a [u8],
     pub(super) inv_w: &'a [f32],
-    pub(super) regular: &'a [bool],
+    pub(super) irregular: &'a [Vec<(usize, usize)>],
     /// Periodic: rows wrap around, so ghost rows continue past the grid's ends.
     pub(super) wraps: bool,
     pub(super) scale: f32,
@@ -303,7 +315,7 @@ pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, le
             &c.div[j * nx..][..nx],
             &c.flags[j * nx..][..nx],
             &c.inv_w[j * nx..][..nx],
-            c.regular[j],
+            &c.irregular[j],
         );
         if let Some(c0) = c.red_black {
             keep_other_colour(dst, row, j + c0 + t - 1);
