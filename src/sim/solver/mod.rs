@@ -122,7 +122,7 @@ pub struct Solver {
     /// Per row, the runs `(start, end)` of interior cells (1..nx − 1) that do not have four
     /// fluid neighbours (solids, cells beside them), merged across short gaps: the Jacobi
     /// row runs everything else on its fast path.
-    row_irregular: Vec<Vec<(usize, usize)>>,
+    pub(super) row_irregular: Vec<Vec<(usize, usize)>>,
     layout: Layout,
     ambient: Ambient,
     pub timings: PassTimes,

@@ -820,8 +820,9 @@ fn correct_row(
 }
 
 /// One row of the finest level's residual in volume scale, from the Jacobi system's flags:
-/// `hx·hz·(Σ w p_n − div − Σw·p)` (0 outside the solve).
-#[allow(clippy::too_many_arguments)]
+/// `hx·hz·(Σ w p_n − div − Σw·p)` (0 outside the solve). Interior cells outside the row's
+/// `irregular` runs have four fluid neighbours and skip the flags (the same bits, as in
+/// [`super::pressure::jacobi_row`]).
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -831,11 +832,10 @@ fn fine_residual_row(
     st: &Stencil,
     vol: f32,
     out: &mut [f32],
-    below: &[f32],
-    row: &[f32],
-    above: &[f32],
+    [below, row, above]: [&[f32]; 3],
     d: &[f32],
     f: &[u8],
+    irregular: &[(usize, usize)],
 ) {
     let n = row.len();
     let (wx, wz) = (st.wx, st.wz);
@@ -851,12 +851,36 @@ fn fine_residual_row(
     if n < 3 {
         return;
     }
-    let m = n - 2;
-    let (o, l, c, r) = (&mut out[1..=m], &row[..m], &row[1..=m], &row[2..]);
-    let (b, a, dd, ff) = (&below[1..=m], &above[1..=m], &d[1..=m], &f[1..=m]);
-    for i in 0..m {
-        o[i] = cell(ff[i], l[i], r[i], b[i], a[i], c[i], dd[i]);
+    let ws_regular = st.weight_sum(ALL_FLUID);
+    // Interior cells a..b, through the flags or on the fast path.
+    let span = |out: &mut [f32], a: usize, b: usize, flagged: bool| {
+        let m = b - a;
+        let (o, l, c, r) = (
+            &mut out[a..b],
+            &row[a - 1..][..m],
+            &row[a..b],
+            &row[a + 1..][..m],
+        );
+        let (bl, ab, dd) = (&below[a..b], &above[a..b], &d[a..b]);
+        if flagged {
+            let ff = &f[a..b];
+            for i in 0..m {
+                o[i] = cell(ff[i], l[i], r[i], bl[i], ab[i], c[i], dd[i]);
+            }
+        } else {
+            for i in 0..m {
+                let s = wx * (l[i] + r[i]) + wz * (bl[i] + ab[i]);
+                o[i] = vol * (s - dd[i] - ws_regular * c[i]);
+            }
+        }
+    };
+    let mut next = 1;
+    for &(a, b) in irregular {
+        span(out, next, a, false);
+        span(out, a, b, true);
+        next = b;
     }
+    span(out, next, n - 1, false);
 }
 
 impl Solver {
@@ -880,16 +904,38 @@ impl Solver {
             self.multigrid = Some(mg);
             return;
         }
+        let two_coloured = self.red_black_is_two_colouring();
+        let mut pre_done = false;
         for cycle in 0..cycles {
-            let scale = if cycle == 0 { decay } else { 1.0 };
-            self.sweeps_blocked(2 * PRE_SWEEPS, scale, Some(0), None);
+            if !pre_done {
+                let scale = if cycle == 0 { decay } else { 1.0 };
+                self.sweeps_blocked(2 * PRE_SWEEPS, scale, Some(0), None);
+            }
             self.restrict_fine(&mut mg.levels[1]);
             mg.cycle(1);
             let (fine, coarse) = mg.levels.split_at_mut(1);
             expand(&mut fine[0], &coarse[0]);
-            self.sweeps_blocked(2 * POST_SWEEPS, 1.0, Some(1), Some(&mg.levels[0]));
+            // Post-smoothing, and when another cycle follows, its pre-smoothing in the same
+            // blocked pass: the post sweeps end on colour 0 and the pre sweeps start with it,
+            // and a colour's half sweep repeated gives the same values (its neighbours, all
+            // of the other colour, have not changed), so one is dropped: 2·post + 2·pre − 1
+            // alternating half sweeps from colour 1 give the bits of the two passes.
+            pre_done = two_coloured && cycle + 1 < cycles;
+            let passes = if pre_done {
+                2 * POST_SWEEPS + 2 * PRE_SWEEPS - 1
+            } else {
+                2 * POST_SWEEPS
+            };
+            self.sweeps_blocked(passes, 1.0, Some(1), Some(&mg.levels[0]));
         }
         self.multigrid = Some(mg);
+    }
+
+    /// True unless a periodic axis has odd length (its two end cells are then neighbours of
+    /// one colour): only a true two-colouring lets the multigrid solve run one cycle's
+    /// post-smoothing and the next one's pre-smoothing as one blocked pass.
+    pub(crate) fn red_black_is_two_colouring(&self) -> bool {
+        self.params.boundary != Boundary::Periodic || (self.nx % 2 == 0 && self.ny % 2 == 0)
     }
 
     /// The coarse right-hand side from the finest level: each coarse cell sums its children's
@@ -900,6 +946,7 @@ impl Solver {
         let vol = self.hx * self.hz;
         let wraps = self.params.boundary == Boundary::Periodic;
         let (p, div, flags) = (&self.p, &self.div, &self.flags);
+        let runs = &self.row_irregular;
         restrict_rows(c, nx, ny, |j, out| {
             let (jb, jt) = neighbours(j, ny, wraps);
             let row = |k: usize| &p[k * nx..][..nx];
@@ -907,11 +954,10 @@ impl Solver {
                 &st,
                 vol,
                 out,
-                row(jb),
-                row(j),
-                row(jt),
+                [row(jb), row(j), row(jt)],
                 &div[j * nx..][..nx],
                 &flags[j * nx..][..nx],
+                &runs[j],
             );
         });
     }
