@@ -546,10 +546,15 @@ const RUN_GAP: usize = 16;
 /// The runs `(start, end)` of interior cells of a row of pressure flags (cells 1..n − 1)
 /// whose flags are not [`ALL_FLUID`], merged across gaps shorter than [`RUN_GAP`].
 fn irregular_runs(flags: &[u8]) -> Vec<(usize, usize)> {
-    let interior = flags.len().saturating_sub(1);
+    runs_where_not(flags.len(), |i| flags[i] == ALL_FLUID)
+}
+
+/// The runs `(start, end)` of interior cells `i` of a row of `n` (1..n − 1) where
+/// `regular(i)` is false, merged across gaps shorter than [`RUN_GAP`].
+fn runs_where_not(n: usize, regular: impl Fn(usize) -> bool) -> Vec<(usize, usize)> {
     let mut runs: Vec<(usize, usize)> = Vec::new();
-    for (i, &fl) in flags.iter().enumerate().take(interior).skip(1) {
-        if fl == ALL_FLUID {
+    for i in 1..n.saturating_sub(1) {
+        if regular(i) {
             continue;
         }
         match runs.last_mut() {

@@ -209,6 +209,12 @@ pub(crate) struct Level {
     /// that made each value: rows are then blended along z as they are read.
     pub(crate) ex: Vec<f32>,
     pub(crate) ew: Vec<f32>,
+    /// The links most interior faces have across x and z (a cell with these four links
+    /// and no edge link is "regular"), and per row the runs `(start, end)` of interior cells
+    /// (1..nx − 1) that are not, merged across short gaps: the row kernels run everything
+    /// else on a fast path that reads no links (the same products, so the same bits).
+    regular: (f32, f32),
+    runs: Vec<Vec<(usize, usize)>>,
 }
 
 impl Level {
@@ -286,6 +292,20 @@ impl Level {
             .iter()
             .map(|&d| if d > 0.0 { 1.0 / d } else { 0.0 })
             .collect();
+        let regular = (most_common(&ax), most_common(&az));
+        let runs = (0..ny)
+            .map(|j| {
+                let is_regular = |i: usize| {
+                    let bits = |v: f32| v.to_bits();
+                    let (lx, lz) = (bits(regular.0), bits(regular.1));
+                    bits(ax[j * (nx + 1) + i]) == lx
+                        && bits(ax[j * (nx + 1) + i + 1]) == lx
+                        && bits(az[j * nx + i]) == lz
+                        && bits(az[(j + 1) * nx + i]) == lz
+                };
+                runs_where_not(nx, is_regular)
+            })
+            .collect();
         Self {
             nx,
             ny,
@@ -304,6 +324,8 @@ impl Level {
             from_z: Vec::new(),
             ex: Vec::new(),
             ew: Vec::new(),
+            regular,
+            runs,
         }
     }
 
@@ -413,13 +435,13 @@ impl Level {
         let nx = self.nx;
         link_sum_row(
             out,
-            below,
-            row,
-            above,
+            [below, row, above],
             &self.ax[j * (nx + 1)..][..nx + 1],
             &self.az[j * nx..][..nx],
             &self.az[(j + 1) * nx..][..nx],
             self.x_axis.wraps,
+            self.regular,
+            &self.runs[j],
         );
     }
 }
@@ -618,7 +640,8 @@ pub(crate) fn half_sweeps(
 }
 
 /// `out = Σ a x_n` over a row's four links (the row's ends wrap when `wraps`; otherwise
-/// their end links are 0).
+/// their end links are 0). Interior cells outside `irregular` have the `regular` links
+/// `(x, z)` and skip the link arrays (the same products in the same order).
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
@@ -627,13 +650,13 @@ pub(crate) fn half_sweeps(
 )]
 pub(crate) fn link_sum_row(
     out: &mut [f32],
-    below: &[f32],
-    row: &[f32],
-    above: &[f32],
+    [below, row, above]: [&[f32]; 3],
     ax: &[f32],
     az_b: &[f32],
     az_t: &[f32],
     wraps: bool,
+    (lx, lz): (f32, f32),
+    irregular: &[(usize, usize)],
 ) {
     let n = out.len();
     let (first, last) = if wraps {
@@ -649,13 +672,41 @@ pub(crate) fn link_sum_row(
     if n < 3 {
         return;
     }
-    let m = n - 2;
-    let (o, l, r) = (&mut out[1..=m], &row[..m], &row[2..]);
-    let (al, ar, ab, at) = (&ax[1..=m], &ax[2..=m + 1], &az_b[1..=m], &az_t[1..=m]);
-    let (b, a) = (&below[1..=m], &above[1..=m]);
-    for i in 0..m {
-        o[i] = al[i] * l[i] + ar[i] * r[i] + ab[i] * b[i] + at[i] * a[i];
+    // Interior cells a..b, through the links or on the fast path.
+    let span = |out: &mut [f32], a: usize, b: usize, linked: bool| {
+        let m = b - a;
+        let (o, l, r) = (&mut out[a..b], &row[a - 1..][..m], &row[a + 1..][..m]);
+        let (bl, ab) = (&below[a..b], &above[a..b]);
+        if linked {
+            let (al, ar) = (&ax[a..b], &ax[a + 1..][..m]);
+            let (lb, lt) = (&az_b[a..b], &az_t[a..b]);
+            for i in 0..m {
+                o[i] = al[i] * l[i] + ar[i] * r[i] + lb[i] * bl[i] + lt[i] * ab[i];
+            }
+        } else {
+            for i in 0..m {
+                o[i] = lx * l[i] + lx * r[i] + lz * bl[i] + lz * ab[i];
+            }
+        }
+    };
+    let mut next = 1;
+    for &(a, b) in irregular {
+        span(out, next, a, false);
+        span(out, a, b, true);
+        next = b;
     }
+    span(out, next, n - 1, false);
+}
+
+/// The value most entries of `v` hold (bit for bit; ties go to the smallest bits).
+fn most_common(v: &[f32]) -> f32 {
+    let mut bits: Vec<u32> = v.iter().map(|x| x.to_bits()).collect();
+    bits.sort_unstable();
+    let best = bits
+        .chunk_by(|a, b| a == b)
+        .max_by(|a, b| a.len().cmp(&b.len()).then(b[0].cmp(&a[0])))
+        .map_or(0, |run| run[0]);
+    f32::from_bits(best)
 }
 
 /// `s ← (s + b_scale·b) / D` (0 outside the solve), in place over a row of link sums.
