@@ -585,20 +585,12 @@ fn the_fused_vorticity_sweep_gives_the_three_passes_bits() {
             let seeded = || {
                 let mut s = Solver::new(&l);
                 let (u, v) = s.faces_mut();
-                let nu = u.len();
-                u.copy_from_slice(
-                    &noise_field(nu, 5)
-                        .iter()
-                        .map(|x| 6.0 * x)
-                        .collect::<Vec<_>>(),
-                );
-                let nv = v.len();
-                v.copy_from_slice(
-                    &noise_field(nv, 6)
-                        .iter()
-                        .map(|x| 6.0 * x)
-                        .collect::<Vec<_>>(),
-                );
+                for (f, seed) in [(u, 5), (v, 6)] {
+                    let noise = noise_field(f.len(), seed);
+                    for (x, n) in f.iter_mut().zip(noise) {
+                        *x = 6.0 * n;
+                    }
+                }
                 s.enforce_boundaries();
                 s
             };

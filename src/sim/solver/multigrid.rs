@@ -689,13 +689,7 @@ pub(crate) fn link_sum_row(
             }
         }
     };
-    let mut next = 1;
-    for &(a, b) in irregular {
-        span(out, next, a, false);
-        span(out, a, b, true);
-        next = b;
-    }
-    span(out, next, n - 1, false);
+    for_spans(n, irregular, |a, b, flagged| span(out, a, b, flagged));
 }
 
 /// The value most entries of `v` hold (bit for bit; ties go to the smallest bits).
@@ -925,13 +919,7 @@ fn fine_residual_row(
             }
         }
     };
-    let mut next = 1;
-    for &(a, b) in irregular {
-        span(out, next, a, false);
-        span(out, a, b, true);
-        next = b;
-    }
-    span(out, next, n - 1, false);
+    for_spans(n, irregular, |a, b, flagged| span(out, a, b, flagged));
 }
 
 impl Solver {

@@ -262,13 +262,24 @@ pub(super) fn jacobi_row(
             }
         }
     };
+    for_spans(nx, irregular, |a, b, flagged| span(out, a, b, flagged));
+}
+
+/// Calls `span(a, b, flagged)` over the interior cells `1..n − 1` of a row in order: each run
+/// of `irregular` flagged, the cells between the runs not.
+#[inline(always)]
+pub(super) fn for_spans(
+    n: usize,
+    irregular: &[(usize, usize)],
+    mut span: impl FnMut(usize, usize, bool),
+) {
     let mut next = 1;
     for &(a, b) in irregular {
-        span(out, next, a, false);
-        span(out, a, b, true);
+        span(next, a, false);
+        span(a, b, true);
         next = b;
     }
-    span(out, next, nx - 1, false);
+    span(next, n - 1, false);
 }
 
 /// What every band of a blocked Jacobi pass reads.
