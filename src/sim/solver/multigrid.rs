@@ -472,7 +472,7 @@ impl Multigrid {
             f.from_x = c.x_axis.interpolation(&f.x_axis, open);
             f.from_z = c.z_axis.interpolation(&f.z_axis, open);
             f.ex = vec![0.0; f.nx * c.ny];
-            f.ew = vec![0.0; f.nx * c.ny];
+            f.ew = expansion_weights(f, c);
         }
         Self { levels }
     }
@@ -791,31 +791,56 @@ pub(crate) fn restrict(f: &Level, x: &[f32], b: &[f32], b_scale: f32, c: &mut Le
 }
 
 /// Interpolates the coarse correction along x to the finer level's columns, one row per
-/// coarse row, with the weight of the coarse cells in the solve behind each value (an open
-/// edge beyond the last centre counts as a cell in the solve holding 0).
+/// coarse row (the weights behind each value, [`Level::ew`], depend only on the hierarchy
+/// and are made once by [`expansion_weights`]).
 pub(crate) fn expand(f: &mut Level, c: &Level) {
     let (nx, mx) = (f.nx, c.nx);
     let from_x = &f.from_x;
     f.ex.par_chunks_mut(nx)
-        .zip(f.ew.par_chunks_mut(nx))
         .enumerate()
         .with_min_len(rows_per_job(nx))
-        .for_each(|(jc, (e, w))| {
+        .for_each(|(jc, e)| {
             let x = &c.x[jc * mx..][..mx];
             let inv = &c.inv_d[jc * mx..][..mx];
             for (i, ix) in from_x.iter().enumerate() {
-                let a = ix.near as usize;
-                let (ma, wa) = (f32::from(u8::from(inv[a] > 0.0)), 1.0 - ix.t);
-                let (xb, mb) = if ix.far == Interp::EDGE {
-                    (0.0, 1.0)
+                let (wa, wb) = interp_weights(ix, inv);
+                let xb = if ix.far == Interp::EDGE {
+                    0.0
                 } else {
-                    let b = ix.far as usize;
-                    (x[b], f32::from(u8::from(inv[b] > 0.0)))
+                    x[ix.far as usize]
                 };
-                e[i] = wa * ma * x[a] + ix.t * mb * xb;
-                w[i] = wa * ma + ix.t * mb;
+                e[i] = wa * x[ix.near as usize] + wb * xb;
             }
         });
+}
+
+/// The weights of an interpolated value's two coarse cells: their linear weights times 1 for
+/// a cell in the solve, 0 for one outside (an open edge beyond the last centre counts as a
+/// cell in the solve holding 0).
+#[inline(always)]
+fn interp_weights(ix: &Interp, inv: &[f32]) -> (f32, f32) {
+    let inside = |c: u32| f32::from(u8::from(inv[c as usize] > 0.0));
+    let mb = if ix.far == Interp::EDGE {
+        1.0
+    } else {
+        inside(ix.far)
+    };
+    ((1.0 - ix.t) * inside(ix.near), ix.t * mb)
+}
+
+/// For each coarse row, the weight of the coarse cells in the solve behind each value
+/// [`expand`] makes: what its interpolation is divided by where rows are blended.
+fn expansion_weights(f: &Level, c: &Level) -> Vec<f32> {
+    let mx = c.nx;
+    (0..c.ny)
+        .flat_map(|jc| {
+            let inv = &c.inv_d[jc * mx..][..mx];
+            f.from_x.iter().map(move |ix| {
+                let (wa, wb) = interp_weights(ix, inv);
+                wa + wb
+            })
+        })
+        .collect()
 }
 
 /// Adds the coarse correction to row `j` of level `f` (from its [`expand`]ed rows, blended
