@@ -731,7 +731,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         );
                         for (pass, ms) in &report.passes_ms {
                             let mb = report.passes_bytes[pass] as f64 / 1e6;
-                            println!("  {pass:<12} {ms:8.2} ms  {mb:9.1} MB");
+                            println!("  {pass:<28} {ms:8.2} ms  {mb:9.1} MB");
                         }
                         println!(
                             "  bandwidth {:.1} GB/s, bound {:.2} ms, ratio {:.2}; unfused bound {:.2} ms, ratio {:.2}",
