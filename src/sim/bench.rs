@@ -40,9 +40,9 @@ pub struct BenchReport {
     pub bound_ms: f64,
     /// `median_ms / bound_ms`.
     pub ratio_to_bound: f64,
-    /// The same step's bytes and bound were every pass separate (the unfused pipeline the
-    /// GPU still runs: steps 2–4 as three passes, MacCormack as three sweeps), the reference
-    /// the fused passes are measured against, and `median_ms` over that bound.
+    /// The same step's bytes and bound if every pass ran separately (the unfused pipeline
+    /// the GPU still runs: steps 2–4 as three passes, MacCormack as three sweeps): the
+    /// reference the fused passes are measured against; and `median_ms` over that bound.
     pub unfused_bytes_per_step: u64,
     pub unfused_bound_ms: f64,
     pub ratio_to_unfused_bound: f64,

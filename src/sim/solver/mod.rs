@@ -304,19 +304,17 @@ impl Solver {
         self.apply_forces(dt);
         let t1 = Instant::now();
         let fused = self.fuses_vorticity();
-        if fused {
+        let (t2, t3) = if fused {
             self.vorticity_divergence(dt);
+            (t1, t1)
         } else {
             self.compute_curl();
-        }
-        let t2 = Instant::now();
-        if !fused {
+            let t2 = Instant::now();
             self.confine_vorticity(dt);
-        }
-        let t3 = Instant::now();
-        if !fused {
+            let t3 = Instant::now();
             self.compute_divergence();
-        }
+            (t2, t3)
+        };
         let t4 = Instant::now();
         let before = self.measure_projection.then(|| self.fluid_rms(&self.div));
         self.solve_pressure();
