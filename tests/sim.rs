@@ -475,14 +475,20 @@ fn forces_never_enter_obstacles() {
     assert!(pushed > 100, "the arrows push somewhere");
 }
 
+/// `f` run on a pool of `threads` rayon threads (the banding, and so the work each thread
+/// does, changes with the count; the results must not).
+fn on_threads<T: Send>(threads: usize, f: impl FnOnce() -> T + Send) -> T {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(threads)
+        .build()
+        .unwrap()
+        .install(f)
+}
+
 #[test]
 fn same_layout_same_bytes_with_one_or_two_threads() {
     let run_with = |threads: usize, name: &str, advection: doc::Advection| {
-        let pool = rayon::ThreadPoolBuilder::new()
-            .num_threads(threads)
-            .build()
-            .unwrap();
-        pool.install(|| {
+        on_threads(threads, || {
             let (file, multigrid) = match name.split_once('/') {
                 Some((file, _)) => (file, true),
                 None => (name, false),
@@ -545,11 +551,7 @@ fn fast_passes_match_the_reference_bit_for_bit() {
         let want = reference.state_bytes();
         assert!(want.iter().any(|&b| b != 0), "{name}: the field moved");
         for threads in [1, 2, 3] {
-            let pool = rayon::ThreadPoolBuilder::new()
-                .num_threads(threads)
-                .build()
-                .unwrap();
-            let got = pool.install(|| {
+            let got = on_threads(threads, || {
                 let mut s = Solver::new(&l);
                 for _ in 0..12 {
                     s.step();
@@ -610,11 +612,7 @@ fn the_fused_vorticity_sweep_gives_the_three_passes_bits() {
                 "{boundary:?} {grid:?}: a field to compare"
             );
             for threads in [1, 2, 3] {
-                let pool = rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .unwrap();
-                let got = pool.install(|| {
+                let got = on_threads(threads, || {
                     let mut s = seeded();
                     assert!(s.fuses_vorticity());
                     s.vorticity_divergence(dt);
