@@ -57,18 +57,26 @@ fn noise_field(n: usize, seed: u64) -> Vec<f32> {
         .collect()
 }
 
+/// A solver for `l` whose faces hold white noise of amplitude `a` (u from `seeds.0`, v from
+/// `seeds.1`), with the boundaries enforced.
+fn noisy_solver(l: &Layout, seeds: (u64, u64), a: f32) -> Solver {
+    let mut s = Solver::new(l);
+    let (u, v) = s.faces_mut();
+    for (f, seed) in [(u, seeds.0), (v, seeds.1)] {
+        let noise = noise_field(f.len(), seed);
+        for (x, n) in f.iter_mut().zip(noise) {
+            *x = a * n;
+        }
+    }
+    s.enforce_boundaries();
+    s
+}
+
 fn random_solver(boundary: Boundary, n: u32) -> Solver {
     let mut l = Layout::new("random", [64.0, 64.0], [n, n]);
     l.sim.boundary = boundary;
     l.sim.pressure_decay = 0.0;
-    let mut s = Solver::new(&l);
-    let (u, v) = s.faces_mut();
-    let nu = u.len();
-    u.copy_from_slice(&noise_field(nu, 1));
-    let nv = v.len();
-    v.copy_from_slice(&noise_field(nv, 2));
-    s.enforce_boundaries();
-    s
+    noisy_solver(&l, (1, 2), 1.0)
 }
 
 /// The projection's divergence reduction per Jacobi iteration count, on white-noise fields.
@@ -122,13 +130,7 @@ fn multigrid_projection_cuts_white_noise_divergence_a_hundredfold_in_two_cycles(
                 l.sim.pressure_decay = 0.0;
                 l.sim.pressure = doc::PressureSolve::Multigrid;
                 l.sim.pressure_cycles = cycles;
-                let mut s = Solver::new(&l);
-                let (u, v) = s.faces_mut();
-                let nu = u.len();
-                u.copy_from_slice(&noise_field(nu, 1));
-                let nv = v.len();
-                v.copy_from_slice(&noise_field(nv, 2));
-                s.enforce_boundaries();
+                let mut s = noisy_solver(&l, (1, 2), 1.0);
                 let before = s.divergence_rms();
                 s.solve_pressure();
                 s.subtract_gradient();
@@ -584,18 +586,7 @@ fn the_fused_vorticity_sweep_gives_the_three_passes_bits() {
             l.world.size[1] *= 0.7;
             l.sim.boundary = boundary;
             l.sim.vorticity = 8.0;
-            let seeded = || {
-                let mut s = Solver::new(&l);
-                let (u, v) = s.faces_mut();
-                for (f, seed) in [(u, 5), (v, 6)] {
-                    let noise = noise_field(f.len(), seed);
-                    for (x, n) in f.iter_mut().zip(noise) {
-                        *x = 6.0 * n;
-                    }
-                }
-                s.enforce_boundaries();
-                s
-            };
+            let seeded = || noisy_solver(&l, (5, 6), 6.0);
             let mut want = seeded();
             want.compute_curl();
             want.confine_vorticity(dt);
