@@ -884,12 +884,18 @@ fn correct_row(
     inv: &[f32],
 ) {
     let (ke, kw) = if edge { (0.0, 1.0) } else { (1.0, 0.0) };
+    // Every value is written, the kept ones plus −0 (which leaves any value's bits as they
+    // are): a conditional store vectorises to a masked store (`vmaskmovps`), slow on AMD's
+    // cores.
     for i in 0..row.len() {
         let num = tn * en[i] + tf * (ke * ef[i]);
         let den = tn * wn[i] + tf * (ke * wf[i] + kw);
-        if inv[i] > 0.0 && den > 0.0 {
-            row[i] += num / den;
-        }
+        let add = if inv[i] > 0.0 && den > 0.0 {
+            num / den
+        } else {
+            -0.0
+        };
+        row[i] += add;
     }
 }
 
