@@ -209,6 +209,10 @@ pub(crate) struct Level {
     /// that made each value: rows are then blended along z as they are read.
     pub(crate) ex: Vec<f32>,
     pub(crate) ew: Vec<f32>,
+    /// The coarse columns `c0..c1` whose two finer cells interpolate toward their left and
+    /// right neighbours with the same weights `(t_left, t_right)` (the interior of an axis
+    /// coarsened in pairs): [`expand`] runs them without the index table.
+    pairs: (usize, usize, f32, f32),
     /// The links most interior faces have across x and z (a cell with these four links
     /// and no edge link is "regular"), and per row the runs `(start, end)` of interior cells
     /// (1..nx − 1) that are not, merged across short gaps: the row kernels run everything
@@ -324,6 +328,7 @@ impl Level {
             from_z: Vec::new(),
             ex: Vec::new(),
             ew: Vec::new(),
+            pairs: (0, 0, 0.0, 0.0),
             regular,
             runs,
         }
@@ -473,6 +478,7 @@ impl Multigrid {
             f.from_z = c.z_axis.interpolation(&f.z_axis, open);
             f.ex = vec![0.0; f.nx * c.ny];
             f.ew = expansion_weights(f, c);
+            f.pairs = regular_pairs(&f.from_x, c.nx);
         }
         Self { levels }
     }
@@ -799,14 +805,16 @@ pub(crate) fn restrict(f: &Level, x: &[f32], b: &[f32], b_scale: f32, c: &mut Le
 /// and are made once by [`expansion_weights`]).
 pub(crate) fn expand(f: &mut Level, c: &Level) {
     let (nx, mx) = (f.nx, c.nx);
-    let from_x = &f.from_x;
+    let (from_x, pairs) = (&f.from_x, f.pairs);
     f.ex.par_chunks_mut(nx)
         .enumerate()
         .with_min_len(rows_per_job(nx))
         .for_each(|(jc, e)| {
             let x = &c.x[jc * mx..][..mx];
             let inv = &c.inv_d[jc * mx..][..mx];
-            for (i, ix) in from_x.iter().enumerate() {
+            let (c0, c1, tl, tr) = pairs;
+            let table = |i: usize, e: &mut [f32]| {
+                let ix = &from_x[i];
                 let (wa, wb) = interp_weights(ix, inv);
                 let xb = if ix.far == Interp::EDGE {
                     0.0
@@ -814,8 +822,71 @@ pub(crate) fn expand(f: &mut Level, c: &Level) {
                     x[ix.far as usize]
                 };
                 e[i] = wa * x[ix.near as usize] + wb * xb;
+            };
+            for i in (0..2 * c0).chain(2 * c1..nx) {
+                table(i, e);
+            }
+            if c1 > c0 {
+                expand_pairs(
+                    &mut e[2 * c0..2 * c1],
+                    &x[c0 - 1..c1 + 1],
+                    &inv[c0 - 1..c1 + 1],
+                    tl,
+                    tr,
+                );
             }
         });
+}
+
+/// [`expand`] over the coarse cells `1..x.len() − 1` of a row, each giving its two finer
+/// cells (into `e`, two per cell): the left one from the cell and its left neighbour (weight
+/// `tl` on the neighbour), the right one from the cell and its right neighbour (`tr`), each
+/// coarse cell weighted by whether it is in the solve — the table's arithmetic, without the
+/// table's indices and branches, so it vectorises.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn expand_pairs(e: &mut [f32], x: &[f32], inv: &[f32], tl: f32, tr: f32) {
+    let n = e.len() / 2;
+    let (x, inv) = (&x[..n + 2], &inv[..n + 2]);
+    let inside = |c: usize| f32::from(u8::from(inv[c] > 0.0));
+    for k in 0..n {
+        let m = [inside(k), inside(k + 1), inside(k + 2)];
+        e[2 * k] = (1.0 - tl) * m[1] * x[k + 1] + tl * m[0] * x[k];
+        e[2 * k + 1] = (1.0 - tr) * m[1] * x[k + 1] + tr * m[2] * x[k + 2];
+    }
+}
+
+/// The coarse columns `(c0, c1)` whose finer cells `2c` and `2c + 1` interpolate from `c`
+/// toward `c − 1` and `c + 1` with one weight each `(t_left, t_right)`, as [`expand_pairs`]
+/// assumes; `c1 == c0` when the axis was not coarsened in pairs.
+fn regular_pairs(from_x: &[Interp], mx: usize) -> (usize, usize, f32, f32) {
+    let n = from_x.len();
+    if n < 6 || mx < 3 || n / 2 > mx {
+        return (0, 0, 0.0, 0.0);
+    }
+    let (tl, tr) = (from_x[2].t, from_x[3].t);
+    let regular = |c: usize| {
+        let (l, r) = (from_x[2 * c], from_x[2 * c + 1]);
+        let pair = |ix: Interp, far: usize, t: f32| {
+            ix.near as usize == c && ix.far as usize == far && ix.t.to_bits() == t.to_bits()
+        };
+        pair(l, c - 1, tl) && pair(r, c + 1, tr)
+    };
+    // The longest run of regular columns within 1..mx − 1 (and within the finer axis).
+    let last = (mx - 1).min(n / 2);
+    let (mut best, mut start) = ((0, 0), 1);
+    for c in 1..=last {
+        if c == last || !regular(c) {
+            if c - start > best.1 - best.0 {
+                best = (start, c);
+            }
+            start = c + 1;
+        }
+    }
+    (best.0, best.1, tl, tr)
 }
 
 /// The weights of an interpolated value's two coarse cells: their linear weights times 1 for
@@ -1034,5 +1105,59 @@ impl Solver {
                 &runs[j],
             );
         });
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::sim::Solver;
+
+    /// The prolongation's paired fast path gives the index table's bits, on the obstacles
+    /// example (cells in and out of the solve) at even and odd sizes, every boundary, and
+    /// every level; and it covers the interior of every axis coarsened in pairs.
+    #[test]
+    fn expansion_pairs_give_the_tables_bits() {
+        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/obstacles.json");
+        let mut layout = crate::io::load(&path).unwrap();
+        for grid in [[90, 70], [91, 37], [64, 129]] {
+            layout.world.grid = grid;
+            for boundary in [Boundary::Closed, Boundary::Open, Boundary::Periodic] {
+                layout.sim.boundary = boundary;
+                let s = Solver::new(&layout);
+                let mut mg = Multigrid::new(s.nx, s.ny, s.hx, s.hz, &s.flags, boundary);
+                for l in 0..mg.levels.len() - 1 {
+                    let (fine, coarse) = mg.levels.split_at_mut(l + 1);
+                    let (f, c) = (&mut fine[l], &mut coarse[0]);
+                    // Unknowns as the sweeps leave them: 0 outside the solve.
+                    let mut seed = 7 + l as u32;
+                    for (x, &w) in c.x.iter_mut().zip(&c.inv_d) {
+                        seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
+                        let r = (seed >> 8) as f32 / (1 << 24) as f32 - 0.5;
+                        *x = if w > 0.0 { r } else { 0.0 };
+                    }
+                    if f.x_axis.len() != c.x_axis.len() {
+                        let (c0, c1, ..) = f.pairs;
+                        assert!(
+                            c1 > c0 && c1 - c0 + 3 >= c.nx,
+                            "{grid:?} level {l}: {c0}..{c1} of {}",
+                            c.nx
+                        );
+                    }
+                    expand(f, c);
+                    let fast = f.ex.clone();
+                    f.pairs = (0, 0, 0.0, 0.0);
+                    expand(f, c);
+                    let first = fast
+                        .iter()
+                        .zip(&f.ex)
+                        .position(|(a, b)| a.to_bits() != b.to_bits());
+                    assert!(
+                        first.is_none(),
+                        "{grid:?} {boundary:?} level {l}: value {first:?} differs"
+                    );
+                }
+            }
+        }
     }
 }
