@@ -352,8 +352,8 @@ impl GpuMultigrid {
         );
     }
 
-    /// Records `cycles` V-cycles on the finest level (the warm start already in `fine.p`).
-    /// Twin of `Multigrid::solve`.
+    /// Records `cycles` V-cycles on the finest level (the warm start already in `fine.p`),
+    /// its pre-smoothing before the first only. Twin of `Multigrid::solve`.
     pub fn record_cycles(
         &self,
         device: &wgpu::Device,
@@ -362,13 +362,15 @@ impl GpuMultigrid {
         cycles: usize,
     ) {
         let n = self.levels.len();
-        for _ in 0..cycles {
+        for k in 0..cycles {
             if n == 1 {
                 self.record_sweeps(device, enc, fine, 0, self.coarsest_sweeps, 0);
                 continue;
             }
             for l in 0..n - 1 {
-                self.record_sweeps(device, enc, fine, l, PRE_SWEEPS, 0);
+                if l > 0 || k == 0 {
+                    self.record_sweeps(device, enc, fine, l, PRE_SWEEPS, 0);
+                }
                 self.record_restrict(device, enc, fine, l);
                 enc.clear_buffer(&self.levels[l + 1].x, 0, None);
             }

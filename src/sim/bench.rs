@@ -104,26 +104,18 @@ pub fn pass_bytes(s: &Solver, force_faces: usize, fused: bool) -> Vec<(&'static 
 }
 
 /// Bytes of one projection's pressure solve: Jacobi's warm start and `k` iterations, or the
-/// multigrid V-cycles (see [`Multigrid::cycle_bytes`]; between two cycles the solver runs
-/// the post- and pre-smoothing as one pass).
+/// multigrid V-cycles (see [`Multigrid::solve_bytes`]).
 fn pressure_bytes(s: &Solver, k: u64) -> u64 {
     let c = (s.nx * s.ny) as u64;
     match s.params.pressure {
         PressureSolve::Jacobi => 8 * c + 13 * c * k,
         PressureSolve::Multigrid => {
             let cycles = u64::from(s.params.pressure_cycles);
-            let per_cycle = match &s.multigrid {
-                Some(mg) => mg.cycle_bytes(),
+            match &s.multigrid {
+                Some(mg) => mg.solve_bytes(cycles),
                 None => Multigrid::new(s.nx, s.ny, s.hx, s.hz, &s.flags, s.params.boundary)
-                    .cycle_bytes(),
-            };
-            // Between two cycles one blocked pass runs both smoothings (17 B a cell saved).
-            let fused = if s.red_black_is_two_colouring() {
-                (cycles - 1) * 17 * c
-            } else {
-                0
-            };
-            cycles * per_cycle - fused
+                    .solve_bytes(cycles),
+            }
         }
     }
 }

@@ -483,13 +483,19 @@ impl Multigrid {
         Self { levels }
     }
 
-    /// Bytes one V-cycle must read and write (each array element once per pass), as the
-    /// solver runs it: on the finest level a blocked pre-smoothing pass (p, div, flags, 1/Σw
-    /// in, p out: 17 B a cell), the residual (p, div, flags: 9 B), the expansion (8 B per
-    /// expanded value) and the post-smoothing pass reading the expanded rows too (21 B); on a
-    /// coarser level, blocked passes of 24 B a cell (x, b, links, 1/D in, x out), the residual
-    /// (20 B) and the expansion; the coarsest level one 24 B pass per 24 half sweeps.
-    pub fn cycle_bytes(&self) -> u64 {
+    /// Bytes `cycles` V-cycles must read and write (each array element once per pass), as
+    /// the solver runs them: on the finest level one blocked pre-smoothing pass before the
+    /// first cycle (p, div, flags, 1/Σw in, p out: 17 B a cell), and per cycle the residual
+    /// (p, div, flags: 9 B), the expansion (8 B per expanded value) and the post-smoothing
+    /// pass reading the expanded rows too (21 B); on a coarser level, per cycle, blocked
+    /// passes of 24 B a cell (x, b, links, 1/D in, x out), the residual (20 B) and the
+    /// expansion; the coarsest level one 24 B pass per 24 half sweeps.
+    pub fn solve_bytes(&self, cycles: u64) -> u64 {
+        17 * (self.levels[0].nx * self.levels[0].ny) as u64 + cycles * self.cycle_bytes()
+    }
+
+    /// [`Self::solve_bytes`] per cycle, less the finest level's pre-smoothing.
+    fn cycle_bytes(&self) -> u64 {
         let n = self.levels.len();
         let cells = |l: &Level| (l.nx * l.ny) as u64;
         let ex = |l: &Level| 8 * (l.ex.len() as u64);
@@ -499,7 +505,7 @@ impl Multigrid {
                 let passes = 2 * coarsest_sweeps(l) as u64;
                 24 * cells(l) * passes.div_ceil(MAX_BLOCK_LEVELS as u64)
             } else if k == 0 {
-                (17 + 9 + 21) * cells(l) + ex(l)
+                (9 + 21) * cells(l) + ex(l)
             } else {
                 (24 + 20 + 28) * cells(l) + ex(l)
             };
@@ -532,15 +538,16 @@ impl Multigrid {
             std::mem::take(tmp),
             b,
         );
-        for _ in 0..cycles {
-            self.cycle(0);
+        for k in 0..cycles {
+            self.cycle(0, k == 0);
         }
         (*x, *tmp, _) = take(&mut self.levels[0]);
     }
 
     /// A V-cycle on level `l` from its `x`, for the right-hand side its `b` holds (a
-    /// restriction leaves the coarser level's `x` at zero).
-    fn cycle(&mut self, l: usize) {
+    /// restriction leaves the coarser level's `x` at zero), pre-smoothing first when `pre`
+    /// (the finest level's later cycles start from the previous cycle's post-smoothing).
+    fn cycle(&mut self, l: usize, pre: bool) {
         let n = self.levels.len();
         let lv = &mut self.levels[l];
         let (mut x, mut t, b) = take(lv);
@@ -549,12 +556,14 @@ impl Multigrid {
             put(lv, x, t, b);
             return;
         }
-        sweeps(lv, &mut x, &mut t, &b, 1.0, PRE_SWEEPS, 0, false);
+        if pre {
+            sweeps(lv, &mut x, &mut t, &b, 1.0, PRE_SWEEPS, 0, false);
+        }
         {
             let (fine, coarse) = self.levels.split_at_mut(l + 1);
             restrict(&fine[l], &x, &b, 1.0, &mut coarse[0]);
         }
-        self.cycle(l + 1);
+        self.cycle(l + 1, true);
         let (fine, coarse) = self.levels.split_at_mut(l + 1);
         let f = &mut fine[l];
         expand(f, &coarse[0]);
@@ -1049,38 +1058,17 @@ impl Solver {
             self.multigrid = Some(mg);
             return;
         }
-        let two_coloured = self.red_black_is_two_colouring();
-        let mut pre_done = false;
-        for cycle in 0..cycles {
-            if !pre_done {
-                let scale = if cycle == 0 { decay } else { 1.0 };
-                self.sweeps_blocked(2 * PRE_SWEEPS, scale, Some(0), None);
-            }
+        // Pre-smoothing before the first cycle only: a later cycle starts from the previous
+        // one's post-smoothing, and more sweeps there do not lift what the cycle cuts.
+        self.sweeps_blocked(2 * PRE_SWEEPS, decay, Some(0), None);
+        for _ in 0..cycles {
             self.restrict_fine(&mut mg.levels[1]);
-            mg.cycle(1);
+            mg.cycle(1, true);
             let (fine, coarse) = mg.levels.split_at_mut(1);
             expand(&mut fine[0], &coarse[0]);
-            // Post-smoothing, and when another cycle follows, its pre-smoothing in the same
-            // blocked pass: the post sweeps end on colour 0 and the pre sweeps start with it,
-            // and a colour's half sweep repeated gives the same values (its neighbours, all
-            // of the other colour, have not changed), so one is dropped: 2·post + 2·pre − 1
-            // alternating half sweeps from colour 1 give the bits of the two passes.
-            pre_done = two_coloured && cycle + 1 < cycles;
-            let passes = if pre_done {
-                2 * POST_SWEEPS + 2 * PRE_SWEEPS - 1
-            } else {
-                2 * POST_SWEEPS
-            };
-            self.sweeps_blocked(passes, 1.0, Some(1), Some(&mg.levels[0]));
+            self.sweeps_blocked(2 * POST_SWEEPS, 1.0, Some(1), Some(&mg.levels[0]));
         }
         self.multigrid = Some(mg);
-    }
-
-    /// True unless a periodic axis has odd length (its two end cells are then neighbours of
-    /// one colour): only a true two-colouring lets the multigrid solve run one cycle's
-    /// post-smoothing and the next one's pre-smoothing as one blocked pass.
-    pub(crate) fn red_black_is_two_colouring(&self) -> bool {
-        self.params.boundary != Boundary::Periodic || (self.nx % 2 == 0 && self.ny % 2 == 0)
     }
 
     /// The coarse right-hand side from the finest level: each coarse cell sums its children's
