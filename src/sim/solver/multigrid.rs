@@ -571,7 +571,8 @@ impl Multigrid {
         put(f, x, t, b);
     }
 
-    /// Drops the finest level's links and diagonal: the solver's flags stand for them.
+    /// Drops the finest level's links, diagonal and link runs: the solver's flags and its
+    /// own obstacle runs stand for them.
     fn drop_finest_links(&mut self) {
         let f = &mut self.levels[0];
         for v in [
@@ -584,6 +585,7 @@ impl Multigrid {
         ] {
             *v = Vec::new();
         }
+        f.runs = Vec::new();
     }
 }
 
