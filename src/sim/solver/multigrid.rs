@@ -1119,12 +1119,12 @@ mod tests {
                 for l in 0..mg.levels.len() - 1 {
                     let (fine, coarse) = mg.levels.split_at_mut(l + 1);
                     let (f, c) = (&mut fine[l], &mut coarse[0]);
-                    // Unknowns as the sweeps leave them: 0 outside the solve.
+                    // Noise in every cell, those outside the solve too (the sweeps leave ±0
+                    // there), so the weights' in-solve factors count.
                     let mut seed = 7 + l as u32;
-                    for (x, &w) in c.x.iter_mut().zip(&c.inv_d) {
+                    for x in c.x.iter_mut() {
                         seed = seed.wrapping_mul(1_664_525).wrapping_add(1_013_904_223);
-                        let r = (seed >> 8) as f32 / (1 << 24) as f32 - 0.5;
-                        *x = if w > 0.0 { r } else { 0.0 };
+                        *x = (seed >> 8) as f32 / (1 << 24) as f32 - 0.5;
                     }
                     if f.x_axis.len() != c.x_axis.len() {
                         let (c0, c1, ..) = f.pairs;
