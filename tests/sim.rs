@@ -742,7 +742,8 @@ fn extreme_layout() -> impl Strategy<Value = Layout> {
     (
         8u32..40,
         8u32..40,
-        1.0f32..2000.0,
+        // The depth is 0.7 × the width and must stay ≥ 1 m, the validator's least size.
+        (1.0f32 / 0.7 + 0.01)..2000.0,
         0.0f32..doc::STRENGTH_MAX,
         0.01f32..5000.0,
         0.001f32..(1.0 / 30.0),
