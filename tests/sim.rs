@@ -116,6 +116,7 @@ fn multigrid_projection_cuts_white_noise_divergence_a_hundredfold_in_two_cycles(
             ("128x128", [128, 128]),
             ("125x63", [125, 63]),
             ("200x48", [200, 48]),
+            ("150x100", [150, 100]),
             ("obstacles 90x70", [90, 70]),
         ] {
             let mut factors = Vec::new();
