@@ -346,12 +346,8 @@ pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, le
 )]
 pub(super) fn keep_other_colour(dst: &mut [f32], prev: &[f32], k: usize) {
     let off = 1 - k % 2;
-    let keep: [u32; 8] =
-        std::hint::black_box(std::array::from_fn(
-            |i| {
-                if i % 2 == off { u32::MAX } else { 0 }
-            },
-        ));
+    let kept = |i: usize| if i % 2 == off { u32::MAX } else { 0 };
+    let keep: [u32; 8] = std::hint::black_box(std::array::from_fn(kept));
     let n = dst.len();
     let mut d8 = dst.chunks_exact_mut(8);
     for (d, p) in (&mut d8).zip(prev.chunks_exact(8)) {
