@@ -824,7 +824,8 @@ pub(crate) fn expand(f: &mut Level, c: &Level) {
             let x = &c.x[jc * mx..][..mx];
             let inv = &c.inv_d[jc * mx..][..mx];
             let (c0, c1, tl, tr) = pairs;
-            let table = |i: usize, e: &mut [f32]| {
+            // The ends through the table.
+            for i in (0..2 * c0).chain(2 * c1..nx) {
                 let ix = &from_x[i];
                 let (wa, wb) = interp_weights(ix, inv);
                 let xb = if ix.far == Interp::EDGE {
@@ -833,9 +834,6 @@ pub(crate) fn expand(f: &mut Level, c: &Level) {
                     x[ix.far as usize]
                 };
                 e[i] = wa * x[ix.near as usize] + wb * xb;
-            };
-            for i in (0..2 * c0).chain(2 * c1..nx) {
-                table(i, e);
             }
             if c1 > c0 {
                 expand_pairs(
