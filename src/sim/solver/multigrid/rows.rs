@@ -1,0 +1,199 @@
+//! The row kernels of the cycle: link sums, relaxation, residuals, the prolongation's
+//! interior and the correction, each compiled for the SIMD levels `multiversion` targets.
+
+use super::*;
+
+/// `out = Σ a x_n` over a row's four links (the row's ends wrap when `wraps`; otherwise
+/// their end links are 0). Interior cells outside `irregular` have the `regular` links
+/// `(x, z)` and skip the link arrays (the same products in the same order).
+#[allow(clippy::too_many_arguments)]
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(crate) fn link_sum_row(
+    out: &mut [f32],
+    [below, row, above]: [&[f32]; 3],
+    ax: &[f32],
+    az_b: &[f32],
+    az_t: &[f32],
+    wraps: bool,
+    (lx, lz): (f32, f32),
+    irregular: &[(usize, usize)],
+) {
+    let n = out.len();
+    let (first, last) = if wraps {
+        (row[n - 1], row[0])
+    } else {
+        (0.0, 0.0)
+    };
+    let left = |i: usize| if i == 0 { first } else { row[i - 1] };
+    let right = |i: usize| if i + 1 == n { last } else { row[i + 1] };
+    for i in [0, n - 1] {
+        out[i] = ax[i] * left(i) + ax[i + 1] * right(i) + az_b[i] * below[i] + az_t[i] * above[i];
+    }
+    if n < 3 {
+        return;
+    }
+    // Interior cells a..b, through the links or on the fast path.
+    let span = |out: &mut [f32], a: usize, b: usize, linked: bool| {
+        let m = b - a;
+        let (o, l, r) = (&mut out[a..b], &row[a - 1..][..m], &row[a + 1..][..m]);
+        let (bl, ab) = (&below[a..b], &above[a..b]);
+        if linked {
+            let (al, ar) = (&ax[a..b], &ax[a + 1..][..m]);
+            let (lb, lt) = (&az_b[a..b], &az_t[a..b]);
+            for i in 0..m {
+                o[i] = al[i] * l[i] + ar[i] * r[i] + lb[i] * bl[i] + lt[i] * ab[i];
+            }
+        } else {
+            for i in 0..m {
+                o[i] = lx * l[i] + lx * r[i] + lz * bl[i] + lz * ab[i];
+            }
+        }
+    };
+    for_spans(n, irregular, |a, b, flagged| span(out, a, b, flagged));
+}
+
+/// `s ← (s + b_scale·b) / D` (0 outside the solve), in place over a row of link sums.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(super) fn relax_row(s: &mut [f32], b: &[f32], b_scale: f32, inv_d: &[f32]) {
+    for ((s, &b), &w) in s.iter_mut().zip(b).zip(inv_d) {
+        *s = (*s + b_scale * b) * w;
+    }
+}
+
+/// `s ← b_scale·b + s − D x` (0 outside the solve), in place over a row of link sums.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(super) fn residual_row(s: &mut [f32], x: &[f32], b: &[f32], b_scale: f32, diag: &[f32]) {
+    for (((s, &x), &b), &d) in s.iter_mut().zip(x).zip(b).zip(diag) {
+        *s = if d > 0.0 {
+            b_scale * b + *s - d * x
+        } else {
+            0.0
+        };
+    }
+}
+
+/// [`expand`] over the coarse cells `1..x.len() − 1` of a row, each giving its two finer
+/// cells (into `e`, two per cell): the left one from the cell and its left neighbour (weight
+/// `tl` on the neighbour), the right one from the cell and its right neighbour (`tr`), each
+/// coarse cell weighted by whether it is in the solve — the table's arithmetic, without the
+/// table's indices and branches, so it vectorises.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(super) fn expand_pairs(e: &mut [f32], x: &[f32], inv: &[f32], tl: f32, tr: f32) {
+    let n = e.len() / 2;
+    let (x, inv) = (&x[..n + 2], &inv[..n + 2]);
+    let inside = |c: usize| f32::from(u8::from(inv[c] > 0.0));
+    for k in 0..n {
+        let m = [inside(k), inside(k + 1), inside(k + 2)];
+        e[2 * k] = (1.0 - tl) * m[1] * x[k + 1] + tl * m[0] * x[k];
+        e[2 * k + 1] = (1.0 - tr) * m[1] * x[k + 1] + tr * m[2] * x[k + 2];
+    }
+}
+
+/// `row += (tn·en + tf·ef) / (tn·wn + tf·wf)` in the cells in the solve; an `edge` far row
+/// holds 0 with weight 1.
+#[allow(clippy::too_many_arguments)]
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(super) fn correct_row(
+    row: &mut [f32],
+    en: &[f32],
+    wn: &[f32],
+    ef: &[f32],
+    wf: &[f32],
+    tn: f32,
+    tf: f32,
+    edge: bool,
+    inv: &[f32],
+) {
+    let (ke, kw) = if edge { (0.0, 1.0) } else { (1.0, 0.0) };
+    // Every value is written, the kept ones plus −0 (which leaves any value's bits as they
+    // are): a conditional store vectorises to a masked store (`vmaskmovps`), slow on AMD's
+    // cores.
+    for i in 0..row.len() {
+        let num = tn * en[i] + tf * (ke * ef[i]);
+        let den = tn * wn[i] + tf * (ke * wf[i] + kw);
+        let add = if inv[i] > 0.0 && den > 0.0 {
+            num / den
+        } else {
+            -0.0
+        };
+        row[i] += add;
+    }
+}
+
+/// One row of the finest level's residual in volume scale, from the Jacobi system's flags:
+/// `hx·hz·(Σ w p_n − div − Σw·p)` (0 outside the solve). Interior cells outside the row's
+/// `irregular` runs have four fluid neighbours and skip the flags (the same bits, as in
+/// [`super::pressure::jacobi_row`]).
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(super) fn fine_residual_row(
+    st: &Stencil,
+    vol: f32,
+    out: &mut [f32],
+    [below, row, above]: [&[f32]; 3],
+    d: &[f32],
+    f: &[u8],
+    irregular: &[(usize, usize)],
+) {
+    let n = row.len();
+    let (wx, wz) = (st.wx, st.wz);
+    let cell = |fl: u8, l: f32, r: f32, b: f32, a: f32, p: f32, d: f32| {
+        let ws = st.weight_sum(fl);
+        let s = wx * (pick(fl, L, l) + pick(fl, R, r)) + wz * (pick(fl, B, b) + pick(fl, T, a));
+        if fl != 0 { vol * (s - d - ws * p) } else { 0.0 }
+    };
+    for i in [0, n - 1] {
+        let (l, r) = (row[(i + n - 1) % n], row[(i + 1) % n]);
+        out[i] = cell(f[i], l, r, below[i], above[i], row[i], d[i]);
+    }
+    if n < 3 {
+        return;
+    }
+    let ws_regular = st.weight_sum(ALL_FLUID);
+    // Interior cells a..b, through the flags or on the fast path.
+    let span = |out: &mut [f32], a: usize, b: usize, flagged: bool| {
+        let m = b - a;
+        let (o, l, c, r) = (
+            &mut out[a..b],
+            &row[a - 1..][..m],
+            &row[a..b],
+            &row[a + 1..][..m],
+        );
+        let (bl, ab, dd) = (&below[a..b], &above[a..b], &d[a..b]);
+        if flagged {
+            let ff = &f[a..b];
+            for i in 0..m {
+                o[i] = cell(ff[i], l[i], r[i], bl[i], ab[i], c[i], dd[i]);
+            }
+        } else {
+            for i in 0..m {
+                let s = wx * (l[i] + r[i]) + wz * (bl[i] + ab[i]);
+                o[i] = vol * (s - dd[i] - ws_regular * c[i]);
+            }
+        }
+    };
+    for_spans(n, irregular, |a, b, flagged| span(out, a, b, flagged));
+}
