@@ -418,7 +418,34 @@ impl Engine {
 
     /// A new solver for a changed grid, world, obstacles or boundary (at the same time), or at
     /// rest after a reset; the automatic choice is measured again for the new grid.
+    #[cfg(test)]
     fn rebuild(&mut self, layout: &Layout, keep_time: bool) {
+        self.rebuild_showing(layout, keep_time, |_| {});
+    }
+
+    /// [`Self::rebuild`], calling `show` with the new field on the CPU before the backend is
+    /// chosen again: measuring the automatic choice on a software adapter takes a second or
+    /// more (the GPU passes are compiled), and the view should not show the old field, its
+    /// time frozen, meanwhile.
+    fn rebuild_showing(&mut self, layout: &Layout, keep_time: bool, show: impl FnOnce(&mut Self)) {
+        let on_gpu = self.new_solver(layout, keep_time);
+        let remeasure = self.choice == BackendChoice::Auto
+            && self.ctx.as_ref().is_some_and(|c| c.is_software());
+        if remeasure {
+            // Made for the old grid; the tooltip must not show it as the new one's.
+            self.measured = None;
+        }
+        show(self);
+        if remeasure {
+            self.choose(layout);
+        } else if on_gpu {
+            self.move_to(Backend::Gpu, layout);
+        }
+    }
+
+    /// Replaces the solver (on the CPU, the GPU's dropped); returns whether the field ran on
+    /// the GPU.
+    fn new_solver(&mut self, layout: &Layout, keep_time: bool) -> bool {
         if self.halted {
             self.halted = false;
             self.notice = None;
@@ -429,12 +456,7 @@ impl Engine {
         if keep_time {
             self.cpu.time = time;
         }
-        if self.choice == BackendChoice::Auto && self.ctx.as_ref().is_some_and(|c| c.is_software())
-        {
-            self.choose(layout);
-        } else if on_gpu {
-            self.move_to(Backend::Gpu, layout);
-        }
+        on_gpu
     }
 
     fn set_layout(&mut self, layout: &Layout) {
@@ -547,6 +569,11 @@ fn worker(
     let mut last = Instant::now();
     engine.publish(&shared, true);
     repaint();
+    // A rebuilt field, shown before the backend is measured again.
+    let show = |e: &mut Engine| {
+        e.publish(&shared, true);
+        repaint();
+    };
     loop {
         let mut single_steps = 0usize;
         // Only the newest of several queued layouts matters (a dragged grid size sends one per
@@ -574,7 +601,7 @@ fn worker(
                     engine.ctx = Some(*ctx);
                     engine.choice = choice;
                     if let Some(l) = newest.take() {
-                        engine.rebuild(&l, true);
+                        engine.new_solver(&l, true);
                         layout = *l;
                     }
                     engine.choose(&layout);
@@ -583,7 +610,7 @@ fn worker(
                 Command::Backend(choice) => {
                     engine.choice = choice;
                     if let Some(l) = newest.take() {
-                        engine.rebuild(&l, true);
+                        engine.new_solver(&l, true);
                         layout = *l;
                     }
                     engine.choose(&layout);
@@ -599,7 +626,7 @@ fn worker(
                     if let Some(l) = newest.take() {
                         layout = *l;
                     }
-                    engine.rebuild(&layout, false);
+                    engine.rebuild_showing(&layout, false, show);
                     owed = 0.0;
                     changed = true;
                 }
@@ -609,7 +636,7 @@ fn worker(
         }
         if let Some(l) = newest.take() {
             if needs_rebuild(&layout, &l) {
-                engine.rebuild(&l, true);
+                engine.rebuild_showing(&l, true, show);
             } else {
                 engine.set_layout(&l);
             }
@@ -746,6 +773,46 @@ mod tests {
         assert!(e.gpu.is_none(), "not back onto a lost device");
         let notice = e.notice.clone().unwrap_or_default();
         assert!(notice.contains("GPU unusable"), "{notice}");
+    }
+
+    /// A reset or a new grid is shown at once: the view gets the new field (at rest, on the
+    /// CPU, with no measurement claimed for it) before the automatic choice is measured again
+    /// on a software adapter, which compiles the GPU passes (about a second on lavapipe, the
+    /// old field frozen on screen meanwhile before); the measurement then made is the new
+    /// grid's. On a hardware adapter nothing is measured and the field goes back to the GPU.
+    #[test]
+    fn a_rebuild_shows_the_new_field_before_measuring_again() {
+        let Some(ctx) = test_context(|_| {}) else {
+            return;
+        };
+        let software = ctx.is_software();
+        let layout = small_layout(48);
+        let mut e = Engine::new(&layout);
+        e.ctx = Some(ctx.clone());
+        e.choose(&layout);
+        assert_eq!(e.measured.is_some(), software);
+        for _ in 0..5 {
+            e.step();
+        }
+        let wider = small_layout(40);
+        let mut shown = None;
+        e.rebuild_showing(&wider, false, |e| {
+            let shared = Mutex::new(Arc::new(Snapshot::default()));
+            e.publish(&shared, true);
+            shown = Some(shared.lock().unwrap().clone());
+        });
+        let shown = shown.expect("the new field was shown");
+        assert_eq!((shown.nx, shown.ny, shown.time), (40, 40, 0.0));
+        assert!(
+            shown.velocity.iter().flatten().all(|x| *x == 0.0),
+            "at rest"
+        );
+        assert_eq!(
+            shown.measured, None,
+            "no measurement claimed for the new grid yet"
+        );
+        assert_eq!(e.measured.is_some(), software, "measured again afterwards");
+        assert!(e.notice.is_none(), "{:?}", e.notice);
     }
 
     /// A grid whose velocity field is larger than the device can bind (a small GPU, here a
