@@ -436,13 +436,16 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let mut ok = true;
             for f in &files {
                 match io::load(f) {
-                    Ok(l) => match backdrop_warning(&l, f) {
-                        Some(w) => println!(
-                            "{}: ok; warning: {w} (the layout opens without it)",
-                            f.display()
-                        ),
-                        None => println!("{}: ok", f.display()),
-                    },
+                    Ok(l) => {
+                        let mut line = format!("{}: ok", f.display());
+                        if let Some(w) = backdrop_warning(&l, f) {
+                            line += &format!("; warning: {w} (the layout opens without it)");
+                        }
+                        for a in doc::advise(&l) {
+                            line += &format!("; warning: {a}");
+                        }
+                        println!("{line}");
+                    }
                     Err(e) => {
                         ok = false;
                         println!("{e}");
@@ -491,6 +494,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             backend,
         }) => {
             let l = io::load(&layout)?;
+            for a in doc::advise(&l) {
+                eprintln!("warning: {}: {a}", layout.display());
+            }
             let opts = bake::BakeOptions {
                 formats: if formats.is_empty() {
                     bake::Format::ALL.to_vec()
@@ -572,6 +578,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             let base = layout.parent().unwrap_or(std::path::Path::new("."));
             if let Some(w) = backdrop_warning(&l, &layout) {
                 eprintln!("warning: {w}; drawn without it");
+            }
+            for a in doc::advise(&l) {
+                eprintln!("warning: {}: {a}", layout.display());
             }
             let png = match view {
                 ViewArg::Map => windloom::render::render_png(&l, base, size, time)?,

@@ -595,6 +595,75 @@ fn cli_validate_reports_every_file_and_fails_on_any_error() {
     let _ = err;
 }
 
+/// Valid settings known to make bad wind are named, not refused: confinement that runs away
+/// with MacCormack advection (above 0.5) or overshoots the arrows several times with either
+/// scheme (above 5). The bundled examples draw no advice; `validate` prints it after "ok"
+/// and still exits 0, and `bake` says it on stderr and bakes.
+#[test]
+fn settings_that_run_away_are_advised_against_not_refused() {
+    for name in EXAMPLES {
+        assert!(doc::advise(&example(name)).is_empty(), "{name}");
+    }
+    let mut l = example("obstacles.json");
+    let advice = |l: &Layout, vorticity: f32, advection: doc::Advection| {
+        let mut l = l.clone();
+        l.sim.vorticity = vorticity;
+        l.sim.advection = advection;
+        assert!(doc::validate(&l).is_empty(), "still valid");
+        doc::advise(&l)
+    };
+    use doc::Advection::{MacCormack, SemiLagrangian};
+    assert!(advice(&l, doc::VORTICITY_MACCORMACK_ADVISED, MacCormack).is_empty());
+    let a = advice(&l, 1.0, MacCormack);
+    assert_eq!(a.len(), 1, "{a:?}");
+    assert_eq!(a[0].path, "sim.vorticity");
+    assert!(
+        a[0].message.starts_with("1 with MacCormack") && a[0].message.contains("0.5 or below"),
+        "{}",
+        a[0]
+    );
+    assert!(advice(&l, 2.0, SemiLagrangian).is_empty(), "the default");
+    assert!(advice(&l, doc::VORTICITY_ADVISED, SemiLagrangian).is_empty());
+    let a = advice(&l, 10.0, SemiLagrangian);
+    assert_eq!(a.len(), 1, "{a:?}");
+    assert!(a[0].message.contains("5 or below"), "{}", a[0]);
+
+    l.sim.advection = MacCormack;
+    let dir = tempfile::tempdir().unwrap();
+    let f = dir.path().join("mc.json");
+    std::fs::write(&f, doc::to_json(&l)).unwrap();
+    let (code, out, _) = windloom(&["validate", f.to_str().unwrap()]);
+    assert_eq!(code, 0, "advice is not an error: {out}");
+    assert!(
+        out.starts_with(&format!(
+            "{}: ok; warning: sim.vorticity: 2 with MacCormack",
+            f.display()
+        )),
+        "{out}"
+    );
+    let out_dir = dir.path().join("bake");
+    let (code, _, err) = windloom(&[
+        "bake",
+        f.to_str().unwrap(),
+        "--out",
+        out_dir.to_str().unwrap(),
+        "--format",
+        "raw",
+        "--warmup",
+        "0.1",
+        "--frames",
+        "1",
+        "--grid",
+        "32x32",
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(
+        err.contains("warning: ") && err.contains("sim.vorticity: 2 with MacCormack"),
+        "{err}"
+    );
+    assert!(out_dir.join("manifest.json").exists(), "baked anyway");
+}
+
 #[test]
 fn cli_schema_and_help() {
     let (code, out, _) = windloom(&["schema"]);

@@ -191,6 +191,33 @@ fn authoring_a_tree_with_the_mouse_then_inspector_and_undo() {
     assert!(h.state().dirty, "an edited document is marked dirty");
 }
 
+/// The inspector says when the simulation settings are known to run away (MacCormack with
+/// vorticity above 0.5), in words naming the field, and says nothing for the examples.
+#[test]
+fn the_inspector_warns_of_settings_that_run_away() {
+    if !gpu_available() {
+        return;
+    }
+    let warning = "Vorticity 2 with MacCormack advection can drive the wind";
+    let mut h = harness(example("obstacles.json"));
+    assert!(h.query_by_label_contains(warning).is_none());
+    let mut sim = h.state().doc.sim;
+    sim.advection = doc::Advection::MacCormack;
+    h.state_mut().doc.sim = sim;
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains(warning).is_some(),
+        "the inspector shows the advice"
+    );
+    sim.vorticity = 0.5;
+    h.state_mut().doc.sim = sim;
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains("MacCormack advection can drive")
+            .is_none()
+    );
+}
+
 #[test]
 fn dragging_a_node_moves_it_in_one_undo_step() {
     if !gpu_available() {

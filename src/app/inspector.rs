@@ -433,6 +433,18 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
     if changed {
         app.edit_merged(ctx, Edit::SetSim(s), "sim");
     }
+    for a in doc::advise(&app.doc) {
+        // "sim.vorticity" → "Vorticity 2 with MacCormack advection can …"
+        let field = a.path.rsplit('.').next().unwrap_or(&a.path);
+        let mut chars = field.chars();
+        let field: String = chars.next().map_or_else(String::new, |c| {
+            c.to_uppercase()
+                .chain(chars.map(|c| if c == '_' { ' ' } else { c }))
+                .collect()
+        });
+        ui.label(RichText::new(format!("{field} {}", a.message)).color(ui.visuals().warn_fg_color))
+            .on_hover_text(format!("{}: see docs/RELIABILITY.md, \"Findings\"", a.path));
+    }
     ui.add_space(6.0);
     egui::CollapsingHeader::new(RichText::new("Grass").strong()).show(ui, |ui| {
         let mut g = app.doc.grass.clone();

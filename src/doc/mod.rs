@@ -1,11 +1,14 @@
-//! The document model: layout types, parsing with diagnostics, validation, migration, and
-//! edit commands with undo. Plain data: no egui, no wgpu, no file system.
+//! The document model: layout types, parsing with diagnostics, validation, advice on valid but
+//! risky settings, migration, and edit commands with undo. Plain data: no egui, no wgpu, no
+//! file system.
 
+mod advice;
 mod edit;
 mod parse;
 mod types;
 mod validate;
 
+pub use advice::{VORTICITY_ADVISED, VORTICITY_MACCORMACK_ADVISED, advise};
 pub use edit::{Edit, EditError, History, TreeProps};
 pub use parse::{Diagnostic, Diagnostics, parse, schema, to_json};
 pub use types::*;
