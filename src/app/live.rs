@@ -777,9 +777,9 @@ mod tests {
 
     /// A reset or a new grid is shown at once: the view gets the new field (at rest, on the
     /// CPU, with no measurement claimed for it) before the automatic choice is measured again
-    /// on a software adapter, which compiles the GPU passes (about a second on lavapipe, the
-    /// old field frozen on screen meanwhile before); the measurement then made is the new
-    /// grid's. On a hardware adapter nothing is measured and the field goes back to the GPU.
+    /// on a software adapter, which compiles the GPU passes (about a second on lavapipe, during
+    /// which the old field used to stand frozen on screen); the measurement then made is the
+    /// new grid's. On a hardware adapter nothing is measured and the field goes back to the GPU.
     #[test]
     fn a_rebuild_shows_the_new_field_before_measuring_again() {
         let Some(ctx) = test_context(|_| {}) else {
@@ -794,9 +794,9 @@ mod tests {
         for _ in 0..5 {
             e.step();
         }
-        let wider = small_layout(40);
+        let smaller = small_layout(40);
         let mut shown = None;
-        e.rebuild_showing(&wider, false, |e| {
+        e.rebuild_showing(&smaller, false, |e| {
             let shared = Mutex::new(Arc::new(Snapshot::default()));
             e.publish(&shared, true);
             shown = Some(shared.lock().unwrap().clone());
