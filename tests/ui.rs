@@ -730,6 +730,74 @@ fn switching_backends_keeps_the_running_field() {
     );
 }
 
+/// "Map + 3D": the map and the 3D view each get half the centre (the grass controls above
+/// the 3D view, not beside it), the map reframed to show the whole world in its half, and
+/// framed again on the full width when the map is alone.
+#[test]
+fn map_and_3d_side_by_side_each_get_their_half() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .with_max_steps(16)
+        .wgpu_setup(windloom_wgpu_setup())
+        .build_eframe(|cc| {
+            let mut app = EditorApp::new(example("meadow.json"), None, &cc.egui_ctx);
+            app.live.set_playing(false);
+            app.attach_gpu(
+                cc.wgpu_render_state
+                    .as_ref()
+                    .expect("kittest's wgpu renderer"),
+            );
+            app
+        });
+    h.run_steps(3);
+    let (lo, hi) = h.state().doc.bounds();
+    // The world's rectangle on screen, and the map pane.
+    let world = |h: &Harness<'_, EditorApp>| {
+        egui::Rect::from_min_max(h.state().screen_pos(lo), h.state().screen_pos(hi))
+    };
+    let full = h.state().map_rect;
+    let framed = world(&h);
+    assert!(full.contains_rect(framed), "{framed:?} in {full:?}");
+
+    h.state_mut().settings.central = windloom::app::Central::Split;
+    h.run_steps(3);
+    let map = h.state().map_rect;
+    let view = h.state().grass_view.rect.expect("the 3D view is drawn");
+    assert!(
+        (map.width() - full.width() / 2.0).abs() <= 1.0,
+        "the map takes half: {map:?} of {full:?}"
+    );
+    assert!(
+        view.left() >= map.right() - 0.5 && view.right() <= full.right() + 0.5,
+        "the 3D view beside the map: {view:?}, map {map:?}"
+    );
+    assert!(
+        view.width() >= map.width() - 1.0 && view.height() >= 0.85 * map.height(),
+        "the 3D view fills its half under its controls: {view:?}, map {map:?}"
+    );
+    let half = world(&h);
+    assert!(
+        map.contains_rect(half),
+        "the whole world in the map's half: {half:?} in {map:?}"
+    );
+    assert!(
+        half.width() >= 0.85 * map.width(),
+        "framed, not shrunk: {half:?} in {map:?}"
+    );
+
+    h.state_mut().settings.central = windloom::app::Central::Map;
+    h.run_steps(3);
+    let again = world(&h);
+    assert!(
+        (again.width() - framed.width()).abs() <= 1.0
+            && (again.center() - framed.center()).length() <= 1.0,
+        "framed as before: {again:?} against {framed:?}"
+    );
+}
+
 /// The 3D grass view: drawn on eframe's device in the live wind, its blades rebuilt when a
 /// grass edit changes them (and back on undo), with its own snapshot.
 #[test]

@@ -162,6 +162,8 @@ pub struct GrassView {
     /// The last cull counters the GPU sent back, and where the view shows them.
     pub stats: Option<crate::gpu::grass::CullStats>,
     pub counters_rect: Option<egui::Rect>,
+    /// Where the 3D view was drawn last frame.
+    pub rect: Option<egui::Rect>,
 }
 
 impl Default for GrassView {
@@ -180,6 +182,7 @@ impl Default for GrassView {
             controls: Default::default(),
             stats: None,
             counters_rect: None,
+            rect: None,
         }
     }
 }
@@ -205,6 +208,7 @@ impl GrassView {
         self.controls.ui(ui);
         let (rect, response) =
             ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
+        self.rect = Some(rect);
         let orbit = self.orbit.get_or_insert_with(|| Orbit::frame_all(doc));
         let pushing = self.controls.push && !ui.input(|i| i.modifiers.ctrl);
         // Orbit with the left button (Ctrl+left while pushing), pan with the right or middle,

@@ -24,7 +24,14 @@ const HIT: f32 = 10.0;
 
 pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-    app.map_rect = rect;
+    let before = std::mem::replace(&mut app.map_rect, rect);
+    if let Some(cam) = &mut app.camera {
+        // A pane that changed size (the window resized, the 3D view put beside the map) keeps
+        // showing what it showed.
+        if before.size() != rect.size() && before.width() > 0.0 && before.height() > 0.0 {
+            cam.refit(&app.doc, before, rect);
+        }
+    }
     let cam = *app
         .camera
         .get_or_insert_with(|| Camera::frame_all(&app.doc, rect));

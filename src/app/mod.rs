@@ -768,12 +768,19 @@ impl eframe::App for EditorApp {
                 Central::Map => map::map_view(self, ui),
                 Central::Grass => self.grass(ui),
                 Central::Split => {
-                    let half = ui.available_width() / 2.0;
+                    let half = (ui.available_width() / 2.0).floor();
+                    let h = ui.available_height();
+                    // Each pane lays out top-down (the grass controls above the 3D view):
+                    // a child of the row would inherit its left-to-right layout.
+                    let down = egui::Layout::top_down(egui::Align::Min);
                     ui.horizontal_top(|ui| {
                         ui.spacing_mut().item_spacing.x = 0.0;
-                        let h = ui.available_height();
-                        ui.allocate_ui(egui::vec2(half, h), |ui| map::map_view(self, ui));
-                        ui.allocate_ui(ui.available_size(), |ui| self.grass(ui));
+                        ui.allocate_ui_with_layout(egui::vec2(half, h), down, |ui| {
+                            map::map_view(self, ui);
+                        });
+                        ui.allocate_ui_with_layout(ui.available_size(), down, |ui| {
+                            self.grass(ui);
+                        });
                     });
                 }
             });

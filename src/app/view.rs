@@ -37,6 +37,11 @@ impl WindView {
     }
 }
 
+/// The map's zoom range in pixels per metre: the largest world (100 km) fits in 100 pixels,
+/// and a metre can fill a screen.
+pub const ZOOM_MIN: f32 = 1e-3;
+pub const ZOOM_MAX: f32 = 2000.0;
+
 /// Pan and zoom of the map: screen = `center_screen + (world − center_world) × zoom`.
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
 pub struct Camera {
@@ -54,8 +59,16 @@ impl Camera {
         let zoom = (rect.width() / size[0]).min(rect.height() / size[1]) * 0.92;
         Self {
             center: [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0],
-            zoom: zoom.max(1e-3),
+            zoom: zoom.clamp(ZOOM_MIN, ZOOM_MAX),
         }
+    }
+
+    /// The same view in a pane resized from `before` to `after`: the zoom scales with the
+    /// zoom that frames the whole world, so a framed world stays framed and a close-up stays as
+    /// close relative to the pane; the centre stays.
+    pub fn refit(&mut self, doc: &Layout, before: Rect, after: Rect) {
+        let fit = |r: Rect| Self::frame_all(doc, r).zoom;
+        self.zoom = (self.zoom * fit(after) / fit(before)).clamp(ZOOM_MIN, ZOOM_MAX);
     }
 
     pub fn to_screen(&self, rect: Rect, p: W2) -> Pos2 {
@@ -77,7 +90,7 @@ impl Camera {
     /// Zooms by `factor` keeping the world point under `anchor` fixed.
     pub fn zoom_about(&mut self, rect: Rect, anchor: Pos2, factor: f32) {
         let before = self.to_world(rect, anchor);
-        self.zoom = (self.zoom * factor).clamp(0.05, 2000.0);
+        self.zoom = (self.zoom * factor).clamp(ZOOM_MIN, ZOOM_MAX);
         let after = self.to_world(rect, anchor);
         self.center[0] += before[0] - after[0];
         self.center[1] += before[1] - after[1];
