@@ -209,6 +209,15 @@ fn the_inspector_warns_of_settings_that_run_away() {
         h.query_by_label_contains(warning).is_some(),
         "the inspector shows the advice"
     );
+    // So does the export dialog, before a bake ships such wind.
+    let bake_warning = "Warning: sim.vorticity: 2 with MacCormack advection";
+    assert!(h.query_by_label_contains(bake_warning).is_none());
+    h.state_mut().export.open = true;
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains(bake_warning).is_some(),
+        "the export dialog shows the advice"
+    );
     sim.vorticity = 0.5;
     h.state_mut().doc.sim = sim;
     h.run_steps(2);

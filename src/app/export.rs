@@ -240,6 +240,10 @@ impl ExportDialog {
                     });
                 });
                 ui.separator();
+                // What the bake will ship: settings known to make bad wind are said here too.
+                for a in crate::doc::advise(layout) {
+                    ui.colored_label(ui.visuals().warn_fg_color, format!("Warning: {a}"));
+                }
                 if let Some(j) = &self.job {
                     let (a, b, what) = j.progress.lock().map(|g| g.clone()).unwrap_or_default();
                     ui.add(
