@@ -13,7 +13,9 @@ pub struct Camera {
 }
 
 impl Camera {
-    /// A view of the whole world from its south-west (+z, −x) side, above it.
+    /// The world's middle seen from its south-west (+z, −x) side, above it, near enough that
+    /// the blades read as blades: the world's corners fall outside a 16:9 picture (the
+    /// editor's "frame all" shows it whole).
     pub fn overview(layout: &Layout) -> Self {
         let (min, max) = layout.bounds();
         let c = Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0);
