@@ -227,6 +227,35 @@ fn the_inspector_warns_of_settings_that_run_away() {
     );
 }
 
+/// The map does not move under the pointer when the selection changes: the side panels keep
+/// their widths whatever the inspector shows (a node, an obstacle, nothing), so a click that
+/// adds a root and the drag that follows from it land on the same world point.
+#[test]
+fn the_map_stays_put_when_the_selection_changes() {
+    if !gpu_available() {
+        return;
+    }
+    let doc = example("obstacles.json");
+    let node = doc.trees[0].root.children[0].id;
+    let obstacle = doc.obstacles[0].id;
+    let mut h = harness(doc);
+    let still = h.state().map_rect;
+    for sel in [
+        vec![Sel::Node(node)],
+        vec![Sel::Obstacle(obstacle)],
+        vec![Sel::Tree(h.state().doc.trees[1].id)],
+        vec![],
+    ] {
+        h.state_mut().selection = sel.clone();
+        h.run_steps(3);
+        assert_eq!(
+            h.state().map_rect,
+            still,
+            "the map moved with {sel:?} selected"
+        );
+    }
+}
+
 #[test]
 fn dragging_a_node_moves_it_in_one_undo_step() {
     if !gpu_available() {

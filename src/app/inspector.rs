@@ -39,31 +39,35 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
         .resizable(true)
         .default_size(290.0)
         .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
-                ui.heading("Inspector");
-                ui.add_space(4.0);
-                match app.selection.first().copied() {
-                    Some(Sel::Node(id)) if app.selection.len() == 1 => {
-                        node_inspector(app, &ctx, ui, id)
-                    }
-                    Some(Sel::Tree(id)) => {
-                        if let Some(root) =
-                            app.doc.trees.iter().find(|t| t.id == id).map(|t| t.root.id)
-                        {
-                            node_inspector(app, &ctx, ui, root);
+            // Fill the panel's width whatever is selected: a panel that shrank to its content
+            // would move the map under the pointer each time the selection changes.
+            egui::ScrollArea::vertical()
+                .auto_shrink([false, false])
+                .show(ui, |ui| {
+                    ui.heading("Inspector");
+                    ui.add_space(4.0);
+                    match app.selection.first().copied() {
+                        Some(Sel::Node(id)) if app.selection.len() == 1 => {
+                            node_inspector(app, &ctx, ui, id)
                         }
+                        Some(Sel::Tree(id)) => {
+                            if let Some(root) =
+                                app.doc.trees.iter().find(|t| t.id == id).map(|t| t.root.id)
+                            {
+                                node_inspector(app, &ctx, ui, root);
+                            }
+                        }
+                        Some(Sel::Obstacle(id)) if app.selection.len() == 1 => {
+                            obstacle_inspector(app, &ctx, ui, id)
+                        }
+                        Some(Sel::Ambient(id)) => ambient_inspector(app, &ctx, ui, id),
+                        Some(_) => {
+                            ui.label(format!("{} items selected", app.selection.len()));
+                            ui.weak("Delete (Del) or duplicate (Ctrl+D) them, or drag to move.");
+                        }
+                        None => layout_inspector(app, &ctx, ui),
                     }
-                    Some(Sel::Obstacle(id)) if app.selection.len() == 1 => {
-                        obstacle_inspector(app, &ctx, ui, id)
-                    }
-                    Some(Sel::Ambient(id)) => ambient_inspector(app, &ctx, ui, id),
-                    Some(_) => {
-                        ui.label(format!("{} items selected", app.selection.len()));
-                        ui.weak("Delete (Del) or duplicate (Ctrl+D) them, or drag to move.");
-                    }
-                    None => layout_inspector(app, &ctx, ui),
-                }
-            });
+                });
         });
 }
 

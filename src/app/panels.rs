@@ -299,42 +299,45 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
         .resizable(true)
         .default_size(230.0)
         .show(ui, |ui| {
-            egui::ScrollArea::vertical().show(ui, |ui| {
-                ui.heading("Layers");
-                ui.add_space(4.0);
-                egui::CollapsingHeader::new(RichText::new("Wind trees").strong())
-                    .default_open(true)
-                    .show(ui, |ui| trees_list(app, &ctx, ui));
-                egui::CollapsingHeader::new(RichText::new("Obstacles").strong())
-                    .default_open(true)
-                    .show(ui, |ui| {
-                        let mut select = None;
-                        let mut delete = None;
-                        for o in &app.doc.obstacles {
-                            ui.horizontal(|ui| {
-                                let sel = app.selection.contains(&Sel::Obstacle(o.id));
-                                if ui.selectable_label(sel, &o.name).clicked() {
-                                    select = Some(o.id);
-                                }
-                                if ui.small_button("×").on_hover_text("Delete").clicked() {
-                                    delete = Some(o.id);
-                                }
-                            });
-                        }
-                        if app.doc.obstacles.is_empty() {
-                            ui.weak("Use the Circle or Polygon tool");
-                        }
-                        if let Some(id) = select {
-                            app.selection = vec![Sel::Obstacle(id)];
-                        }
-                        if let Some(id) = delete {
-                            app.edit(&ctx, Edit::RemoveObstacle { id });
-                        }
-                    });
-                egui::CollapsingHeader::new(RichText::new("Ambient").strong())
-                    .default_open(true)
-                    .show(ui, |ui| ambient_list(app, &ctx, ui));
-            });
+            // The panel keeps its width as layers come and go (see the inspector's).
+            egui::ScrollArea::vertical()
+                .auto_shrink([false, false])
+                .show(ui, |ui| {
+                    ui.heading("Layers");
+                    ui.add_space(4.0);
+                    egui::CollapsingHeader::new(RichText::new("Wind trees").strong())
+                        .default_open(true)
+                        .show(ui, |ui| trees_list(app, &ctx, ui));
+                    egui::CollapsingHeader::new(RichText::new("Obstacles").strong())
+                        .default_open(true)
+                        .show(ui, |ui| {
+                            let mut select = None;
+                            let mut delete = None;
+                            for o in &app.doc.obstacles {
+                                ui.horizontal(|ui| {
+                                    let sel = app.selection.contains(&Sel::Obstacle(o.id));
+                                    if ui.selectable_label(sel, &o.name).clicked() {
+                                        select = Some(o.id);
+                                    }
+                                    if ui.small_button("×").on_hover_text("Delete").clicked() {
+                                        delete = Some(o.id);
+                                    }
+                                });
+                            }
+                            if app.doc.obstacles.is_empty() {
+                                ui.weak("Use the Circle or Polygon tool");
+                            }
+                            if let Some(id) = select {
+                                app.selection = vec![Sel::Obstacle(id)];
+                            }
+                            if let Some(id) = delete {
+                                app.edit(&ctx, Edit::RemoveObstacle { id });
+                            }
+                        });
+                    egui::CollapsingHeader::new(RichText::new("Ambient").strong())
+                        .default_open(true)
+                        .show(ui, |ui| ambient_list(app, &ctx, ui));
+                });
         });
 }
 
