@@ -163,7 +163,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         // open(2) takes the umask off this, as it does for any new file.
         builder.permissions(std::fs::Permissions::from_mode(0o666));
     }
-    let mut tmp = builder.tempfile_in(dir)?;
+    // tempfile names its own temporary file in the error; the user wants the folder.
+    let mut tmp = builder
+        .tempfile_in(dir)
+        .map_err(|e| folder_error(dir, e.kind()))?;
     if let Some(old) = &old {
         keep_owner_and_mode(tmp.as_file(), old)?;
     }
@@ -171,6 +174,18 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     tmp.as_file().sync_all()?;
     tmp.persist(&path).map_err(|e| e.error)?;
     sync_dir(dir)
+}
+
+/// Why a file cannot be created in `dir`, naming the folder.
+fn folder_error(dir: &Path, kind: std::io::ErrorKind) -> std::io::Error {
+    use std::io::ErrorKind as K;
+    let why = match kind {
+        K::NotFound => "does not exist".to_string(),
+        K::PermissionDenied => "is not writable (permission denied)".to_string(),
+        K::NotADirectory => "is not a folder".to_string(),
+        other => format!("cannot hold a new file ({other})"),
+    };
+    std::io::Error::new(kind, format!("the folder {} {why}", dir.display()))
 }
 
 /// Gives `file` the permissions of `old`, and its owner and group where this user may.

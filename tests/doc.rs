@@ -309,8 +309,17 @@ fn atomic_save_replaces_whole_files_and_leaves_nothing_behind() {
     std::fs::create_dir(&sub).unwrap();
     assert!(windloom::io::save(&sub, &layout).is_err());
     assert!(sub.is_dir());
-    // A missing folder is an error too, not a partial write.
-    assert!(windloom::io::save(&dir.path().join("missing/x.json"), &layout).is_err());
+    // A missing folder is an error too, not a partial write, and the message names the
+    // folder (not the temporary file the save would have written first).
+    let missing = dir.path().join("missing");
+    let e = windloom::io::save(&missing.join("x.json"), &layout).unwrap_err();
+    assert_eq!(e.kind(), std::io::ErrorKind::NotFound);
+    let msg = e.to_string();
+    assert!(
+        msg.contains(&format!("{} does not exist", missing.display()))
+            && !msg.contains(".windloom-"),
+        "{msg}"
+    );
     let names: Vec<_> = std::fs::read_dir(dir.path())
         .unwrap()
         .map(|e| e.unwrap().file_name().into_string().unwrap())
