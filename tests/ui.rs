@@ -1160,6 +1160,11 @@ fn a_killed_editor_s_last_edit_is_restored() {
         let copy = wait_for(60, || {
             std::fs::read_dir(&rec).ok()?.find_map(|e| {
                 let p = e.ok()?.path();
+                // Not the autosave's temporary file, whole before its rename: a kill then
+                // leaves no copy.
+                if p.extension().is_none_or(|x| x != "json") {
+                    return None;
+                }
                 let l = windloom::io::load(&p).ok()?;
                 (l.trees.len() == original.trees.len() + 1).then_some(p)
             })
