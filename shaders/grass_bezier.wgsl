@@ -59,9 +59,16 @@ fn main(
     let w2 = blade_wind(b);
     let wind = vec3<f32>(w2.x, 0.0, w2.y);
     let speed = length(wind);
-    let v0 = states[k].v0.xyz;
+    var v0 = states[k].v0.xyz;
     var v1 = states[k].v1.xyz;
     var v2 = states[k].v2.xyz;
+    // A slot given another blade (`GrassRenderer::replace_blades`) starts it at rest.
+    if (v0.x != b.pos.x || v0.z != b.pos.y) {
+        v0 = vec3<f32>(b.pos.x, 0.0, b.pos.y);
+        v1 = v0 + up * h;
+        v2 = v1;
+        states[k].v0 = vec4<f32>(v0, 0.0);
+    }
     let crush = trail_crush(b.pos, front.xz);
     let crushed = v0 + vec3<f32>(crush.y * CRUSHED.x * h, CRUSHED.y * h, crush.z * CRUSHED.x * h);
     let iv2 = (v0 + up * h) * (1.0 - crush.x) + crushed * crush.x;

@@ -825,6 +825,25 @@ fn map_and_3d_side_by_side_each_get_their_half() {
         half.width() >= 0.85 * map.width(),
         "framed, not shrunk: {half:?} in {map:?}"
     );
+    // The 3D view frames the whole world for its pane's shape, and again when the window
+    // is resized; once the user has moved the camera, a resize leaves it where it is.
+    let framed_3d = |h: &Harness<'_, EditorApp>| {
+        let view = h.state().grass_view.rect.unwrap();
+        let aspect = view.width() / view.height();
+        let want = windloom::app::Orbit::frame_all(&h.state().doc, aspect);
+        (h.state().grass_view.orbit == Some(want), aspect)
+    };
+    assert!(framed_3d(&h).0);
+    h.set_size(egui::vec2(1000.0, 800.0));
+    h.run_steps(3);
+    let (ok, aspect) = framed_3d(&h);
+    assert!(ok, "the 3D view framed for its resized pane ({aspect})");
+    let mut moved = h.state().grass_view.orbit.unwrap();
+    moved.yaw += 0.5;
+    h.state_mut().grass_view.orbit = Some(moved);
+    h.set_size(egui::vec2(1280.0, 800.0));
+    h.run_steps(3);
+    assert_eq!(h.state().grass_view.orbit, Some(moved));
 
     h.state_mut().settings.central = windloom::app::Central::Map;
     h.run_steps(3);
@@ -944,6 +963,41 @@ fn the_3d_grass_view_answers_grass_edits() {
         all,
         "undo brings the blades back"
     );
+
+    // A close view on a software adapter: the blade sample follows the camera once it
+    // rests, so far more of the budget stands and is drawn in view than an even sample of the
+    // meadow would put there (the share of the field the view shows: half a per cent).
+    if h.state().grass_view.samples_the_view() {
+        let close = windloom::app::Orbit {
+            distance: 6.0,
+            pitch: 0.8,
+            ..h.state().grass_view.orbit.expect("the view's camera")
+        };
+        h.state_mut().grass_view.orbit = Some(close);
+        // The culling tests on again (turned off above).
+        let mut c = h.state().grass_view.controls.cull.unwrap();
+        (c.orientation, c.frustum, c.distance, c.lod) = (true, true, true, true);
+        h.state_mut().grass_view.controls.cull = Some(c);
+        h.run_steps(40);
+        let s = h.state().grass_view.stats.unwrap();
+        let in_view = (s.total - s.frustum) as f32 / s.total as f32;
+        let rect = h.state().grass_view.rect.unwrap();
+        let vp = close.camera().view_proj(rect.width() / rect.height());
+        let blades = windloom::grass::scatter(&h.state().doc);
+        let even = blades
+            .iter()
+            .filter(|b| {
+                let c = vp * glam::Vec4::new(b.pos[0], 0.0, b.pos[1], 1.0);
+                c.w > 0.0 && c.x.abs() <= c.w && c.y.abs() <= c.w
+            })
+            .count() as f32
+            / blades.len() as f32;
+        let budget = windloom::app::SOFTWARE_BLADE_BUDGET as f32;
+        assert!(
+            in_view > 5.0 * even && s.drawn_total() as f32 > 5.0 * even * budget,
+            "{in_view} of the sample in view, an even sample {even}: {s:?}"
+        );
+    }
 }
 
 /// The layout's file changed on disk behind the editor's back (a second editor saved it):

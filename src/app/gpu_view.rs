@@ -92,8 +92,46 @@ impl CallbackTrait for MapCallback {
     }
 }
 
-/// Blades the 3D view draws on a software adapter.
+/// Blades the 3D view draws on a software adapter: a view-dependent sample
+/// ([`crate::grass::sample`]), dense near the camera, chosen again once the camera rests.
 pub const SOFTWARE_BLADE_BUDGET: u32 = 40_000;
+
+/// Seconds the camera must rest before the software adapter's sample follows it.
+const RESAMPLE_AFTER: f64 = 0.2;
+
+/// The software adapter's sample: every blade of the layout, the one in each uploaded slot,
+/// the camera it was chosen for, and when the camera last moved.
+struct ViewSample {
+    all: Vec<crate::grass::Blade>,
+    slots: Vec<u32>,
+    for_camera: (glam::Vec3, glam::Vec3, f32),
+    seen: (glam::Vec3, glam::Vec3, f32),
+    moved_at: f64,
+}
+
+impl ViewSample {
+    /// The blades for `camera` (seen with `aspect`), laid into the previous slots; each
+    /// widened by what the sample thins around it.
+    fn choose(
+        &mut self,
+        camera: &crate::gpu::grass::Camera,
+        aspect: f32,
+    ) -> Vec<crate::grass::Blade> {
+        use crate::grass::sample;
+        let vp = camera.view_proj(aspect);
+        let s = sample::choose(&self.all, camera.eye, &vp, SOFTWARE_BLADE_BUDGET as usize);
+        self.slots = sample::assign(&self.slots, &s.blades, self.all.len());
+        self.for_camera = (camera.eye, camera.target, aspect);
+        self.slots
+            .iter()
+            .map(|&i| {
+                let mut b = self.all[i as usize];
+                b.width *= sample::widen(i, &b, camera.eye, &vp, s.threshold);
+                b
+            })
+            .collect()
+    }
+}
 
 /// How far from the picture's centre (in normalised device coordinates, 1 at the edge) a
 /// framed world's corners may come.
@@ -169,6 +207,25 @@ impl Orbit {
     }
 }
 
+/// Text over the 3D picture on a pale plate, readable over sky and grass alike, wrapped to
+/// `width`; returns the plate's rectangle.
+fn on_plate(
+    painter: &egui::Painter,
+    pos: egui::Pos2,
+    align: egui::Align2,
+    text: String,
+    colour: egui::Color32,
+    width: f32,
+) -> egui::Rect {
+    let font = egui::FontId::proportional(13.0);
+    let galley = painter.layout(text, font, colour, width.max(40.0));
+    let at = align.anchor_size(pos, galley.size());
+    let plate = at.expand2(egui::vec2(5.0, 2.0));
+    painter.rect_filled(plate, 3.0, egui::Color32::from_white_alpha(150));
+    painter.galley(at.min, galley, colour);
+    plate
+}
+
 /// A horizontal unit vector across the camera's view (for the sphere's screen radius).
 fn orbit_side(camera: &crate::gpu::grass::Camera) -> (f32, f32) {
     let d = camera.target - camera.eye;
@@ -192,12 +249,16 @@ pub struct GrassView {
     footprint_for: Option<([f32; 2], [f32; 2])>,
     wind_serial: u64,
     pub orbit: Option<Orbit>,
+    /// The last 'frame all': the aspect it was for, and the orbit it gave (while the orbit is
+    /// still that, the user has not moved the camera since).
+    framed_for: Option<(f32, Orbit)>,
     /// Blades drawn (of all the layout has), and the last frame's GPU milliseconds
     /// (submission to completion).
     pub blades: u32,
     pub total_blades: u32,
     pub frame_ms: std::sync::Arc<std::sync::Mutex<f32>>,
     pub controls: super::grass_controls::GrassControls,
+    sample: Option<ViewSample>,
     /// The last cull counters the GPU sent back, and where the view shows them.
     pub stats: Option<crate::gpu::grass::CullStats>,
     pub counters_rect: Option<egui::Rect>,
@@ -215,10 +276,12 @@ impl Default for GrassView {
             footprint_for: None,
             wind_serial: u64::MAX,
             orbit: None,
+            framed_for: None,
             blades: 0,
             total_blades: 0,
             frame_ms: Default::default(),
             controls: Default::default(),
+            sample: None,
             stats: None,
             counters_rect: None,
             rect: None,
@@ -227,6 +290,12 @@ impl Default for GrassView {
 }
 
 impl GrassView {
+    /// Whether the view draws a sample of the blades that follows the camera (on a software
+    /// adapter, when the layout has more than [`SOFTWARE_BLADE_BUDGET`]).
+    pub fn samples_the_view(&self) -> bool {
+        self.sample.is_some()
+    }
+
     /// The blade model the view draws (`None` before its first frame).
     pub fn model(&self) -> Option<crate::doc::GrassModel> {
         self.grass.as_ref().map(|g| g.model())
@@ -249,9 +318,17 @@ impl GrassView {
             ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
         self.rect = Some(rect);
         let aspect = rect.width() / rect.height().max(1.0);
-        let orbit = self
-            .orbit
-            .get_or_insert_with(|| Orbit::frame_all(doc, aspect));
+        // A framed view stays framed as the pane changes shape (a window resize, the first
+        // frames of *Map + 3D*) until the user moves the camera.
+        let untouched = |(a, framed): (f32, Orbit)| {
+            self.orbit == Some(framed) && (a - aspect).abs() > 1e-3 * aspect
+        };
+        if self.orbit.is_none() || self.framed_for.is_some_and(untouched) {
+            let framed = Orbit::frame_all(doc, aspect);
+            self.orbit = Some(framed);
+            self.framed_for = Some((aspect, framed));
+        }
+        let orbit = self.orbit.as_mut().expect("set above");
         let pushing = self.controls.push && !ui.input(|i| i.modifiers.ctrl);
         // Orbit with the left button (Ctrl+left while pushing), pan with the right or middle,
         // zoom with the wheel; double-click (or Home) frames the world again.
@@ -295,6 +372,7 @@ impl GrassView {
             || (response.hovered() && ui.input(|i| i.key_pressed(egui::Key::Home)))
         {
             *orbit = Orbit::frame_all(doc, aspect);
+            self.framed_for = Some((aspect, *orbit));
         }
         let camera = orbit.camera();
         // The sphere: under the pointer, on the ground, while the left button is down.
@@ -323,14 +401,23 @@ impl GrassView {
         let key = (grass_key, doc.world.clone(), doc.obstacles.clone());
         if self.built_for.as_ref() != Some(&key) {
             let mut blades = crate::grass::scatter(doc);
+            self.total_blades = blades.len() as u32;
             // A software rasteriser draws about 2.6 µs a blade (docs/PERFORMANCE.md): keep the
-            // view interactive there by drawing an even random sample.
+            // view interactive there by drawing a sample, dense near the camera.
             let software = crate::gpu::is_software(&rs.adapter.get_info());
-            if software {
-                crate::grass::shuffle(&mut blades, doc.grass.seed);
+            self.sample = None;
+            if software && blades.len() > SOFTWARE_BLADE_BUDGET as usize {
+                let mut sample = ViewSample {
+                    all: blades,
+                    slots: Vec::new(),
+                    for_camera: Default::default(),
+                    seen: (camera.eye, camera.target, aspect),
+                    moved_at: 0.0,
+                };
+                blades = sample.choose(&camera, aspect);
+                self.sample = Some(sample);
             }
             let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
-            grass.set_budget(software.then_some(SOFTWARE_BLADE_BUDGET));
             // Defaults that follow the blade height, once; the user's toggles after that.
             let cull = *self.controls.cull.get_or_insert(grass.cull_params());
             grass.set_cull(cull);
@@ -351,7 +438,6 @@ impl GrassView {
                 }
             }
             self.scene_for = None;
-            self.total_blades = blades.len() as u32;
             self.blades = grass.blade_count();
             self.grass = Some(grass);
             self.built_for = Some(key);
@@ -435,6 +521,19 @@ impl GrassView {
             grass.wind_from_field(&rs.device, &rs.queue, &mut enc, field);
             self.wind_serial = u64::MAX;
         }
+        // The software adapter's sample follows the camera once it rests.
+        if let Some(sample) = &mut self.sample {
+            let now = ui.input(|i| i.time);
+            let seen = (camera.eye, camera.target, aspect);
+            if seen != sample.seen {
+                sample.seen = seen;
+                sample.moved_at = now;
+            }
+            if seen != sample.for_camera && now - sample.moved_at >= RESAMPLE_AFTER {
+                let blades = sample.choose(&camera, aspect);
+                grass.replace_blades(&rs.queue, &mut enc, &blades);
+            }
+        }
         let dt = ui.input(|i| i.stable_dt);
         grass.record(&rs.queue, &mut enc, target, &camera, snap.time, dt);
         let started = std::time::Instant::now();
@@ -459,20 +558,22 @@ impl GrassView {
         } else {
             "Drag or arrow keys to orbit, right-drag to pan, wheel or +/- to zoom, double-click to frame all"
         };
-        ui.painter().text(
+        on_plate(
+            ui.painter(),
             rect.left_top() + egui::vec2(10.0, 10.0),
             egui::Align2::LEFT_TOP,
-            hint,
-            egui::FontId::proportional(13.0),
+            hint.to_owned(),
             egui::Color32::from_black_alpha(170),
+            rect.width() - 20.0,
         );
         if let Some(stats) = &self.stats {
-            self.counters_rect = Some(ui.painter().text(
+            self.counters_rect = Some(on_plate(
+                ui.painter(),
                 rect.left_bottom() + egui::vec2(10.0, -8.0),
                 egui::Align2::LEFT_BOTTOM,
                 super::grass_controls::counters(stats, self.total_blades),
-                egui::FontId::proportional(13.0),
                 egui::Color32::from_black_alpha(190),
+                rect.width() - 20.0,
             ));
         }
         // The sphere, drawn over the picture where it is.

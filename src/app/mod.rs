@@ -7,6 +7,7 @@ pub mod disk;
 pub mod export;
 mod files;
 mod gpu_view;
+pub use gpu_view::{Orbit, SOFTWARE_BLADE_BUDGET};
 mod grass_controls;
 mod inspector;
 pub mod live;

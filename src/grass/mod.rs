@@ -9,11 +9,13 @@
 //!   `../shared/reference/wind-model.md` reads it, with the paper's open problem solved
 //!   (strong wind neither flattens nor blackens a blade).
 //! - [`bezier`]: Jahrmann & Wimmer's physics blades; [`cull`]: which blades a frame draws and
-//!   at what detail; [`trail`]: the path a pushing sphere leaves.
+//!   at what detail; [`trail`]: the path a pushing sphere leaves; [`sample`]: which blades a
+//!   renderer with a blade budget keeps for a view.
 
 pub mod bezier;
 pub mod cull;
 pub mod cwd;
+pub mod sample;
 pub mod scene;
 pub mod trail;
 
@@ -144,14 +146,4 @@ pub fn wind_cell(
     let i = ((pos[0] - origin[0]) / cell[0]).clamp(0.0, (nx - 1) as f32) as usize;
     let j = ((pos[1] - origin[1]) / cell[1]).clamp(0.0, (ny - 1) as f32) as usize;
     j * nx + i
-}
-
-/// Puts `blades` in a seeded random order (Fisher–Yates), so that any leading part of them is
-/// an even sample of the field — what a renderer on a blade budget draws.
-pub fn shuffle(blades: &mut [Blade], seed: u64) {
-    for k in (1..blades.len()).rev() {
-        let r = hash01(k as u32, 0x5eed, seed);
-        let j = ((r * (k + 1) as f32) as usize).min(k);
-        blades.swap(k, j);
-    }
 }

@@ -174,7 +174,7 @@ pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Blades, wind and pipelines for one layout's grass.
 pub struct GrassRenderer {
     scene: Scene,
-    /// Blades uploaded (the scene's count may be fewer: [`Self::set_budget`]).
+    /// Blades uploaded.
     total: u32,
     scene_buf: wgpu::Buffer,
     blades: wgpu::Buffer,
@@ -626,10 +626,22 @@ impl GrassRenderer {
         self.scene.blades
     }
 
-    /// Poses and draws only the first `budget` blades (`None`: all of them). Shuffle the
-    /// blades first ([`crate::grass::shuffle`]) so that those are an even sample of the field.
-    pub fn set_budget(&mut self, budget: Option<u32>) {
-        self.scene.blades = budget.map_or(self.total, |b| b.min(self.total));
+    /// Replaces the blades in the first `blades.len()` slots (at most the uploaded count),
+    /// as a view-dependent sample ([`crate::grass::sample`]) does when the camera moves. The
+    /// LOD levels start afresh; a Bezier state whose slot got a new blade starts at rest (the
+    /// Bezier pass sees its root moved), the others carry on.
+    pub fn replace_blades(
+        &mut self,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        blades: &[Blade],
+    ) {
+        let n = blades.len().min(self.total as usize);
+        if n == 0 {
+            return;
+        }
+        queue.write_buffer(&self.blades, 0, bytemuck::cast_slice(&blades[..n]));
+        self.cull.reset_levels(encoder);
     }
 
     /// Sets the wind grid: cell-centred velocities `(x, z)` m/s, `nx × ny`, row-major, over
