@@ -60,6 +60,29 @@ fn harness_on(doc: Layout, path: Option<std::path::PathBuf>) -> Harness<'static,
     h
 }
 
+/// The editor on `doc` on a device made as the editor makes it, with the GPU attached (its map
+/// passes, the 3D view), paused; `set` adjusts it before the first frame.
+fn gpu_harness(
+    doc: Layout,
+    set: impl FnOnce(&mut EditorApp) + 'static,
+) -> Harness<'static, EditorApp> {
+    Harness::builder()
+        .with_size(egui::vec2(1280.0, 800.0))
+        .with_max_steps(16)
+        .wgpu_setup(windloom_wgpu_setup())
+        .build_eframe(move |cc| {
+            let mut app = EditorApp::new(doc, None, &cc.egui_ctx);
+            app.live.set_playing(false);
+            set(&mut app);
+            app.attach_gpu(
+                cc.wgpu_render_state
+                    .as_ref()
+                    .expect("kittest's wgpu renderer"),
+            );
+            app
+        })
+}
+
 fn click(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
     h.event(Event::PointerMoved(pos));
     h.run_steps(1);
@@ -632,21 +655,9 @@ fn editor_window_snapshot_drawn_on_the_gpu() {
     if !gpu_available() {
         return;
     }
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 800.0))
-        .with_max_steps(16)
-        .wgpu_setup(windloom_wgpu_setup())
-        .build_eframe(|cc| {
-            let mut app = EditorApp::new(example("obstacles.json"), None, &cc.egui_ctx);
-            app.live.set_playing(false);
-            app.settings.backend = BackendChoice::Gpu;
-            app.attach_gpu(
-                cc.wgpu_render_state
-                    .as_ref()
-                    .expect("kittest's wgpu renderer"),
-            );
-            app
-        });
+    let mut h = gpu_harness(example("obstacles.json"), |app| {
+        app.settings.backend = BackendChoice::Gpu;
+    });
     h.state_mut().settings.wind_view = windloom::app::view::WindView::Glyphs;
     step_and_wait(&mut h, 120, Backend::Gpu);
     let snap = h.state().live.snapshot();
@@ -776,20 +787,7 @@ fn map_and_3d_side_by_side_each_get_their_half() {
     if !gpu_available() {
         return;
     }
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 800.0))
-        .with_max_steps(16)
-        .wgpu_setup(windloom_wgpu_setup())
-        .build_eframe(|cc| {
-            let mut app = EditorApp::new(example("meadow.json"), None, &cc.egui_ctx);
-            app.live.set_playing(false);
-            app.attach_gpu(
-                cc.wgpu_render_state
-                    .as_ref()
-                    .expect("kittest's wgpu renderer"),
-            );
-            app
-        });
+    let mut h = gpu_harness(example("meadow.json"), |_| {});
     h.run_steps(3);
     let (lo, hi) = h.state().doc.bounds();
     // The world's rectangle on screen, and the map pane.
@@ -862,21 +860,9 @@ fn the_3d_grass_view_answers_grass_edits() {
     if !gpu_available() {
         return;
     }
-    let mut h = Harness::builder()
-        .with_size(egui::vec2(1280.0, 800.0))
-        .with_max_steps(16)
-        .wgpu_setup(windloom_wgpu_setup())
-        .build_eframe(|cc| {
-            let mut app = EditorApp::new(example("meadow.json"), None, &cc.egui_ctx);
-            app.live.set_playing(false);
-            app.settings.central = windloom::app::Central::Grass;
-            app.attach_gpu(
-                cc.wgpu_render_state
-                    .as_ref()
-                    .expect("kittest's wgpu renderer"),
-            );
-            app
-        });
+    let mut h = gpu_harness(example("meadow.json"), |app| {
+        app.settings.central = windloom::app::Central::Grass;
+    });
     step_and_wait(&mut h, 60, Backend::Cpu);
     h.run_steps(3);
     let all = windloom::grass::scatter(&h.state().doc).len() as u32;
