@@ -328,6 +328,7 @@ impl EditorApp {
             app.attach_gpu(rs);
         }
         if let Some(dir) = eframe::storage_dir("windloom") {
+            recovery::sweep_temporaries(&dir.join("recovery"), recovery::STALE_TEMPORARY);
             let mut found = recovery::Recovery::found(&dir.join("recovery"));
             // The single shared copy of earlier versions.
             let legacy = dir.join("recovery.json");

@@ -41,6 +41,33 @@ pub struct Recovery {
     written: Option<PathBuf>,
 }
 
+/// How old a temporary file of an atomic write must be before it counts as left by a killed
+/// editor (a write takes milliseconds; another running editor's is never this old).
+pub const STALE_TEMPORARY: std::time::Duration = std::time::Duration::from_secs(600);
+
+/// Removes the temporary files (`.windloom-*.tmp`) that atomic writes into `dir` left when
+/// their editor was killed mid-write, once older than `older_than`; returns how many went.
+/// Nothing reads them (a copy is only ever a `.json`), but each crash would leave one more.
+pub fn sweep_temporaries(dir: &Path, older_than: std::time::Duration) -> usize {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return 0;
+    };
+    let now = std::time::SystemTime::now();
+    entries
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| {
+            let name = p.file_name().unwrap_or_default().to_string_lossy();
+            name.starts_with(".windloom-") && name.ends_with(".tmp")
+        })
+        .filter(|p| {
+            std::fs::symlink_metadata(p)
+                .and_then(|m| m.modified())
+                .is_ok_and(|t| now.duration_since(t).is_ok_and(|age| age >= older_than))
+        })
+        .filter(|p| std::fs::remove_file(p).is_ok())
+        .count()
+}
+
 /// A short stable hash of a path (FNV-1a), for file names.
 fn fnv(s: &str) -> u64 {
     s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
@@ -177,5 +204,35 @@ impl Recovery {
             .collect();
         found.sort_by_key(|f| std::cmp::Reverse(f.0));
         found.into_iter().map(|(_, f)| f).collect()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A killed write's temporary file goes once it is old; a fresh one (another editor
+    /// writing now), copies and the user's own files stay.
+    #[test]
+    fn stale_temporaries_are_swept_and_nothing_else() {
+        let dir = tempfile::tempdir().unwrap();
+        let file = |name: &str, age_s: u64| {
+            let p = dir.path().join(name);
+            let f = std::fs::File::create(&p).unwrap();
+            let t = std::time::SystemTime::now() - std::time::Duration::from_secs(age_s);
+            f.set_modified(t).unwrap();
+            p
+        };
+        let stale = file(".windloom-AbC123.tmp", 3600);
+        let fresh = file(".windloom-XyZ789.tmp", 5);
+        let copy = file("level-0123456789abcdef.json", 3600);
+        let other = file(".other-editor.tmp", 3600);
+        assert_eq!(sweep_temporaries(dir.path(), STALE_TEMPORARY), 1);
+        assert!(!stale.exists());
+        assert!(fresh.exists() && copy.exists() && other.exists());
+        assert_eq!(
+            sweep_temporaries(&dir.path().join("missing"), STALE_TEMPORARY),
+            0
+        );
     }
 }
