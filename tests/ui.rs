@@ -475,9 +475,15 @@ fn the_window_opens_under_xvfb() {
     std::thread::sleep(Duration::from_secs(8));
     let status = child.try_wait().unwrap();
     if status.is_none() {
-        // Still running: the window is up. Stop it (and Xvfb with it).
+        // Still running: the window is up. Stop it (xvfb-run then stops its Xvfb) — only
+        // this test's editor, xvfb-run's child: other tests run editors of their own.
         let _ = std::process::Command::new("pkill")
-            .args(["-f", env!("CARGO_BIN_EXE_windloom")])
+            .args([
+                "-P",
+                &child.id().to_string(),
+                "-f",
+                env!("CARGO_BIN_EXE_windloom"),
+            ])
             .status();
     }
     let out = child.wait_with_output().unwrap();
