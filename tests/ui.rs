@@ -279,6 +279,38 @@ fn the_map_stays_put_when_the_selection_changes() {
     }
 }
 
+/// In a narrow window the toolbar wraps onto a row of its own under the menus instead of
+/// running off the right edge (where the view buttons were lost); in a wide one it shares the
+/// menus' row.
+#[test]
+fn a_narrow_window_wraps_the_toolbar_instead_of_hiding_it() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("obstacles.json"));
+    let row = |h: &Harness<'_, EditorApp>, label: &str| h.get_by_label(label).rect();
+    let file = row(&h, "File");
+    for label in ["Select", "Map + 3D"] {
+        assert!(
+            (row(&h, label).center().y - file.center().y).abs() < 2.0,
+            "{label} beside the menus in a wide window"
+        );
+    }
+    h.set_size(egui::vec2(900.0, 700.0));
+    h.run_steps(4);
+    for label in ["Select", "Reset", "Wind:", "3D grass", "Map + 3D"] {
+        let r = row(&h, label);
+        assert!(
+            r.right() <= 900.0 && r.top() > file.bottom() - 1.0,
+            "{label} at {r:?}: on screen, under the menus"
+        );
+    }
+    assert!(h.state().map_rect.top() > row(&h, "Map + 3D").bottom());
+    h.set_size(egui::vec2(1280.0, 800.0));
+    h.run_steps(4);
+    assert!((row(&h, "Map + 3D").center().y - file.center().y).abs() < 2.0);
+}
+
 #[test]
 fn dragging_a_node_moves_it_in_one_undo_step() {
     if !gpu_available() {

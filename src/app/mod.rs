@@ -205,6 +205,9 @@ pub struct EditorApp {
     pub map_rect: Rect,
     /// The status bar's rectangle in the last frame (tests mask it: it shows timings).
     pub status_rect: Rect,
+    /// The toolbar's width in one row, as last drawn: it shares the menu bar's row while
+    /// that has room, and takes a wrapped row of its own below it when not.
+    toolbar_width: f32,
     pub settings: Settings,
     /// GPU work the simulation thread hands the UI thread to submit (declared before `live`
     /// so that it is dropped first: a worker waiting on it then gives up instead of blocking
@@ -273,6 +276,7 @@ impl EditorApp {
             camera: None,
             map_rect: Rect::NOTHING,
             status_rect: Rect::NOTHING,
+            toolbar_width: 0.0,
             settings: Settings::default(),
             gpu_submissions: None,
             live,

@@ -6,6 +6,7 @@ use crate::doc::{self, AmbientKind, Edit, TreeProps};
 use eframe::egui::{self, RichText};
 
 pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
+    let mut in_row = false;
     let ctx = ui.ctx().clone();
     egui::Panel::top("menu").show(ui, |ui| {
         egui::MenuBar::new().ui(ui, |ui| {
@@ -125,9 +126,21 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 }
             });
             ui.separator();
-            toolbar(app, ui);
+            if ui.available_width() >= app.toolbar_width {
+                app.toolbar_width = ui.scope(|ui| toolbar(app, ui)).response.rect.width();
+                in_row = true;
+            }
         });
     });
+    // A narrow window: the toolbar wraps in a panel of its own rather than running off the
+    // right edge (the view buttons went first).
+    if !in_row {
+        egui::Panel::top("toolbar").show(ui, |ui| {
+            // Styled as in the menu bar.
+            ui.visuals_mut().button_frame = false;
+            ui.horizontal_wrapped(|ui| toolbar(app, ui));
+        });
+    }
 }
 
 fn toolbar(app: &mut EditorApp, ui: &mut egui::Ui) {
