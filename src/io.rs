@@ -41,6 +41,33 @@ pub enum BackdropError {
     Decode { path: PathBuf, message: String },
 }
 
+/// The folder a layout's relative paths (its map image) start from: the layout file's
+/// folder, or the working folder for a layout not yet saved.
+pub fn layout_base(layout_path: Option<&Path>) -> PathBuf {
+    layout_path
+        .and_then(Path::parent)
+        .map(Path::to_path_buf)
+        .unwrap_or_default()
+}
+
+/// `path` as the layout stores it: relative to `base` when inside it (with `/` separators, so
+/// the layout moves between systems with its folder), else as it is.
+pub fn relative_to(path: &Path, base: &Path) -> String {
+    let abs = |p: &Path| {
+        std::path::absolute(p)
+            .map(|a| a.canonicalize().unwrap_or(a))
+            .unwrap_or_else(|_| p.to_path_buf())
+    };
+    match abs(path).strip_prefix(abs(base)) {
+        Ok(rel) => rel
+            .components()
+            .map(|c| c.as_os_str().to_string_lossy())
+            .collect::<Vec<_>>()
+            .join("/"),
+        Err(_) => path.display().to_string(),
+    }
+}
+
 /// The map backdrop's image (`map.image`, relative to the layout's folder `base`), as RGBA8:
 /// its size checked on disk and in its header before any pixel is decoded.
 pub fn load_backdrop(

@@ -328,6 +328,22 @@ fn atomic_save_replaces_whole_files_and_leaves_nothing_behind() {
     assert_eq!(windloom::io::load(&p).unwrap(), layout);
 }
 
+/// A picked file is stored relative to the layout's folder when inside it (with `/`), as it
+/// is when not.
+#[test]
+fn picked_paths_are_stored_relative_to_the_layout() {
+    use windloom::io::{layout_base, relative_to};
+    let dir = tempfile::tempdir().unwrap();
+    let base = layout_base(Some(&dir.path().join("level.json")));
+    assert_eq!(base, dir.path());
+    let inside = dir.path().join("maps").join("top.png");
+    assert_eq!(relative_to(&inside, &base), "maps/top.png");
+    let outside = std::path::Path::new("/elsewhere/top.png");
+    assert_eq!(relative_to(outside, &base), "/elsewhere/top.png");
+    // A layout never saved: paths are relative to the working folder.
+    assert_eq!(layout_base(None), std::path::PathBuf::new());
+}
+
 #[test]
 fn failed_edit_leaves_document_untouched() {
     let mut l = example("branching.json");

@@ -279,6 +279,54 @@ fn the_map_stays_put_when_the_selection_changes() {
     }
 }
 
+/// The level's picture is set from the inspector (typed, committed on Enter), as one undo
+/// step, and cleared the same way; the map then loads it from beside the layout.
+#[test]
+fn the_map_image_is_set_in_the_inspector() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let level = dir.path().join("level.json");
+    windloom::io::save(&level, &example("obstacles.json")).unwrap();
+    image::RgbaImage::from_pixel(64, 64, image::Rgba([90, 140, 60, 255]))
+        .save(dir.path().join("top-down.png"))
+        .unwrap();
+    let mut h = harness_on(windloom::io::load(&level).unwrap(), Some(level.clone()));
+    let mut type_in = |h: &mut Harness<'_, EditorApp>, text: &str| {
+        h.get_by_label("Map image").focus();
+        h.run_steps(1);
+        h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+        h.run_steps(1);
+        if text.is_empty() {
+            h.key_press(egui::Key::Backspace);
+        } else {
+            h.get_by_label("Map image").type_text(text);
+        }
+        h.run_steps(1);
+        h.key_press(egui::Key::Enter);
+        h.run_steps(2);
+    };
+    type_in(&mut h, "top-down.png");
+    let map = h.state().doc.world.map.clone().expect("a map image");
+    assert_eq!((map.image.as_str(), map.opacity), ("top-down.png", 1.0));
+    assert!(h.state().dirty);
+    // It loads from the layout's folder: no "could not read" message, as a missing one gets.
+    assert!(h.query_by_label_contains("shown without it").is_none());
+    type_in(&mut h, "missing.png");
+    assert!(h.query_by_label_contains("shown without it").is_some());
+    h.state_mut().undo();
+    h.run_steps(2);
+    h.state_mut().undo();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.world.map, None, "one undo step");
+    h.state_mut().redo();
+    h.run_steps(2);
+    assert!(h.state().doc.world.map.is_some());
+    type_in(&mut h, "");
+    assert_eq!(h.state().doc.world.map, None, "an empty field clears it");
+}
+
 /// In a narrow window the toolbar wraps onto a row of its own under the menus instead of
 /// running off the right edge (where the view buttons were lost); in a wide one it shares the
 /// menus' row.

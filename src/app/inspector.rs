@@ -311,6 +311,83 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
     }
 }
 
+/// The backdrop image's row: its path (relative to the layout's folder; typed, committed on
+/// Enter or when the field loses focus), **Choose…** (the system's file dialog) and **×**
+/// (none). Returns whether `map` changed; sets `dialog_failed` when the system's file dialog
+/// could not open.
+fn map_image_row(
+    ui: &mut egui::Ui,
+    map: &mut Option<doc::MapBackdrop>,
+    layout_path: Option<&std::path::Path>,
+    dialog_failed: &mut bool,
+) -> bool {
+    let l = ui.label("Map image");
+    let current = map.as_ref().map_or(String::new(), |m| m.image.clone());
+    let set = |map: &mut Option<doc::MapBackdrop>, image: String| {
+        let opacity = map.as_ref().map_or(1.0, |m| m.opacity);
+        *map = (!image.trim().is_empty()).then(|| doc::MapBackdrop {
+            image: image.trim().to_owned(),
+            opacity,
+        });
+    };
+    let mut changed = false;
+    ui.horizontal(|ui| {
+        // The text being typed lives in egui's memory until committed.
+        let id = egui::Id::unique("inspector map image");
+        let mut text = ui
+            .data(|d| d.get_temp::<(String, String)>(id))
+            .filter(|(from, _)| *from == current)
+            .map_or_else(|| current.clone(), |(_, t)| t);
+        let r = ui
+            .add(
+                egui::TextEdit::singleline(&mut text)
+                    .hint_text("none")
+                    .desired_width(140.0),
+            )
+            .labelled_by(l.id)
+            .on_hover_text(
+                "A top-down picture of the level (PNG or JPEG), relative to the layout's folder",
+            );
+        if r.lost_focus() && text.trim() != current {
+            set(map, text.clone());
+            changed = true;
+        }
+        ui.data_mut(|d| d.insert_temp(id, (current.clone(), text)));
+    });
+    ui.end_row();
+    // The buttons on a row of their own, so the inspector keeps its width.
+    ui.label("");
+    ui.horizontal(|ui| {
+        if ui
+            .button("Choose…")
+            .on_hover_text("Pick the level's top-down picture")
+            .clicked()
+        {
+            let base = crate::io::layout_base(layout_path);
+            let mut dialog =
+                rfd::FileDialog::new().add_filter("PNG or JPEG image", &["png", "jpg", "jpeg"]);
+            if base.is_dir() {
+                dialog = dialog.set_directory(&base);
+            }
+            let started = std::time::Instant::now();
+            match dialog.pick_file() {
+                Some(p) => {
+                    set(map, crate::io::relative_to(&p, &base));
+                    changed = true;
+                }
+                None if super::native_dialog_failed(started) => *dialog_failed = true,
+                None => {}
+            }
+        }
+        if map.is_some() && ui.small_button("×").on_hover_text("No map image").clicked() {
+            *map = None;
+            changed = true;
+        }
+    });
+    ui.end_row();
+    changed
+}
+
 fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     let l = ui.label(RichText::new("Layout name").strong());
     let mut name = app.doc.name.clone();
@@ -325,6 +402,8 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
     ui.label(RichText::new("World").strong());
     let mut w = app.doc.world.clone();
     let mut changed = false;
+    let mut image_changed = false;
+    let mut dialog_failed = false;
     egui::Grid::new("world").num_columns(2).show(ui, |ui| {
         changed |= num(
             ui,
@@ -355,14 +434,26 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
                 .changed();
         });
         ui.end_row();
+        image_changed = map_image_row(ui, &mut w.map, app.path.as_deref(), &mut dialog_failed);
         if let Some(map) = &mut w.map {
             changed |= row(ui, "Map opacity", |ui| {
                 ui.add(egui::Slider::new(&mut map.opacity, 0.0..=1.0))
             });
         }
     });
-    if changed {
+    if image_changed {
+        // A new picture is its own undo step, not part of a drag of the sizes.
+        app.edit(ctx, Edit::SetWorld(w));
+    } else if changed {
         app.edit_merged(ctx, Edit::SetWorld(w), "world");
+    }
+    if dialog_failed {
+        app.say(
+            ctx,
+            "The system's file dialog could not open (is a desktop portal running?): type the \
+             image's path in the Map image field"
+                .to_string(),
+        );
     }
     ui.add_space(6.0);
     ui.label(RichText::new("Simulation").strong());

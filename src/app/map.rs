@@ -119,12 +119,7 @@ fn draw_backdrop(app: &mut EditorApp, ctx: &egui::Context, painter: &egui::Paint
         app.backdrop = None;
         return;
     };
-    let base = app
-        .path
-        .as_ref()
-        .and_then(|p| p.parent())
-        .map(|d| d.to_path_buf())
-        .unwrap_or_default();
+    let base = crate::io::layout_base(app.path.as_deref());
     let file = base.join(&map.image);
     let stale = app.backdrop.as_ref().is_none_or(|(p, _)| p != &file);
     if stale {
