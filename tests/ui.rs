@@ -293,7 +293,7 @@ fn the_map_image_is_set_in_the_inspector() {
         .save(dir.path().join("top-down.png"))
         .unwrap();
     let mut h = harness_on(windloom::io::load(&level).unwrap(), Some(level.clone()));
-    let mut type_in = |h: &mut Harness<'_, EditorApp>, text: &str| {
+    let type_in = |h: &mut Harness<'_, EditorApp>, text: &str| {
         h.get_by_label("Map image").focus();
         h.run_steps(1);
         h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
