@@ -409,12 +409,7 @@ impl EditorApp {
                         })
                     })
                     .flatten();
-                let base = self
-                    .path
-                    .as_ref()
-                    .and_then(|p| p.parent())
-                    .map(|d| d.to_path_buf())
-                    .unwrap_or_default();
+                let base = crate::io::layout_base(self.path.as_deref());
                 self.grass_view
                     .show(ui, &rs, &self.doc, &snap, footprint, &base);
             }
