@@ -690,6 +690,13 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S",
         "New, Open, Save, Save As",
     ),
+    (
+        "3D view: drag, arrow keys",
+        "Orbit (Ctrl+drag while Push is on)",
+    ),
+    ("3D view: right drag", "Pan"),
+    ("3D view: wheel, + / -", "Zoom"),
+    ("3D view: Home, double-click", "Frame the whole world"),
 ];
 
 /// The question asked when the document's file changed on disk behind the editor's back: a
