@@ -42,12 +42,9 @@ pub enum BackdropError {
 }
 
 /// The folder a layout's relative paths (its map image) start from: the layout file's
-/// folder, or the working folder for a layout not yet saved.
+/// folder ([`parent_dir`]), or the working folder (`.`) for a layout not yet saved.
 pub fn layout_base(layout_path: Option<&Path>) -> PathBuf {
-    layout_path
-        .and_then(Path::parent)
-        .map(Path::to_path_buf)
-        .unwrap_or_default()
+    layout_path.map_or(Path::new("."), parent_dir).to_path_buf()
 }
 
 /// `path` as the layout stores it: relative to `base` when inside it (with `/` separators, so

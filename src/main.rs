@@ -316,9 +316,9 @@ fn parse_camera(s: &str) -> Result<[f32; 6], String> {
 
 /// Why the layout's map backdrop (if it has one) cannot be shown.
 fn backdrop_warning(l: &doc::Layout, file: &std::path::Path) -> Option<String> {
-    let base = file.parent().unwrap_or(std::path::Path::new("."));
+    let base = io::layout_base(Some(file));
     let map = l.world.map.as_ref()?;
-    io::load_backdrop(base, map).err().map(|e| e.to_string())
+    io::load_backdrop(&base, map).err().map(|e| e.to_string())
 }
 
 /// The camera `--camera` names (45° lens).
@@ -575,7 +575,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             if let Some(m) = model {
                 l.grass.model = m.model();
             }
-            let base = layout.parent().unwrap_or(std::path::Path::new("."));
+            let base = io::layout_base(Some(&layout));
             if let Some(w) = backdrop_warning(&l, &layout) {
                 eprintln!("warning: {w}; drawn without it");
             }
@@ -583,7 +583,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 eprintln!("warning: {}: {a}", layout.display());
             }
             let png = match view {
-                ViewArg::Map => windloom::render::render_png(&l, base, size, time)?,
+                ViewArg::Map => windloom::render::render_png(&l, &base, size, time)?,
                 ViewArg::Grass => {
                     anyhow::ensure!(
                         (16..=16384).contains(&size[0]) && (16..=16384).contains(&size[1]),
@@ -602,7 +602,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                             radius: p[4],
                         }),
                     };
-                    let pixels = windloom::gpu::grass::picture(&ctx, &l, base, &options)?;
+                    let pixels = windloom::gpu::grass::picture(&ctx, &l, &base, &options)?;
                     let mut png = Vec::new();
                     image::RgbaImage::from_raw(size[0], size[1], pixels)
                         .context("picture size")?

@@ -340,8 +340,20 @@ fn picked_paths_are_stored_relative_to_the_layout() {
     assert_eq!(relative_to(&inside, &base), "maps/top.png");
     let outside = std::path::Path::new("/elsewhere/top.png");
     assert_eq!(relative_to(outside, &base), "/elsewhere/top.png");
-    // A layout never saved: paths are relative to the working folder.
-    assert_eq!(layout_base(None), std::path::PathBuf::new());
+    // A layout never saved: paths are relative to the working folder, a file there stored
+    // by its name and one elsewhere as it is (not "//elsewhere/top.png").
+    assert_eq!(layout_base(None), std::path::Path::new("."));
+    let here = std::env::current_dir().unwrap().join("top.png");
+    assert_eq!(relative_to(&here, &layout_base(None)), "top.png");
+    let tmp = std::env::temp_dir()
+        .join("windloom-nowhere")
+        .join("top.png");
+    if !tmp.starts_with(std::env::current_dir().unwrap()) {
+        assert_eq!(
+            relative_to(&tmp, &layout_base(None)),
+            tmp.display().to_string()
+        );
+    }
 }
 
 #[test]
