@@ -1239,7 +1239,7 @@ fn a_killed_editor_s_last_edit_is_restored() {
             "tcp",
         ])
         .stdout(Stdio::piped())
-        .stderr(Stdio::null())
+        .stderr(std::fs::File::create(home.path().join("xvfb.log")).unwrap())
         .spawn()
         .unwrap();
     let mut line = String::new();
@@ -1262,7 +1262,7 @@ fn a_killed_editor_s_last_edit_is_restored() {
         .env("HOME", home.path())
         .env("XDG_DATA_HOME", &data)
         .env("XDG_RUNTIME_DIR", &runtime)
-        .stderr(Stdio::null())
+        .stderr(std::fs::File::create(home.path().join("editor.log")).unwrap())
         .spawn()
         .unwrap();
     let window = wait_for(90, || {
@@ -1300,11 +1300,21 @@ fn a_killed_editor_s_last_edit_is_restored() {
             None => Err("no autosaved copy with the new tree"),
         }
     };
+    let exited = editor.try_wait().unwrap();
+    let xvfb_exited = xvfb.try_wait().unwrap();
     editor.kill().unwrap(); // SIGKILL
     editor.wait().unwrap();
     let _ = xvfb.kill();
     let _ = xvfb.wait();
-    let (copy, rec) = outcome.unwrap();
+    let (copy, rec) = outcome.unwrap_or_else(|e| {
+        let log = std::fs::read_to_string(home.path().join("editor.log")).unwrap_or_default();
+        let tail: Vec<_> = log.lines().rev().take(20).collect();
+        let xlog = std::fs::read_to_string(home.path().join("xvfb.log")).unwrap_or_default();
+        panic!(
+            "{e} (the editor exited: {exited:?}; Xvfb {display} exited: {xvfb_exited:?}); its \
+             last log lines, newest first:\n{tail:#?}\nXvfb's log:\n{xlog}"
+        )
+    });
 
     let found = windloom::app::recovery::Recovery::found(&rec);
     let listing: Vec<_> = std::fs::read_dir(&rec)
