@@ -12,14 +12,15 @@ struct Mg {
     cny: u32,
     // 1 when the level wraps (periodic boundaries).
     wraps: u32,
-    // The smoother's colour: cells with (i + j) % 2 == colour are updated.
+    // The smoother: a red–black half sweep updating the cells with (i + j) % 2 == colour
+    // (0, 1), or a damped Jacobi pass with `weight` (2).
     colour: u32,
     // 1 when the coarser level groups two cells along x / z.
     coarse_x: u32,
     coarse_z: u32,
     // The right-hand side is b_scale · b (−hx·hz on the finest level, whose b is the divergence).
     b_scale: f32,
-    _pad0: f32,
+    weight: f32,
     _pad1: f32,
     _pad2: f32,
 }

@@ -214,7 +214,7 @@ impl GpuFluid {
             h: solver.hx.min(solver.hz),
             wx: 1.0 / (solver.hx * solver.hx),
             wz: 1.0 / (solver.hz * solver.hz),
-            decay: sp.pressure_decay,
+            decay: sp.warm_start(),
             max_speed: MAX_SPEED,
             response: sp.arrow_response,
             _pad1: 0.0,
@@ -344,6 +344,14 @@ impl GpuFluid {
     ) -> Result<Vec<f32>, super::GpuError> {
         let bytes = super::read_buffer_via(device, submit, self.buffer(f))?;
         Ok(bytemuck::cast_slice::<u8, f32>(&bytes).to_vec())
+    }
+
+    /// Sets the share of last step's pressure the next solve starts from
+    /// ([`crate::doc::SimParams::warm_start`]), which changes with the pressure solve.
+    pub fn set_warm_start(&mut self, queue: &wgpu::Queue, warm: f32) {
+        if self.params.decay.to_bits() != warm.to_bits() {
+            self.set_params(queue, |p| p.decay = warm);
+        }
     }
 
     fn set_params(&mut self, queue: &wgpu::Queue, change: impl FnOnce(&mut Params)) {

@@ -1,11 +1,11 @@
 //! The multigrid pressure solve on the GPU (`sim.pressure = "multigrid"`): the CPU builds the
-//! hierarchy ([`Multigrid::new`], the same levels, links and interpolation tables as the CPU
-//! solver's) and uploads it once; a V-cycle is then red–black half sweeps, restrictions and
-//! prolongations, each a compute pass (`shaders/mg_*.wgsl`) whose CPU twin is the function of
+//! hierarchy ([`Multigrid::new`], the same levels, links, interpolation tables and smoothing
+//! weights as the CPU solver's) and uploads it once; a V-cycle is then relaxation passes
+//! (damped Jacobi, red–black on the coarsest level), restrictions and prolongations, each a compute pass (`shaders/mg_*.wgsl`) whose CPU twin is the function of
 //! `sim::solver::multigrid` it names. Every level keeps its explicit links, the finest too.
 
 use crate::doc::Boundary;
-use crate::sim::solver::multigrid::{Multigrid, POST_SWEEPS, PRE_SWEEPS, coarsest_sweeps};
+use crate::sim::solver::multigrid::{Multigrid, coarsest_sweeps};
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
@@ -22,8 +22,14 @@ pub struct MgParams {
     pub coarse_x: u32,
     pub coarse_z: u32,
     pub b_scale: f32,
-    pub _pad: [f32; 3],
+    /// Damped Jacobi's weight (`colour` [`DAMPED`]).
+    pub weight: f32,
+    pub _pad: [f32; 2],
 }
+
+/// `MgParams::colour` for a damped Jacobi pass (every cell, weighted) instead of a red–black
+/// half sweep.
+pub const DAMPED: u32 = 2;
 
 /// The multigrid header every multigrid pass is compiled with.
 pub const MG_COMMON: &str = include_str!("../../shaders/mg_common.wgsl");
@@ -60,8 +66,13 @@ struct GpuLevel {
     b: wgpu::Buffer,
     from_x: wgpu::Buffer,
     from_z: wgpu::Buffer,
-    /// Parameters for colour 0 and colour 1 (restriction and prolongation use the first).
-    params: [wgpu::Buffer; 2],
+    /// Parameters: red–black colour 0 (restriction and prolongation use it too) and colour 1,
+    /// then one per damped pass: the level's pre-smoothing weights, then its post-smoothing
+    /// weights.
+    params: Vec<wgpu::Buffer>,
+    /// How many damped passes before and after the coarse correction.
+    pre: usize,
+    post: usize,
 }
 
 struct Pass {
@@ -69,7 +80,7 @@ struct Pass {
     layout: wgpu::BindGroupLayout,
 }
 
-/// Bind groups by (pass, level, colour, direction).
+/// Bind groups by (pass, level, parameters, direction).
 type Groups = std::collections::HashMap<(&'static str, usize, usize, u8), wgpu::BindGroup>;
 
 /// The hierarchy on the GPU and the passes that run a V-cycle on it.
@@ -121,7 +132,14 @@ impl GpuMultigrid {
                 let f = |label: &str, v: &[f32]| storage(device, label, bytemuck::cast_slice(v));
                 // The finest level's unknowns, scratch and right-hand side are the solver's.
                 let cells = vec![0.0f32; if l == 0 { 0 } else { lv.nx * lv.ny }];
-                let params = [0u32, 1].map(|colour| {
+                let (pre, post) = (
+                    mg.smoothing.weights(l, false),
+                    mg.smoothing.weights(l, true),
+                );
+                let passes = [(0u32, 1.0f32), (1, 1.0)]
+                    .into_iter()
+                    .chain(pre.iter().chain(post).map(|&w| (DAMPED, w)));
+                let params = passes.map(|(colour, weight)| {
                     let p = MgParams {
                         nx: lv.nx as u32,
                         ny: lv.ny as u32,
@@ -132,7 +150,8 @@ impl GpuMultigrid {
                         coarse_x: u32::from(coarse.is_some_and(|c| c.x_axis.coarsened)),
                         coarse_z: u32::from(coarse.is_some_and(|c| c.z_axis.coarsened)),
                         b_scale: if l == 0 { -vol } else { 1.0 },
-                        _pad: [0.0; 3],
+                        weight,
+                        _pad: [0.0; 2],
                     };
                     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some("multigrid level"),
@@ -140,6 +159,7 @@ impl GpuMultigrid {
                         usage: wgpu::BufferUsages::UNIFORM,
                     })
                 });
+                let params = params.collect();
                 GpuLevel {
                     nx: lv.nx,
                     ny: lv.ny,
@@ -153,6 +173,8 @@ impl GpuMultigrid {
                     from_x: storage(device, "mg from_x", bytemuck::cast_slice(&lv.from_x)),
                     from_z: storage(device, "mg from_z", bytemuck::cast_slice(&lv.from_z)),
                     params,
+                    pre: pre.len(),
+                    post: post.len(),
                 }
             })
             .collect();
@@ -238,7 +260,7 @@ impl GpuMultigrid {
 
     /// Records `sweeps` red–black sweeps on level `l`, colour `first` first (an even number
     /// of half sweeps, so the result is back in the level's `x`). Twin of
-    /// `multigrid::sweeps`.
+    /// `multigrid::smooth` with `Relax::RedBlack(first)`.
     pub fn record_sweeps(
         &self,
         device: &wgpu::Device,
@@ -249,26 +271,49 @@ impl GpuMultigrid {
         first: usize,
     ) {
         for h in 0..2 * sweeps {
-            self.record_half_sweep(device, enc, fine, l, (first + h) % 2, h % 2 == 1);
+            self.record_pass(device, enc, fine, l, (first + h) % 2, h % 2 == 1);
         }
     }
 
-    /// Records one half sweep of colour `colour` on level `l`, from `x` into `tmp` (`back`:
-    /// from `tmp` into `x`).
-    pub fn record_half_sweep(
+    /// Records level `l`'s damped smoothing passes before (`post` false) or after its coarse
+    /// correction (an even number, so the result is back in the level's `x`). Twin of
+    /// `multigrid::smooth` with `Relax::Damped` and the level's weights.
+    pub fn record_smoothing(
         &self,
         device: &wgpu::Device,
         enc: &mut wgpu::CommandEncoder,
         fine: Fine,
         l: usize,
-        colour: usize,
+        post: bool,
+    ) {
+        let lv = &self.levels[l];
+        let (first, n) = if post {
+            (2 + lv.pre, lv.post)
+        } else {
+            (2, lv.pre)
+        };
+        for h in 0..n {
+            self.record_pass(device, enc, fine, l, first + h, h % 2 == 1);
+        }
+    }
+
+    /// Records one relaxation pass on level `l` with parameters `params` (0, 1: a red–black
+    /// half sweep of that colour; from 2: a damped pass, see [`GpuLevel::params`]), from `x`
+    /// into `tmp` (`back`: from `tmp` into `x`).
+    pub fn record_pass(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+        l: usize,
+        params: usize,
         back: bool,
     ) {
         let lv = &self.levels[l];
         let (x, tmp, b) = self.arrays(l, fine);
         let (from, to) = if back { (tmp, x) } else { (x, tmp) };
         let buffers = [
-            (0, &lv.params[colour]),
+            (0, &lv.params[params]),
             (1, from),
             (2, to),
             (3, b),
@@ -276,7 +321,7 @@ impl GpuMultigrid {
             (5, &lv.az),
             (6, &lv.inv_d),
         ];
-        let key = (l, colour, u8::from(back));
+        let key = (l, params, u8::from(back));
         self.run(
             device,
             enc,
@@ -369,7 +414,7 @@ impl GpuMultigrid {
             }
             for l in 0..n - 1 {
                 if l > 0 || k == 0 {
-                    self.record_sweeps(device, enc, fine, l, PRE_SWEEPS, 0);
+                    self.record_smoothing(device, enc, fine, l, false);
                 }
                 self.record_restrict(device, enc, fine, l);
                 enc.clear_buffer(&self.levels[l + 1].x, 0, None);
@@ -377,7 +422,7 @@ impl GpuMultigrid {
             self.record_sweeps(device, enc, fine, n - 1, self.coarsest_sweeps, 0);
             for l in (0..n - 1).rev() {
                 self.record_prolong(device, enc, fine, l);
-                self.record_sweeps(device, enc, fine, l, POST_SWEEPS, 1);
+                self.record_smoothing(device, enc, fine, l, true);
             }
         }
     }
@@ -438,7 +483,9 @@ mod tests {
     use super::*;
     use crate::gpu::read_buffer;
     use crate::sim::Solver;
-    use crate::sim::solver::multigrid::{add_correction, expand, half_sweeps, restrict, sweeps};
+    use crate::sim::solver::multigrid::{
+        Relax, add_correction, expand, relax_passes, restrict, smooth,
+    };
 
     fn noise(n: usize, seed: u64, a: f32) -> Vec<f32> {
         let mut s = seed;
@@ -509,30 +556,56 @@ mod tests {
             };
             let tag = |what: &str| format!("{what} ({boundary:?})");
 
-            // One half sweep of each colour on the finest level.
-            for colour in [0, 1] {
+            // One red–black half sweep of each colour and one damped pass on the finest level.
+            let w = mg.smoothing.weights(0, false)[0];
+            for (params, relax) in [
+                (0, Relax::RedBlack(0)),
+                (1, Relax::RedBlack(1)),
+                (2, Relax::Damped(&[w])),
+            ] {
                 let mut cpu = vec![0.0; nx * ny];
-                half_sweeps(&mg.levels[0], &p0, &mut cpu, &div, -vol, 1, colour, false);
-                record(&|e| gpu.record_half_sweep(device, e, fine, 0, colour, false));
+                relax_passes(&mg.levels[0], &p0, &mut cpu, &div, -vol, 1, relax, false);
+                record(&|e| gpu.record_pass(device, e, fine, 0, params, false));
                 check(
-                    &tag(&format!("smooth colour {colour}")),
+                    &tag(&format!("smooth {relax:?}")),
                     &read(&p_tmp),
                     &cpu,
                     1e-5,
                 );
             }
-            // Two sweeps on a coarse level (its own unknowns and right-hand side).
+            // A coarse level's smoothing after its correction, and two red–black sweeps (its
+            // own unknowns and right-hand side).
             let lv = &mg.levels[1];
             let (x1, b1) = (
                 noise(lv.nx * lv.ny, seed + 2, 1.0),
                 noise(lv.nx * lv.ny, seed + 3, 1.0),
             );
+            let w = mg.smoothing.weights(1, true);
             let (mut cx, mut ct) = (x1.clone(), x1.clone());
-            sweeps(lv, &mut cx, &mut ct, &b1, 1.0, 2, 1, false);
+            smooth(
+                lv,
+                &mut cx,
+                &mut ct,
+                &b1,
+                1.0,
+                w.len(),
+                Relax::Damped(w),
+                false,
+            );
+            gpu.write_level(queue, 1, &x1, &b1);
+            record(&|e| gpu.record_smoothing(device, e, fine, 1, true));
+            check(
+                &tag("damped smoothing level 1"),
+                &gpu.read_level(device, queue, 1).unwrap().0,
+                &cx,
+                1e-5,
+            );
+            let (mut cx, mut ct) = (x1.clone(), x1.clone());
+            smooth(lv, &mut cx, &mut ct, &b1, 1.0, 4, Relax::RedBlack(1), false);
             gpu.write_level(queue, 1, &x1, &b1);
             record(&|e| gpu.record_sweeps(device, e, fine, 1, 2, 1));
             check(
-                &tag("smooth level 1"),
+                &tag("red–black sweeps level 1"),
                 &gpu.read_level(device, queue, 1).unwrap().0,
                 &cx,
                 1e-5,

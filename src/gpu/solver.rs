@@ -122,6 +122,7 @@ impl GpuSolver {
         let iterations = self.params.pressure_iterations as usize;
         self.fluid.pressure_solve = self.params.pressure;
         self.fluid.pressure_cycles = self.params.pressure_cycles as usize;
+        self.fluid.set_warm_start(queue, self.params.warm_start());
         let maccormack = self.params.advection == Advection::MacCormack;
         for _ in 0..n {
             let splats = agc_splats(&self.layout, self.time);

@@ -28,14 +28,15 @@ impl Solver {
     }
 
     /// `passes` blocked passes from `p × scale` (plus a prolonged coarse correction when
-    /// given) into `p`, in [`blocks`]: Jacobi iterations, or, with `red_black = Some(c)`,
-    /// red–black half sweeps starting with colour `c`. The scale and the correction go with
-    /// the first block; each block's colours continue the previous block's.
+    /// given) into `p`, in [`blocks`]: Jacobi iterations, or multigrid relaxation (`relax`:
+    /// red–black half sweeps, or damped Jacobi passes with one weight each). The scale and
+    /// the correction go with the first block; each block continues the previous block's
+    /// colours or weights.
     pub(super) fn sweeps_blocked(
         &mut self,
         passes: usize,
         scale: f32,
-        red_black: Option<usize>,
+        relax: Option<Relax>,
         correction: Option<&Level>,
     ) {
         for (done, levels) in blocks(passes) {
@@ -43,7 +44,7 @@ impl Solver {
             self.sweep_blocked(
                 levels,
                 if first { scale } else { 1.0 },
-                red_black.map(|c| (c + done) % 2),
+                relax.map(|r| r.after(done)),
                 correction.filter(|_| first),
             );
         }
@@ -54,7 +55,7 @@ impl Solver {
         &mut self,
         levels: usize,
         scale: f32,
-        red_black: Option<usize>,
+        relax: Option<Relax>,
         correction: Option<&Level>,
     ) {
         let (nx, ny) = (self.nx, self.ny);
@@ -69,7 +70,7 @@ impl Solver {
             irregular: &self.row_irregular,
             wraps: self.params.boundary == Boundary::Periodic,
             scale,
-            red_black,
+            relax,
             correction,
         };
         for_each_band(&mut self.p_tmp, nx, ny, levels, |a, b, out| {
@@ -295,15 +296,15 @@ pub(super) struct JacobiCtx<'a> {
     /// Periodic: rows wrap around, so ghost rows continue past the grid's ends.
     pub(super) wraps: bool,
     pub(super) scale: f32,
-    /// Red–black Gauss–Seidel instead of Jacobi: pass `t` (from 1) updates only the cells
-    /// with `(i + j) % 2 == (c + t − 1) % 2` and copies the others.
-    pub(super) red_black: Option<usize>,
+    /// Multigrid relaxation instead of plain Jacobi: pass `t` (from 1) of the block is
+    /// [`Relax::apply`]`(t − 1, …)`.
+    pub(super) relax: Option<Relax<'a>>,
     /// Multigrid: the finest level, whose expanded coarse correction is added to the input
     /// rows as they are read (the prolongation fused into the first smoothing pass).
     pub(super) correction: Option<&'a Level>,
 }
 
-/// `levels` Jacobi iterations (or red–black half sweeps) for output rows `a..b`, written to
+/// `levels` Jacobi iterations (or multigrid relaxation passes) for output rows `a..b`, written to
 /// `out`: [`band_passes`] with the Jacobi row.
 pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, levels: usize) {
     let nx = c.nx;
@@ -328,8 +329,8 @@ pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, le
             &c.inv_w[j * nx..][..nx],
             &c.irregular[j],
         );
-        if let Some(c0) = c.red_black {
-            keep_other_colour(dst, row, j + c0 + t - 1);
+        if let Some(r) = c.relax {
+            r.apply(t - 1, j, dst, row);
         }
     };
     band_passes(nx, c.ny, c.wraps, out, a, b, levels, input, pass);
@@ -359,6 +360,47 @@ pub(super) fn keep_other_colour(dst: &mut [f32], prev: &[f32], k: usize) {
         if i % 2 == off {
             dst[i] = prev[i];
         }
+    }
+}
+
+/// How a multigrid relaxation pass turns a row's Jacobi values into the pass's result.
+#[derive(Clone, Copy, Debug)]
+pub(crate) enum Relax<'a> {
+    /// Red–black Gauss–Seidel half sweeps, colour `c` first: pass `t` keeps the Jacobi value
+    /// in the cells with `(i + j) % 2 == (c + t) % 2` and the old value in the others.
+    RedBlack(usize),
+    /// Damped Jacobi, pass `t` with weight `w[t]`: `x + w[t]·(jacobi − x)` in every cell.
+    Damped(&'a [f32]),
+}
+
+impl<'a> Relax<'a> {
+    /// The same relaxation `done` passes on (the next block of a blocked run).
+    pub(crate) fn after(self, done: usize) -> Self {
+        match self {
+            Relax::RedBlack(c) => Relax::RedBlack((c + done) % 2),
+            Relax::Damped(w) => Relax::Damped(&w[done..]),
+        }
+    }
+
+    /// Pass `t` on row `j`: `dst` holds the row's Jacobi values, `prev` its values before.
+    pub(crate) fn apply(self, t: usize, j: usize, dst: &mut [f32], prev: &[f32]) {
+        match self {
+            Relax::RedBlack(c) => keep_other_colour(dst, prev, j + c + t),
+            Relax::Damped(w) => damp(dst, prev, w[t]),
+        }
+    }
+}
+
+/// Damped Jacobi: `dst ← prev + w·(dst − prev)`, `dst` holding the Jacobi values (cells
+/// outside the solve hold 0 in both, and keep it).
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+pub(super) fn damp(dst: &mut [f32], prev: &[f32], w: f32) {
+    for (d, &p) in dst.iter_mut().zip(prev) {
+        *d = p + w * (*d - p);
     }
 }
 

@@ -3,6 +3,14 @@
 
 use super::*;
 
+/// Both axes are halved while a level's cells are at most this many times as wide as deep
+/// (or deep as wide); past it only the narrower axis is. Semi-coarsening keeps the coupling
+/// near-isotropic, where point smoothing works, but costs a level of half the cells instead
+/// of a quarter: at 1.5 (meadow's 120 × 80 m at N × N) it made a cycle 40% dearer. With the
+/// Chebyshev smoother reaching down to 0.3 on the coarse levels, 1.6 keeps what a cycle cuts
+/// on those layouts (docs/SOLVER.md).
+const MAX_ASPECT: f32 = 1.6;
+
 /// Coarsening stops at this many cells (or when no axis can be halved); that level is solved
 /// by sweeps alone.
 const COARSEST_CELLS: usize = 64;
@@ -333,8 +341,8 @@ impl Level {
         let (sx, sz) = self.spacing(hx, hz);
         let can = |n: usize| n > 2;
         // An axis is coarsened while its cells are not much wider than the other axis's.
-        let strong_x = sx <= std::f32::consts::SQRT_2 * sz || !can(ny);
-        let strong_z = sz <= std::f32::consts::SQRT_2 * sx || !can(nx);
+        let strong_x = sx <= MAX_ASPECT * sz || !can(ny);
+        let strong_z = sz <= MAX_ASPECT * sx || !can(nx);
         let (cx, cz) = (can(nx) && strong_x, can(ny) && strong_z);
         if !cx && !cz {
             return None;

@@ -8,7 +8,7 @@
 //! and non-square cells need no special cases:
 //!
 //! - a coarse cell groups two fine cells along each coarsened axis (one at an odd end); an
-//!   axis is coarsened only while its cells are not much wider than the other axis's (semi-
+//!   axis is coarsened only while its cells are at most 1.6 times as wide as the other axis's (semi-
 //!   coarsening keeps the coupling roughly isotropic, where point smoothing works);
 //! - a coarse link is the fine links it crosses, each times its own centre distance (its open
 //!   face length), over the coarse centre distance: partly blocked faces pass their open
@@ -17,26 +17,89 @@
 //!   none), the correction prolonged linearly between coarse centres, from the coarse cells
 //!   in the solve only.
 //!
-//! The smoother is red–black Gauss–Seidel, one colour per pass from one array into another
-//! (so every pass reads only the previous one, runs in parallel row by row, and gives the
-//! same bits on any number of threads); its GPU twin runs the same passes.
+//! The smoother is damped Jacobi with Chebyshev weights (each pass `x + w·(jacobi − x)`,
+//! the weights the reciprocal roots of the Chebyshev polynomial that is smallest over the
+//! eigenvalues of `D⁻¹A` a coarser level cannot represent), one pass from one array into
+//! another (so every pass reads only the previous one, runs in parallel row by row, and
+//! gives the same bits on any number of threads); the coarsest level runs red–black
+//! Gauss–Seidel sweeps. Its GPU twin runs the same passes.
 
 use super::*;
 
 mod hierarchy;
 mod rows;
 
+pub(crate) use super::pressure::Relax;
 pub(crate) use hierarchy::*;
 use rows::*;
 
-/// Red–black sweeps before and after each coarse correction.
-pub(crate) const PRE_SWEEPS: usize = 2;
+/// Smoothing passes on the finest level before the first cycle (a later cycle starts from
+/// the previous one's post-smoothing) and after each coarse correction, and on every coarser
+/// level before and after. Even counts: a pass goes from one array into the other, so an
+/// even count ends where it started (the GPU's passes rely on it).
+pub(crate) const FINE_PRE: usize = 2;
+pub(crate) const FINE_POST: usize = 4;
+pub(crate) const COARSE_PASSES: usize = 4;
+const _: () = assert!(FINE_PRE % 2 == 0 && FINE_POST % 2 == 0 && COARSE_PASSES % 2 == 0);
 
-pub(crate) const POST_SWEEPS: usize = 2;
+/// The low end of the eigenvalues of `D⁻¹A` (whose spectrum lies in (0, 2]) that the
+/// smoothing damps, on the finest level and on the coarser ones: below it the coarse
+/// correction takes over. A halved axis leaves the modes above about 0.5 to the smoother on a
+/// grid of square cells; the coarser levels reach down further (0.3) because their cells can
+/// be up to 1.6 times as wide as deep, where the x-rough, z-smooth modes sit lower. Measured
+/// (docs/SOLVER.md): these beat 0.5 everywhere and 0.25 on meadow.
+const FINE_LOW: f64 = 0.4;
+const COARSE_LOW: f64 = 0.3;
+
+/// The weights of `passes` damped Jacobi passes that minimise the largest amplification over
+/// the eigenvalues `[low, 2]` of `D⁻¹A`: a pass with weight `w` multiplies an eigenvalue
+/// `λ`'s error by `1 − w·λ`, so the product over the passes is a polynomial in `λ` with
+/// roots `1/w`, and the Chebyshev polynomial of that degree, shifted to the interval, is the
+/// smallest such polynomial there. Its roots, largest first.
+pub(crate) fn chebyshev_weights(passes: usize, low: f64) -> Vec<f32> {
+    let (mid, half) = ((2.0 + low) / 2.0, (2.0 - low) / 2.0);
+    (0..passes)
+        .map(|i| {
+            let angle = std::f64::consts::PI * (2 * i + 1) as f64 / (2 * passes) as f64;
+            (1.0 / (mid + half * angle.cos())) as f32
+        })
+        .collect()
+}
+
+/// The smoothing weights of a hierarchy: the finest level's before the first cycle and after
+/// each correction, and the coarser levels' (before and after alike).
+#[derive(Debug, Clone)]
+pub(crate) struct Smoothing {
+    pub(crate) fine_pre: Vec<f32>,
+    pub(crate) fine_post: Vec<f32>,
+    pub(crate) coarse: Vec<f32>,
+}
+
+impl Default for Smoothing {
+    fn default() -> Self {
+        Self {
+            fine_pre: chebyshev_weights(FINE_PRE, FINE_LOW),
+            fine_post: chebyshev_weights(FINE_POST, FINE_LOW),
+            coarse: chebyshev_weights(COARSE_PASSES, COARSE_LOW),
+        }
+    }
+}
+
+impl Smoothing {
+    /// Level `l`'s weights before (`post` false) or after its coarse correction.
+    pub(crate) fn weights(&self, l: usize, post: bool) -> &[f32] {
+        match (l, post) {
+            (0, false) => &self.fine_pre,
+            (0, true) => &self.fine_post,
+            _ => &self.coarse,
+        }
+    }
+}
 
 /// The multigrid hierarchy for one solver's grid and obstacles.
 pub(crate) struct Multigrid {
     pub(crate) levels: Vec<Level>,
+    pub(crate) smoothing: Smoothing,
 }
 
 impl Multigrid {
@@ -63,7 +126,10 @@ impl Multigrid {
             f.ew = expansion_weights(f, c);
             f.pairs = regular_pairs(&f.from_x, c.nx);
         }
-        Self { levels }
+        Self {
+            levels,
+            smoothing: Smoothing::default(),
+        }
     }
 
     /// Bytes `cycles` V-cycles must read and write (each array element once per pass), as
@@ -135,12 +201,32 @@ impl Multigrid {
         let lv = &mut self.levels[l];
         let (mut x, mut t, b) = take(lv);
         if l == n - 1 {
-            sweeps(lv, &mut x, &mut t, &b, 1.0, coarsest_sweeps(lv), 0, false);
+            let sweeps = 2 * coarsest_sweeps(lv);
+            smooth(
+                lv,
+                &mut x,
+                &mut t,
+                &b,
+                1.0,
+                sweeps,
+                Relax::RedBlack(0),
+                false,
+            );
             put(lv, x, t, b);
             return;
         }
         if pre {
-            sweeps(lv, &mut x, &mut t, &b, 1.0, PRE_SWEEPS, 0, false);
+            let w = self.smoothing.weights(l, false);
+            smooth(
+                lv,
+                &mut x,
+                &mut t,
+                &b,
+                1.0,
+                w.len(),
+                Relax::Damped(w),
+                false,
+            );
         }
         {
             let (fine, coarse) = self.levels.split_at_mut(l + 1);
@@ -150,7 +236,8 @@ impl Multigrid {
         let (fine, coarse) = self.levels.split_at_mut(l + 1);
         let f = &mut fine[l];
         expand(f, &coarse[0]);
-        sweeps(f, &mut x, &mut t, &b, 1.0, POST_SWEEPS, 1, true);
+        let w = self.smoothing.weights(l, true);
+        smooth(f, &mut x, &mut t, &b, 1.0, w.len(), Relax::Damped(w), true);
         put(f, x, t, b);
     }
 
@@ -184,49 +271,49 @@ fn put(l: &mut Level, x: Vec<f32>, t: Vec<f32>, b: Vec<f32>) {
     (l.x, l.tmp, l.b) = (x, t, b);
 }
 
-/// Sweeps on the coarsest level: enough to carry a correction across it.
+/// Red–black sweeps on the coarsest level: enough to carry a correction across it.
 pub(crate) fn coarsest_sweeps(l: &Level) -> usize {
     (2 * (l.nx + l.ny)).clamp(8, 400)
 }
 
-/// `n` red–black sweeps on `lv` from `x` into `x` (through `tmp`), colour `first` first, as
-/// blocked passes (see [`band_passes`]); with `correct`, the coarser level's correction (its
-/// [`expand`]ed rows) is added to `x` as the first pass reads it.
+/// `passes` relaxation passes on `lv` from `x` into `x` (through `tmp`) as blocked passes
+/// (see [`band_passes`]); with `correct`, the coarser level's correction (its [`expand`]ed
+/// rows) is added to `x` as the first pass reads it.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn sweeps(
+pub(crate) fn smooth(
     lv: &Level,
     x: &mut Vec<f32>,
     tmp: &mut Vec<f32>,
     b: &[f32],
     b_scale: f32,
-    n: usize,
-    first: usize,
+    passes: usize,
+    relax: Relax,
     correct: bool,
 ) {
-    for (done, passes) in blocks(2 * n) {
-        let colour = (first + done) % 2;
-        half_sweeps(lv, x, tmp, b, b_scale, passes, colour, correct && done == 0);
+    for (done, block) in blocks(passes) {
+        let r = relax.after(done);
+        relax_passes(lv, x, tmp, b, b_scale, block, r, correct && done == 0);
         std::mem::swap(x, tmp);
     }
 }
 
-/// `passes` red–black half sweeps from `x` into `out`, one blocked pass over the grid.
+/// `passes` relaxation passes from `x` into `out`, one blocked pass over the grid.
 #[allow(clippy::too_many_arguments)]
-pub(crate) fn half_sweeps(
+pub(crate) fn relax_passes(
     lv: &Level,
     x: &[f32],
     out: &mut [f32],
     b: &[f32],
     b_scale: f32,
     passes: usize,
-    first: usize,
+    relax: Relax,
     correct: bool,
 ) {
     let (nx, ny) = (lv.nx, lv.ny);
     let pass = |t: usize, j: usize, dst: &mut [f32], below: &[f32], row: &[f32], above: &[f32]| {
         lv.link_sum(j, dst, below, row, above);
         relax_row(dst, &b[j * nx..][..nx], b_scale, &lv.inv_d[j * nx..][..nx]);
-        keep_other_colour(dst, row, j + first + t - 1);
+        relax.apply(t - 1, j, dst, row);
     };
     for_each_band(out, nx, ny, passes, |a, b, out| {
         let input = |j: usize, dst: &mut [f32]| {
@@ -352,12 +439,13 @@ pub(crate) fn add_correction(f: &Level, j: usize, row: &mut [f32], inv: &[f32]) 
 }
 
 impl Solver {
-    /// Step 5 by multigrid: the warm start, then `pressure_cycles` V-cycles. The finest level
-    /// runs on the Jacobi system's own arrays: its red–black sweeps are blocked passes like
-    /// the Jacobi iterations (the warm start folded into the first, the prolonged correction
-    /// into the first after the coarse solve), its residual is read from the flags.
+    /// Step 5 by multigrid: the warm start ([`SimParams::warm_start`]), then
+    /// `pressure_cycles` V-cycles. The finest level runs on the Jacobi system's own arrays:
+    /// its smoothing passes are blocked passes like the Jacobi iterations (the warm start
+    /// folded into the first, the prolonged correction into the first after the coarse
+    /// solve), its residual is read from the flags.
     pub fn solve_pressure_multigrid(&mut self) {
-        let decay = self.params.pressure_decay;
+        let warm = self.params.warm_start();
         let boundary = self.params.boundary;
         let mut mg = self.multigrid.take().unwrap_or_else(|| {
             let mut mg = Multigrid::new(self.nx, self.ny, self.hx, self.hz, &self.flags, boundary);
@@ -368,19 +456,21 @@ impl Solver {
         if mg.levels.len() == 1 {
             // Too small to coarsen: sweeps alone, as on a coarsest level.
             let passes = 2 * coarsest_sweeps(&mg.levels[0]) * cycles;
-            self.sweeps_blocked(passes, decay, Some(0), None);
+            self.sweeps_blocked(passes, warm, Some(Relax::RedBlack(0)), None);
             self.multigrid = Some(mg);
             return;
         }
         // Pre-smoothing before the first cycle only: a later cycle starts from the previous
-        // one's post-smoothing, and more sweeps there do not lift what the cycle cuts.
-        self.sweeps_blocked(2 * PRE_SWEEPS, decay, Some(0), None);
+        // one's post-smoothing, and more passes there do not lift what the cycle cuts.
+        let pre = Relax::Damped(&mg.smoothing.fine_pre);
+        self.sweeps_blocked(FINE_PRE, warm, Some(pre), None);
         for _ in 0..cycles {
             self.restrict_fine(&mut mg.levels[1]);
             mg.cycle(1, true);
             let (fine, coarse) = mg.levels.split_at_mut(1);
             expand(&mut fine[0], &coarse[0]);
-            self.sweeps_blocked(2 * POST_SWEEPS, 1.0, Some(1), Some(&mg.levels[0]));
+            let post = Relax::Damped(&mg.smoothing.fine_post);
+            self.sweeps_blocked(FINE_POST, 1.0, Some(post), Some(&mg.levels[0]));
         }
         self.multigrid = Some(mg);
     }
