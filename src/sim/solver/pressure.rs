@@ -114,6 +114,7 @@ impl Solver {
                     &flags[j * nx..(j + 1) * nx],
                     &inv_w[j * nx..(j + 1) * nx],
                     &runs[j],
+                    None,
                 );
             });
         std::mem::swap(&mut self.p, &mut self.p_tmp);
@@ -206,7 +207,8 @@ impl Stencil {
 /// cell's `1 / Σw` (0 for cells outside the solve). Branch-free, so it vectorises; interior
 /// cells outside the row's `irregular` runs all have four fluid neighbours and skip the
 /// flags (the same arithmetic, the same bits: `pick` keeps every neighbour and `1 / Σw` is
-/// exactly `inv_regular` there).
+/// exactly `inv_regular` there). With `damp = Some(w)`, a damped Jacobi pass instead: each
+/// cell becomes `row + w·(jacobi − row)` ([`damp`]'s arithmetic, fused into the same loop).
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
@@ -223,6 +225,7 @@ pub(super) fn jacobi_row(
     f: &[u8],
     inv_w: &[f32],
     irregular: &[(usize, usize)],
+    damp: Option<f32>,
 ) {
     let nx = out.len();
     let Stencil {
@@ -232,10 +235,14 @@ pub(super) fn jacobi_row(
     } = *st;
     let cell = |i: usize, l: f32, r: f32| {
         let fl = f[i];
-        (wx * (pick(fl, L, l) + pick(fl, R, r))
+        let v = (wx * (pick(fl, L, l) + pick(fl, R, r))
             + wz * (pick(fl, B, below[i]) + pick(fl, T, above[i]))
             - d[i])
-            * inv_w[i]
+            * inv_w[i];
+        match damp {
+            Some(w) => row[i] + w * (v - row[i]),
+            None => v,
+        }
     };
     // The row's ends wrap to the other end (used only where periodic flags say so).
     out[0] = cell(0, row[nx - 1], row[1 % nx]);
@@ -256,6 +263,15 @@ pub(super) fn jacobi_row(
                     + wz * (pick(fl, B, bl[i]) + pick(fl, T, ab[i]))
                     - dd[i])
                     * iw[i];
+            }
+            if let Some(w) = damp {
+                damp_in(o, &row[a..b], w);
+            }
+        } else if let Some(w) = damp {
+            let c = &row[a..b];
+            for i in 0..n {
+                let v = (wx * (l[i] + r[i]) + wz * (bl[i] + ab[i]) - dd[i]) * inv_regular;
+                o[i] = c[i] + w * (v - c[i]);
             }
         } else {
             for i in 0..n {
@@ -328,8 +344,12 @@ pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, le
             &c.flags[j * nx..][..nx],
             &c.inv_w[j * nx..][..nx],
             &c.irregular[j],
+            match c.relax {
+                Some(Relax::Damped(w)) => Some(w[t - 1]),
+                _ => None,
+            },
         );
-        if let Some(r) = c.relax {
+        if let Some(r @ Relax::RedBlack(_)) = c.relax {
             r.apply(t - 1, j, dst, row);
         }
     };
@@ -399,6 +419,11 @@ impl<'a> Relax<'a> {
     multiversion(targets = "simd", dispatcher = "static")
 )]
 pub(super) fn damp(dst: &mut [f32], prev: &[f32], w: f32) {
+    damp_in(dst, prev, w);
+}
+
+#[inline(always)]
+fn damp_in(dst: &mut [f32], prev: &[f32], w: f32) {
     for (d, &p) in dst.iter_mut().zip(prev) {
         *d = p + w * (*d - p);
     }
