@@ -450,6 +450,36 @@ impl Level {
     }
 }
 
+impl Level {
+    /// Row `j` of a relaxation pass: [`relax_link_row`] with the level's links.
+    #[allow(clippy::too_many_arguments)]
+    pub(super) fn relax_row(
+        &self,
+        j: usize,
+        out: &mut [f32],
+        rows: [&[f32]; 3],
+        b: &[f32],
+        b_scale: f32,
+        damp: Option<f32>,
+    ) {
+        let nx = self.nx;
+        relax_link_row(
+            out,
+            rows,
+            (
+                &self.ax[j * (nx + 1)..][..nx + 1],
+                &self.az[j * nx..][..nx],
+                &self.az[(j + 1) * nx..][..nx],
+            ),
+            self.x_axis.wraps,
+            self.regular,
+            &self.runs[j],
+            (&b[j * nx..][..nx], b_scale, &self.inv_d[j * nx..][..nx]),
+            damp,
+        );
+    }
+}
+
 /// The value most entries of `v` hold (bit for bit; ties go to the smallest bits), judged
 /// from about 4,096 evenly spaced entries: the value only decides where the row kernels take
 /// their fast path, never a result, and sorting a million links cost the first multigrid

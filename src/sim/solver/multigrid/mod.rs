@@ -311,9 +311,14 @@ pub(crate) fn relax_passes(
 ) {
     let (nx, ny) = (lv.nx, lv.ny);
     let pass = |t: usize, j: usize, dst: &mut [f32], below: &[f32], row: &[f32], above: &[f32]| {
-        lv.link_sum(j, dst, below, row, above);
-        relax_row(dst, &b[j * nx..][..nx], b_scale, &lv.inv_d[j * nx..][..nx]);
-        relax.apply(t - 1, j, dst, row);
+        let damp = match relax {
+            Relax::Damped(w) => Some(w[t - 1]),
+            Relax::RedBlack(_) => None,
+        };
+        lv.relax_row(j, dst, [below, row, above], b, b_scale, damp);
+        if let Relax::RedBlack(_) = relax {
+            relax.apply(t - 1, j, dst, row);
+        }
     };
     for_each_band(out, nx, ny, passes, |a, b, out| {
         let input = |j: usize, dst: &mut [f32]| {

@@ -56,15 +56,85 @@ pub(crate) fn link_sum_row(
     for_spans(n, irregular, |a, b, flagged| span(out, a, b, flagged));
 }
 
-/// `s ← (s + b_scale·b) / D` (0 outside the solve), in place over a row of link sums.
+/// One relaxation pass's row in one loop: the Jacobi value `v = (Σ a x_n + b_scale·b) / D`
+/// (the link sum in [`link_sum_row`]'s order; 0 outside the solve, where `1/D` is 0), and
+/// with `damp = Some(w)` the damped value `x + w·(v − x)` ([`damp`]'s arithmetic).
+#[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
     multiversion(targets = "simd", dispatcher = "static")
 )]
-pub(super) fn relax_row(s: &mut [f32], b: &[f32], b_scale: f32, inv_d: &[f32]) {
-    for ((s, &b), &w) in s.iter_mut().zip(b).zip(inv_d) {
-        *s = (*s + b_scale * b) * w;
+pub(crate) fn relax_link_row(
+    out: &mut [f32],
+    [below, row, above]: [&[f32]; 3],
+    (ax, az_b, az_t): (&[f32], &[f32], &[f32]),
+    wraps: bool,
+    regular: (f32, f32),
+    irregular: &[(usize, usize)],
+    (b, b_scale, inv_d): (&[f32], f32, &[f32]),
+    damp: Option<f32>,
+) {
+    let n = out.len();
+    let (first, last) = if wraps {
+        (row[n - 1], row[0])
+    } else {
+        (0.0, 0.0)
+    };
+    let left = |i: usize| if i == 0 { first } else { row[i - 1] };
+    let right = |i: usize| if i + 1 == n { last } else { row[i + 1] };
+    for i in [0, n - 1] {
+        let s = ax[i] * left(i) + ax[i + 1] * right(i) + az_b[i] * below[i] + az_t[i] * above[i];
+        let v = (s + b_scale * b[i]) * inv_d[i];
+        out[i] = match damp {
+            Some(w) => row[i] + w * (v - row[i]),
+            None => v,
+        };
+    }
+    if n < 3 {
+        return;
+    }
+    let links = (ax, az_b, az_t);
+    let rhs = (b, b_scale, inv_d);
+    for_spans(n, irregular, |a, e, linked| {
+        let rows = [below, row, above];
+        match (linked, damp) {
+            (true, Some(w)) => relax_span::<true, true>(out, rows, links, regular, rhs, w, a, e),
+            (true, None) => relax_span::<true, false>(out, rows, links, regular, rhs, 0.0, a, e),
+            (false, Some(w)) => relax_span::<false, true>(out, rows, links, regular, rhs, w, a, e),
+            (false, None) => relax_span::<false, false>(out, rows, links, regular, rhs, 0.0, a, e),
+        }
+    });
+}
+
+/// [`relax_link_row`] over the interior cells `a..e`: through the links (`LINKED`) or with
+/// the regular ones, damped (`DAMP`, weight `w`) or not.
+#[allow(clippy::too_many_arguments)]
+#[inline(always)]
+fn relax_span<const LINKED: bool, const DAMP: bool>(
+    out: &mut [f32],
+    [below, row, above]: [&[f32]; 3],
+    (ax, az_b, az_t): (&[f32], &[f32], &[f32]),
+    (lx, lz): (f32, f32),
+    (b, b_scale, inv_d): (&[f32], f32, &[f32]),
+    w: f32,
+    a: usize,
+    e: usize,
+) {
+    let m = e - a;
+    let (o, l, r) = (&mut out[a..e], &row[a - 1..][..m], &row[a + 1..][..m]);
+    let (c, bl, ab) = (&row[a..e], &below[a..e], &above[a..e]);
+    let (al, ar) = (&ax[a..e], &ax[a + 1..][..m]);
+    let (lb, lt) = (&az_b[a..e], &az_t[a..e]);
+    let (bb, inv) = (&b[a..e], &inv_d[a..e]);
+    for i in 0..m {
+        let s = if LINKED {
+            al[i] * l[i] + ar[i] * r[i] + lb[i] * bl[i] + lt[i] * ab[i]
+        } else {
+            lx * l[i] + lx * r[i] + lz * bl[i] + lz * ab[i]
+        };
+        let v = (s + b_scale * bb[i]) * inv[i];
+        o[i] = if DAMP { c[i] + w * (v - c[i]) } else { v };
     }
 }
 
