@@ -19,7 +19,7 @@
 //!
 //! The smoother is damped Jacobi with Chebyshev weights (each pass `x + w·(jacobi − x)`,
 //! the weights the reciprocal roots of the Chebyshev polynomial that is smallest over the
-//! eigenvalues of `D⁻¹A` a coarser level cannot represent), one pass from one array into
+//! eigenvalues of `D⁻¹A` a coarser level cannot represent, largest first), one pass from one array into
 //! another (so every pass reads only the previous one, runs in parallel row by row, and
 //! gives the same bits on any number of threads); the coarsest level runs red–black
 //! Gauss–Seidel sweeps. Its GPU twin runs the same passes.
@@ -44,12 +44,14 @@ const _: () = assert!(FINE_PRE % 2 == 0 && FINE_POST % 2 == 0 && COARSE_PASSES %
 
 /// The low end of the eigenvalues of `D⁻¹A` (whose spectrum lies in (0, 2]) that the
 /// smoothing damps, on the finest level and on the coarser ones: below it the coarse
-/// correction takes over. A halved axis leaves the modes above about 0.5 to the smoother on a
-/// grid of square cells; the coarser levels reach down further (0.3) because their cells can
-/// be up to 1.6 times as wide as deep, where the x-rough, z-smooth modes sit lower. Measured
-/// (docs/SOLVER.md): these beat 0.5 everywhere and 0.25 on meadow.
+/// correction takes over. With both axes halved, the modes the next level cannot hold have
+/// eigenvalues above about 0.5 on square cells and lower on cells up to 1.6 times as wide
+/// as deep (the x-rough, z-smooth ones). The coarser levels reach further down, which makes
+/// their smoothing more of a solve: that is what breeze-fft's smooth, changing gusts need
+/// (one cycle at 1000²: 109× at 0.3, 120× at 0.2, the other examples within 2%). Measured
+/// in docs/SOLVER.md.
 const FINE_LOW: f64 = 0.4;
-const COARSE_LOW: f64 = 0.3;
+const COARSE_LOW: f64 = 0.2;
 
 /// The weights of `passes` damped Jacobi passes that minimise the largest amplification over
 /// the eigenvalues `[low, 2]` of `D⁻¹A`: a pass with weight `w` multiplies an eigenvalue
