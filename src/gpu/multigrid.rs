@@ -628,7 +628,7 @@ mod tests {
             expand(&mut f[0], &c[0]);
             let mut cpu = p0.clone();
             for (j, row) in cpu.chunks_mut(nx).enumerate() {
-                add_correction(&f[0], j, row, &f[0].inv_d);
+                add_correction(&f[0], j, row);
             }
             gpu.write_level(queue, 1, &x1, &b1);
             record(&|e| gpu.record_prolong(device, e, fine, 0));

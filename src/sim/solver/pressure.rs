@@ -330,7 +330,7 @@ pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, le
             *d = s * c.scale;
         }
         if let Some(f) = c.correction {
-            add_correction(f, j, dst, c.inv_w);
+            add_correction(f, j, dst);
         }
     };
     let pass = |t: usize, j: usize, dst: &mut [f32], below: &[f32], row: &[f32], above: &[f32]| {

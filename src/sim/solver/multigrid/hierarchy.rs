@@ -190,10 +190,15 @@ pub(crate) struct Level {
     pub(crate) from_x: Vec<Interp>,
     pub(crate) from_z: Vec<Interp>,
     /// The coarser level's correction interpolated along x to this level's columns, one row
-    /// per coarse row (`nx × coarse ny`), and the weights of the coarse cells in the solve
-    /// that made each value: rows are then blended along z as they are read.
+    /// per coarse row (`nx × coarse ny`), blended along z as rows are read and divided by
+    /// `den`.
     pub(crate) ex: Vec<f32>,
-    pub(crate) ew: Vec<f32>,
+    /// Per cell, the weight of the coarse cells in the solve behind its correction (the two
+    /// coarse rows' expansion weights, blended along z as the values are): the correction
+    /// is `(t_n·e_n + t_f·e_f) / den`. `+∞` outside the solve and where no coarse cell in
+    /// the solve reaches the cell, so that the correction adds ±0 there. It depends on the
+    /// hierarchy only, so it is made once ([`correction_denominators`]).
+    pub(crate) den: Vec<f32>,
     /// The coarse columns `c0..c1` whose two finer cells interpolate toward their left and
     /// right neighbours with the same weights `(t_left, t_right)` (the interior of an axis
     /// coarsened in pairs): [`expand`] runs them without the index table.
@@ -319,7 +324,7 @@ impl Level {
             from_x: Vec::new(),
             from_z: Vec::new(),
             ex: Vec::new(),
-            ew: Vec::new(),
+            den: Vec::new(),
             pairs: (0, 0, 0.0, 0.0),
             regular,
             runs,
@@ -421,7 +426,7 @@ impl Level {
             + self.tmp.len()
             + self.b.len()
             + self.ex.len()
-            + self.ew.len();
+            + self.den.len();
         let axes = self.x_axis.len() + self.z_axis.len();
         f32s * 4 + axes * 8 + (self.from_x.len() + self.from_z.len()) * 12
     }
@@ -552,4 +557,36 @@ pub(super) fn expansion_weights(f: &Level, c: &Level) -> Vec<f32> {
             })
         })
         .collect()
+}
+
+/// [`Level::den`] for level `f` from its expansion weights `ew` (as [`expansion_weights`]
+/// makes them) and `in_solve` (the level's `1 / D`, 0 outside): per cell `t_n·w_n +
+/// t_f·w_f` over the two coarse rows it blends along z, in the arithmetic the correction
+/// used to do in its loop (an open edge's far row holds 0 with weight 1), so the quotient
+/// keeps its bits.
+pub(super) fn correction_denominators(f: &Level, ew: &[f32], in_solve: &[f32]) -> Vec<f32> {
+    let nx = f.nx;
+    let mut den = vec![0.0f32; nx * f.ny];
+    for (j, row) in den.chunks_mut(nx).enumerate() {
+        let iz = f.from_z[j];
+        let (tn, tf) = (1.0 - iz.t, iz.t);
+        let wn = &ew[iz.near as usize * nx..][..nx];
+        let edge = iz.far == Interp::EDGE;
+        let wf = if edge {
+            wn
+        } else {
+            &ew[iz.far as usize * nx..][..nx]
+        };
+        let (ke, kw) = if edge { (0.0, 1.0) } else { (1.0, 0.0) };
+        let inv = &in_solve[j * nx..][..nx];
+        for i in 0..nx {
+            let d = tn * wn[i] + tf * (ke * wf[i] + kw);
+            row[i] = if inv[i] > 0.0 && d > 0.0 {
+                d
+            } else {
+                f32::INFINITY
+            };
+        }
+    }
+    den
 }

@@ -131,7 +131,8 @@ impl Multigrid {
             f.from_x = c.x_axis.interpolation(&f.x_axis, open);
             f.from_z = c.z_axis.interpolation(&f.z_axis, open);
             f.ex = vec![0.0; f.nx * c.ny];
-            f.ew = expansion_weights(f, c);
+            let ew = expansion_weights(f, c);
+            f.den = correction_denominators(f, &ew, &f.inv_d);
             f.pairs = regular_pairs(&f.from_x, c.nx);
         }
         Self {
@@ -332,7 +333,7 @@ pub(crate) fn relax_passes(
         let input = |j: usize, dst: &mut [f32]| {
             dst.copy_from_slice(&x[j * nx..][..nx]);
             if correct {
-                add_correction(lv, j, dst, &lv.inv_d);
+                add_correction(lv, j, dst);
             }
         };
         band_passes(nx, ny, lv.z_axis.wraps, out, a, b, passes, input, pass);
@@ -435,19 +436,17 @@ pub(crate) fn expand(f: &mut Level, c: &Level) {
 }
 
 /// Adds the coarse correction to row `j` of level `f` (from its [`expand`]ed rows, blended
-/// along z), in the cells in the solve (`inv`: the level's `1 / D`, 0 outside).
-pub(crate) fn add_correction(f: &Level, j: usize, row: &mut [f32], inv: &[f32]) {
+/// along z and divided by [`Level::den`]; ±0 outside the solve).
+pub(crate) fn add_correction(f: &Level, j: usize, row: &mut [f32]) {
     let nx = f.nx;
     let iz = f.from_z[j];
-    let near = iz.near as usize * nx;
-    let (en, wn) = (&f.ex[near..][..nx], &f.ew[near..][..nx]);
-    let inv = &inv[j * nx..][..nx];
+    let en = &f.ex[iz.near as usize * nx..][..nx];
+    let den = &f.den[j * nx..][..nx];
     if iz.far == Interp::EDGE {
-        correct_row(row, en, wn, en, wn, 1.0 - iz.t, iz.t, true, inv);
+        correct_row(row, en, en, 1.0 - iz.t, iz.t, 0.0, den);
     } else {
-        let far = iz.far as usize * nx;
-        let (ef, wf) = (&f.ex[far..][..nx], &f.ew[far..][..nx]);
-        correct_row(row, en, wn, ef, wf, 1.0 - iz.t, iz.t, false, inv);
+        let ef = &f.ex[iz.far as usize * nx..][..nx];
+        correct_row(row, en, ef, 1.0 - iz.t, iz.t, 1.0, den);
     }
 }
 

@@ -175,9 +175,9 @@ pub(super) fn expand_pairs(e: &mut [f32], x: &[f32], inv: &[f32], tl: f32, tr: f
     }
 }
 
-/// `row += (tn·en + tf·ef) / (tn·wn + tf·wf)` in the cells in the solve; an `edge` far row
-/// holds 0 with weight 1.
-#[allow(clippy::too_many_arguments)]
+/// `row += (tn·en + tf·(ke·ef)) / den` (`ke` 0 where the far row is an open edge's 0; `den`
+/// +∞ where the correction is ±0). Every value is written: a conditional store vectorises
+/// to a masked store (`vmaskmovps`), slow on AMD's cores.
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -186,27 +186,14 @@ pub(super) fn expand_pairs(e: &mut [f32], x: &[f32], inv: &[f32], tl: f32, tr: f
 pub(super) fn correct_row(
     row: &mut [f32],
     en: &[f32],
-    wn: &[f32],
     ef: &[f32],
-    wf: &[f32],
     tn: f32,
     tf: f32,
-    edge: bool,
-    inv: &[f32],
+    ke: f32,
+    den: &[f32],
 ) {
-    let (ke, kw) = if edge { (0.0, 1.0) } else { (1.0, 0.0) };
-    // Every value is written, the kept ones plus −0 (which leaves any value's bits as they
-    // are): a conditional store vectorises to a masked store (`vmaskmovps`), slow on AMD's
-    // cores.
     for i in 0..row.len() {
-        let num = tn * en[i] + tf * (ke * ef[i]);
-        let den = tn * wn[i] + tf * (ke * wf[i] + kw);
-        let add = if inv[i] > 0.0 && den > 0.0 {
-            num / den
-        } else {
-            -0.0
-        };
-        row[i] += add;
+        row[i] += (tn * en[i] + tf * (ke * ef[i])) / den[i];
     }
 }
 
