@@ -397,8 +397,8 @@ impl GpuMultigrid {
         );
     }
 
-    /// Records `cycles` V-cycles on the finest level (the warm start already in `fine.p`),
-    /// its pre-smoothing before the first only. Twin of `Multigrid::solve`.
+    /// Records `cycles` V-cycles on the finest level (the warm start already in `fine.p`).
+    /// Twin of `Multigrid::solve`.
     pub fn record_cycles(
         &self,
         device: &wgpu::Device,
@@ -407,15 +407,14 @@ impl GpuMultigrid {
         cycles: usize,
     ) {
         let n = self.levels.len();
-        for k in 0..cycles {
+        for _ in 0..cycles {
             if n == 1 {
                 self.record_sweeps(device, enc, fine, 0, self.coarsest_sweeps, 0);
                 continue;
             }
             for l in 0..n - 1 {
-                if l > 0 || k == 0 {
-                    self.record_smoothing(device, enc, fine, l, false);
-                }
+                // None on the finest level (its weights before are empty).
+                self.record_smoothing(device, enc, fine, l, false);
                 self.record_restrict(device, enc, fine, l);
                 enc.clear_buffer(&self.levels[l + 1].x, 0, None);
             }
@@ -556,12 +555,14 @@ mod tests {
             };
             let tag = |what: &str| format!("{what} ({boundary:?})");
 
-            // One red–black half sweep of each colour and one damped pass on the finest level.
-            let w = mg.smoothing.weights(0, false)[0];
+            // One red–black half sweep of each colour and the first damped pass after the
+            // correction on the finest level (its parameters follow those before it).
+            let w = mg.smoothing.weights(0, true)[0];
+            let first_post = 2 + mg.smoothing.weights(0, false).len();
             for (params, relax) in [
                 (0, Relax::RedBlack(0)),
                 (1, Relax::RedBlack(1)),
-                (2, Relax::Damped(&[w])),
+                (first_post, Relax::Damped(&[w])),
             ] {
                 let mut cpu = vec![0.0; nx * ny];
                 relax_passes(&mg.levels[0], &p0, &mut cpu, &div, -vol, 1, relax, false);

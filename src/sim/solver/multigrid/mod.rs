@@ -33,14 +33,20 @@ pub(crate) use super::pressure::Relax;
 pub(crate) use hierarchy::*;
 use rows::*;
 
-/// Smoothing passes on the finest level before the first cycle (a later cycle starts from
-/// the previous one's post-smoothing) and after each coarse correction, and on every coarser
-/// level before and after. Even counts: a pass goes from one array into the other, so an
+/// Smoothing passes on the finest level after each coarse correction, and on every coarser
+/// level before and after it. Even counts: a pass goes from one array into the other, so an
 /// even count ends where it started (the GPU's passes rely on it).
-pub(crate) const FINE_PRE: usize = 2;
-pub(crate) const FINE_POST: usize = 4;
+///
+/// The finest level is not smoothed before it is restricted: a running flow starts from
+/// last step's pressure, whose residual has little grid-scale noise left to alias, and a
+/// pre-smoothing there was a pass over the whole grid of its own (memory-bound at 1000²:
+/// about a fifth of a cycle). 6 passes after the correction, where there were 2 before and
+/// 4 after, cut a developed step as much per cycle (one V-cycle at 1000², the worst example:
+/// breeze-fft 120× with 2 + 4, 108× with 0 + 6) in 10% less time. A cold start pays: white
+/// noise from zero, 28–40× in the first cycle instead of 75–122×.
+pub(crate) const FINE_PASSES: usize = 6;
 pub(crate) const COARSE_PASSES: usize = 4;
-const _: () = assert!(FINE_PRE % 2 == 0 && FINE_POST % 2 == 0 && COARSE_PASSES % 2 == 0);
+const _: () = assert!(FINE_PASSES % 2 == 0 && COARSE_PASSES % 2 == 0);
 
 /// The low end of the eigenvalues of `D⁻¹A` (whose spectrum lies in (0, 2]) that the
 /// smoothing damps, on the finest level and on the coarser ones: below it the coarse
@@ -50,7 +56,7 @@ const _: () = assert!(FINE_PRE % 2 == 0 && FINE_POST % 2 == 0 && COARSE_PASSES %
 /// their smoothing more of a solve: that is what breeze-fft's smooth, changing gusts need
 /// (one cycle at 1000²: 109× at 0.3, 120× at 0.2, the other examples within 2%). Measured
 /// in docs/SOLVER.md.
-const FINE_LOW: f64 = 0.4;
+const FINE_LOW: f64 = 0.3;
 const COARSE_LOW: f64 = 0.2;
 
 /// The weights of `passes` damped Jacobi passes that minimise the largest amplification over
@@ -74,20 +80,18 @@ pub(crate) fn chebyshev_weights(passes: usize, low: f64) -> Vec<f32> {
         .collect()
 }
 
-/// The smoothing weights of a hierarchy: the finest level's before the first cycle and after
-/// each correction, and the coarser levels' (before and after alike).
+/// The smoothing weights of a hierarchy: the finest level's after each correction, and the
+/// coarser levels' (before and after alike).
 #[derive(Debug, Clone)]
 pub(crate) struct Smoothing {
-    pub(crate) fine_pre: Vec<f32>,
-    pub(crate) fine_post: Vec<f32>,
+    pub(crate) fine: Vec<f32>,
     pub(crate) coarse: Vec<f32>,
 }
 
 impl Default for Smoothing {
     fn default() -> Self {
         Self {
-            fine_pre: chebyshev_weights(FINE_PRE, FINE_LOW),
-            fine_post: chebyshev_weights(FINE_POST, FINE_LOW),
+            fine: chebyshev_weights(FINE_PASSES, FINE_LOW),
             coarse: chebyshev_weights(COARSE_PASSES, COARSE_LOW),
         }
     }
@@ -97,8 +101,8 @@ impl Smoothing {
     /// Level `l`'s weights before (`post` false) or after its coarse correction.
     pub(crate) fn weights(&self, l: usize, post: bool) -> &[f32] {
         match (l, post) {
-            (0, false) => &self.fine_pre,
-            (0, true) => &self.fine_post,
+            (0, false) => &[],
+            (0, true) => &self.fine,
             _ => &self.coarse,
         }
     }
@@ -142,17 +146,17 @@ impl Multigrid {
     }
 
     /// Bytes `cycles` V-cycles must read and write (each array element once per pass), as
-    /// the solver runs them: on the finest level one blocked pre-smoothing pass before the
-    /// first cycle (p, div, flags, 1/Σw in, p out: 17 B a cell), and per cycle the residual
-    /// (p, div, flags: 9 B), the expansion (8 B per expanded value) and the post-smoothing
-    /// pass reading the expanded rows too (21 B); on a coarser level, per cycle, blocked
-    /// passes of 24 B a cell (x, b, links, 1/D in, x out), the residual (20 B) and the
-    /// expansion; the coarsest level one 24 B pass per 24 half sweeps.
+    /// the solver runs them: on the finest level, per cycle, the residual (p, div, flags:
+    /// 9 B a cell), the expansion (8 B per expanded value) and the post-smoothing pass (p,
+    /// div, flags, 1/Σw and the correction's expanded rows and denominators in, p out: 25 B);
+    /// on a coarser level, per cycle, blocked passes of 24 B a cell (x, b, links, 1/D in, x
+    /// out), the residual (20 B) and the expansion; the coarsest level one 24 B pass per 24
+    /// half sweeps.
     pub fn solve_bytes(&self, cycles: u64) -> u64 {
-        17 * (self.levels[0].nx * self.levels[0].ny) as u64 + cycles * self.cycle_bytes()
+        cycles * self.cycle_bytes()
     }
 
-    /// [`Self::solve_bytes`] per cycle, less the finest level's pre-smoothing.
+    /// [`Self::solve_bytes`] per cycle.
     fn cycle_bytes(&self) -> u64 {
         let n = self.levels.len();
         let cells = |l: &Level| (l.nx * l.ny) as u64;
@@ -163,7 +167,7 @@ impl Multigrid {
                 let passes = 2 * coarsest_sweeps(l) as u64;
                 24 * cells(l) * passes.div_ceil(MAX_BLOCK_LEVELS as u64)
             } else if k == 0 {
-                (9 + 21) * cells(l) + ex(l)
+                (9 + 25) * cells(l) + ex(l)
             } else {
                 (24 + 20 + 28) * cells(l) + ex(l)
             };
@@ -196,16 +200,16 @@ impl Multigrid {
             std::mem::take(tmp),
             b,
         );
-        for k in 0..cycles {
-            self.cycle(0, k == 0);
+        for _ in 0..cycles {
+            self.cycle(0);
         }
         (*x, *tmp, _) = take(&mut self.levels[0]);
     }
 
     /// A V-cycle on level `l` from its `x`, for the right-hand side its `b` holds (a
-    /// restriction leaves the coarser level's `x` at zero), pre-smoothing first when `pre`
-    /// (the finest level's later cycles start from the previous cycle's post-smoothing).
-    fn cycle(&mut self, l: usize, pre: bool) {
+    /// restriction leaves the coarser level's `x` at zero): smoothing (none on the finest
+    /// level), restriction, the coarser level's cycle, prolongation, smoothing.
+    fn cycle(&mut self, l: usize) {
         let n = self.levels.len();
         let lv = &mut self.levels[l];
         let (mut x, mut t, b) = take(lv);
@@ -224,24 +228,22 @@ impl Multigrid {
             put(lv, x, t, b);
             return;
         }
-        if pre {
-            let w = self.smoothing.weights(l, false);
-            smooth(
-                lv,
-                &mut x,
-                &mut t,
-                &b,
-                1.0,
-                w.len(),
-                Relax::Damped(w),
-                false,
-            );
-        }
+        let w = self.smoothing.weights(l, false);
+        smooth(
+            lv,
+            &mut x,
+            &mut t,
+            &b,
+            1.0,
+            w.len(),
+            Relax::Damped(w),
+            false,
+        );
         {
             let (fine, coarse) = self.levels.split_at_mut(l + 1);
             restrict(&fine[l], &x, &b, 1.0, &mut coarse[0]);
         }
-        self.cycle(l + 1, true);
+        self.cycle(l + 1);
         let (fine, coarse) = self.levels.split_at_mut(l + 1);
         let f = &mut fine[l];
         expand(f, &coarse[0]);
@@ -472,24 +474,24 @@ impl Solver {
             self.multigrid = Some(mg);
             return;
         }
-        // Pre-smoothing before the first cycle only: a later cycle starts from the previous
-        // one's post-smoothing, and more passes there do not lift what the cycle cuts.
-        let pre = Relax::Damped(&mg.smoothing.fine_pre);
-        self.sweeps_blocked(FINE_PRE, warm, Some(pre), None);
+        // No pre-smoothing (see FINE_PASSES): the warm start's scale is multiplied in as the
+        // first restriction and the first post-smoothing read the pressure.
+        let mut scale = warm;
         for _ in 0..cycles {
-            self.restrict_fine(&mut mg.levels[1]);
-            mg.cycle(1, true);
+            self.restrict_fine(&mut mg.levels[1], scale);
+            mg.cycle(1);
             let (fine, coarse) = mg.levels.split_at_mut(1);
             expand(&mut fine[0], &coarse[0]);
-            let post = Relax::Damped(&mg.smoothing.fine_post);
-            self.sweeps_blocked(FINE_POST, 1.0, Some(post), Some(&mg.levels[0]));
+            let post = Relax::Damped(&mg.smoothing.fine);
+            self.sweeps_blocked(FINE_PASSES, scale, Some(post), Some(&mg.levels[0]));
+            scale = 1.0;
         }
         self.multigrid = Some(mg);
     }
 
-    /// The coarse right-hand side from the finest level: each coarse cell sums its children's
-    /// volume-scaled residuals.
-    fn restrict_fine(&self, c: &mut Level) {
+    /// The coarse right-hand side from the finest level's pressure times `scale`: each coarse
+    /// cell sums its children's volume-scaled residuals.
+    fn restrict_fine(&self, c: &mut Level, scale: f32) {
         let (nx, ny) = (self.nx, self.ny);
         let st = self.stencil();
         let vol = self.hx * self.hz;
@@ -502,6 +504,7 @@ impl Solver {
             fine_residual_row(
                 &st,
                 vol,
+                scale,
                 out,
                 [row(jb), row(j), row(jt)],
                 &div[j * nx..][..nx],

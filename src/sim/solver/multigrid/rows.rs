@@ -198,9 +198,11 @@ pub(super) fn correct_row(
 }
 
 /// One row of the finest level's residual in volume scale, from the Jacobi system's flags:
-/// `hx·hz·(Σ w p_n − div − Σw·p)` (0 outside the solve). Interior cells outside the row's
+/// `hx·hz·(Σ w p_n − div − Σw·p)` (0 outside the solve), for the pressure `scale · p` (the
+/// warm start, multiplied in as it is read: `× 1` is exact). Interior cells outside the row's
 /// `irregular` runs have four fluid neighbours and skip the flags (the same bits, as in
 /// [`super::pressure::jacobi_row`]).
+#[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -209,6 +211,7 @@ pub(super) fn correct_row(
 pub(super) fn fine_residual_row(
     st: &Stencil,
     vol: f32,
+    scale: f32,
     out: &mut [f32],
     [below, row, above]: [&[f32]; 3],
     d: &[f32],
@@ -218,6 +221,7 @@ pub(super) fn fine_residual_row(
     let n = row.len();
     let (wx, wz) = (st.wx, st.wz);
     let cell = |fl: u8, l: f32, r: f32, b: f32, a: f32, p: f32, d: f32| {
+        let (l, r, b, a, p) = (scale * l, scale * r, scale * b, scale * a, scale * p);
         let ws = st.weight_sum(fl);
         let s = wx * (pick(fl, L, l) + pick(fl, R, r)) + wz * (pick(fl, B, b) + pick(fl, T, a));
         if fl != 0 { vol * (s - d - ws * p) } else { 0.0 }
@@ -247,8 +251,8 @@ pub(super) fn fine_residual_row(
             }
         } else {
             for i in 0..m {
-                let s = wx * (l[i] + r[i]) + wz * (bl[i] + ab[i]);
-                o[i] = vol * (s - dd[i] - ws_regular * c[i]);
+                let s = wx * (scale * l[i] + scale * r[i]) + wz * (scale * bl[i] + scale * ab[i]);
+                o[i] = vol * (s - dd[i] - ws_regular * (scale * c[i]));
             }
         }
     };
