@@ -441,21 +441,30 @@ impl Level {
         row: &[f32],
         above: &[f32],
     ) {
-        let nx = self.nx;
+        let (ax, az_b, az_t) = self.links(j);
         link_sum_row(
             out,
             [below, row, above],
-            &self.ax[j * (nx + 1)..][..nx + 1],
-            &self.az[j * nx..][..nx],
-            &self.az[(j + 1) * nx..][..nx],
+            ax,
+            az_b,
+            az_t,
             self.x_axis.wraps,
             self.regular,
             &self.runs[j],
         );
     }
-}
 
-impl Level {
+    /// Row `j`'s links: across its vertical faces (`nx + 1`), and across its lower and upper
+    /// horizontal faces.
+    fn links(&self, j: usize) -> (&[f32], &[f32], &[f32]) {
+        let nx = self.nx;
+        (
+            &self.ax[j * (nx + 1)..][..nx + 1],
+            &self.az[j * nx..][..nx],
+            &self.az[(j + 1) * nx..][..nx],
+        )
+    }
+
     /// Row `j` of a relaxation pass: [`relax_link_row`] with the level's links.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn relax_row(
@@ -471,11 +480,7 @@ impl Level {
         relax_link_row(
             out,
             rows,
-            (
-                &self.ax[j * (nx + 1)..][..nx + 1],
-                &self.az[j * nx..][..nx],
-                &self.az[(j + 1) * nx..][..nx],
-            ),
+            self.links(j),
             self.x_axis.wraps,
             self.regular,
             &self.runs[j],

@@ -3,6 +3,26 @@
 
 use super::*;
 
+/// The link sum of a row's end cell `i` (0 or n − 1), whose neighbour beyond the end is
+/// the row's other end when it `wraps` and 0 (with a 0 link) otherwise.
+#[inline(always)]
+fn end_link_sum(
+    i: usize,
+    [below, row, above]: [&[f32]; 3],
+    (ax, az_b, az_t): (&[f32], &[f32], &[f32]),
+    wraps: bool,
+) -> f32 {
+    let n = row.len();
+    let (first, last) = if wraps {
+        (row[n - 1], row[0])
+    } else {
+        (0.0, 0.0)
+    };
+    let left = if i == 0 { first } else { row[i - 1] };
+    let right = if i + 1 == n { last } else { row[i + 1] };
+    ax[i] * left + ax[i + 1] * right + az_b[i] * below[i] + az_t[i] * above[i]
+}
+
 /// `out = Σ a x_n` over a row's four links (the row's ends wrap when `wraps`; otherwise
 /// their end links are 0). Interior cells outside `irregular` have the `regular` links
 /// `(x, z)` and skip the link arrays (the same products in the same order).
@@ -23,15 +43,8 @@ pub(crate) fn link_sum_row(
     irregular: &[(usize, usize)],
 ) {
     let n = out.len();
-    let (first, last) = if wraps {
-        (row[n - 1], row[0])
-    } else {
-        (0.0, 0.0)
-    };
-    let left = |i: usize| if i == 0 { first } else { row[i - 1] };
-    let right = |i: usize| if i + 1 == n { last } else { row[i + 1] };
     for i in [0, n - 1] {
-        out[i] = ax[i] * left(i) + ax[i + 1] * right(i) + az_b[i] * below[i] + az_t[i] * above[i];
+        out[i] = end_link_sum(i, [below, row, above], (ax, az_b, az_t), wraps);
     }
     if n < 3 {
         return;
@@ -76,15 +89,8 @@ pub(crate) fn relax_link_row(
     damp: Option<f32>,
 ) {
     let n = out.len();
-    let (first, last) = if wraps {
-        (row[n - 1], row[0])
-    } else {
-        (0.0, 0.0)
-    };
-    let left = |i: usize| if i == 0 { first } else { row[i - 1] };
-    let right = |i: usize| if i + 1 == n { last } else { row[i + 1] };
     for i in [0, n - 1] {
-        let s = ax[i] * left(i) + ax[i + 1] * right(i) + az_b[i] * below[i] + az_t[i] * above[i];
+        let s = end_link_sum(i, [below, row, above], (ax, az_b, az_t), wraps);
         let v = (s + b_scale * b[i]) * inv_d[i];
         out[i] = match damp {
             Some(w) => row[i] + w * (v - row[i]),
