@@ -1,7 +1,8 @@
 //! The multigrid pressure solve on the GPU (`sim.pressure = "multigrid"`): the CPU builds the
 //! hierarchy ([`Multigrid::new`], the same levels, links, interpolation tables and smoothing
 //! weights as the CPU solver's) and uploads it once; a V-cycle is then relaxation passes
-//! (damped Jacobi, red–black on the coarsest level), restrictions and prolongations, each a compute pass (`shaders/mg_*.wgsl`) whose CPU twin is the function of
+//! (damped Jacobi, red–black on the coarsest level), restrictions and prolongations, each a
+//! compute pass (`shaders/mg_*.wgsl`) whose CPU twin is the function of
 //! `sim::solver::multigrid` it names. Every level keeps its explicit links, the finest too.
 
 use crate::doc::Boundary;

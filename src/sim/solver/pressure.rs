@@ -208,7 +208,7 @@ impl Stencil {
 /// cells outside the row's `irregular` runs all have four fluid neighbours and skip the
 /// flags (the same arithmetic, the same bits: `pick` keeps every neighbour and `1 / Σw` is
 /// exactly `inv_regular` there). With `damp = Some(w)`, a damped Jacobi pass instead: each
-/// cell becomes `row + w·(jacobi − row)` ([`damp`]'s arithmetic, fused into the same loop).
+/// cell becomes `row + w·(jacobi − row)` ([`damp_row`]'s arithmetic, in the same loop).
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
@@ -265,7 +265,7 @@ pub(super) fn jacobi_row(
                     * iw[i];
             }
             if let Some(w) = damp {
-                damp_in(o, &row[a..b], w);
+                damp_row(o, &row[a..b], w);
             }
         } else if let Some(w) = damp {
             let c = &row[a..b];
@@ -313,15 +313,15 @@ pub(super) struct JacobiCtx<'a> {
     pub(super) wraps: bool,
     pub(super) scale: f32,
     /// Multigrid relaxation instead of plain Jacobi: pass `t` (from 1) of the block is
-    /// [`Relax::apply`]`(t − 1, …)`.
+    /// pass `t − 1` of the relaxation ([`Relax::weight`], [`Relax::finish`]).
     pub(super) relax: Option<Relax<'a>>,
     /// Multigrid: the finest level, whose expanded coarse correction is added to the input
     /// rows as they are read (the prolongation fused into the first smoothing pass).
     pub(super) correction: Option<&'a Level>,
 }
 
-/// `levels` Jacobi iterations (or multigrid relaxation passes) for output rows `a..b`, written to
-/// `out`: [`band_passes`] with the Jacobi row.
+/// `levels` Jacobi iterations (or multigrid relaxation passes) for output rows `a..b`,
+/// written to `out`: [`band_passes`] with the Jacobi row.
 pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, levels: usize) {
     let nx = c.nx;
     let input = |j: usize, dst: &mut [f32]| {
@@ -344,13 +344,10 @@ pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, le
             &c.flags[j * nx..][..nx],
             &c.inv_w[j * nx..][..nx],
             &c.irregular[j],
-            match c.relax {
-                Some(Relax::Damped(w)) => Some(w[t - 1]),
-                _ => None,
-            },
+            c.relax.and_then(|r| r.weight(t - 1)),
         );
-        if let Some(r @ Relax::RedBlack(_)) = c.relax {
-            r.apply(t - 1, j, dst, row);
+        if let Some(r) = c.relax {
+            r.finish(t - 1, j, dst, row);
         }
     };
     band_passes(nx, c.ny, c.wraps, out, a, b, levels, input, pass);
@@ -402,28 +399,29 @@ impl<'a> Relax<'a> {
         }
     }
 
-    /// Pass `t` on row `j`: `dst` holds the row's Jacobi values, `prev` its values before.
-    pub(crate) fn apply(self, t: usize, j: usize, dst: &mut [f32], prev: &[f32]) {
+    /// Pass `t`'s damping weight (none for a red–black half sweep), which the row kernels
+    /// apply as they compute the Jacobi values.
+    pub(crate) fn weight(self, t: usize) -> Option<f32> {
         match self {
-            Relax::RedBlack(c) => keep_other_colour(dst, prev, j + c + t),
-            Relax::Damped(w) => damp(dst, prev, w[t]),
+            Relax::RedBlack(_) => None,
+            Relax::Damped(w) => Some(w[t]),
+        }
+    }
+
+    /// What pass `t` does to row `j` after the row kernel: a red–black half sweep keeps the
+    /// other colour's values from `prev` (`dst` holds the row's Jacobi values); a damped pass
+    /// is complete.
+    pub(crate) fn finish(self, t: usize, j: usize, dst: &mut [f32], prev: &[f32]) {
+        if let Relax::RedBlack(c) = self {
+            keep_other_colour(dst, prev, j + c + t);
         }
     }
 }
 
 /// Damped Jacobi: `dst ← prev + w·(dst − prev)`, `dst` holding the Jacobi values (cells
 /// outside the solve hold 0 in both, and keep it).
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
-pub(super) fn damp(dst: &mut [f32], prev: &[f32], w: f32) {
-    damp_in(dst, prev, w);
-}
-
 #[inline(always)]
-fn damp_in(dst: &mut [f32], prev: &[f32], w: f32) {
+fn damp_row(dst: &mut [f32], prev: &[f32], w: f32) {
     for (d, &p) in dst.iter_mut().zip(prev) {
         *d = p + w * (*d - p);
     }

@@ -8,8 +8,9 @@
 //! and non-square cells need no special cases:
 //!
 //! - a coarse cell groups two fine cells along each coarsened axis (one at an odd end); an
-//!   axis is coarsened only while its cells are at most 1.6 times as wide as the other axis's (semi-
-//!   coarsening keeps the coupling roughly isotropic, where point smoothing works);
+//!   axis is coarsened only while its cells are at most 1.6 times as wide as the other
+//!   axis's (semi-coarsening keeps the coupling roughly isotropic, where point smoothing
+//!   works);
 //! - a coarse link is the fine links it crosses, each times its own centre distance (its open
 //!   face length), over the coarse centre distance: partly blocked faces pass their open
 //!   share, and an open edge's link sees the fine `p = 0` half a fine cell beyond the edge;
@@ -19,10 +20,10 @@
 //!
 //! The smoother is damped Jacobi with Chebyshev weights (each pass `x + w·(jacobi − x)`,
 //! the weights the reciprocal roots of the Chebyshev polynomial that is smallest over the
-//! eigenvalues of `D⁻¹A` a coarser level cannot represent, largest first), one pass from one array into
-//! another (so every pass reads only the previous one, runs in parallel row by row, and
-//! gives the same bits on any number of threads); the coarsest level runs red–black
-//! Gauss–Seidel sweeps. Its GPU twin runs the same passes.
+//! eigenvalues of `D⁻¹A` a coarser level cannot represent, largest first), one pass from
+//! one array into another (so every pass reads only the previous one, runs in parallel row
+//! by row, and gives the same bits on any number of threads); the coarsest level runs
+//! red–black Gauss–Seidel sweeps. Its GPU twin runs the same passes.
 
 use super::*;
 
@@ -322,14 +323,9 @@ pub(crate) fn relax_passes(
 ) {
     let (nx, ny) = (lv.nx, lv.ny);
     let pass = |t: usize, j: usize, dst: &mut [f32], below: &[f32], row: &[f32], above: &[f32]| {
-        let damp = match relax {
-            Relax::Damped(w) => Some(w[t - 1]),
-            Relax::RedBlack(_) => None,
-        };
+        let damp = relax.weight(t - 1);
         lv.relax_row(j, dst, [below, row, above], b, b_scale, damp);
-        if let Relax::RedBlack(_) = relax {
-            relax.apply(t - 1, j, dst, row);
-        }
+        relax.finish(t - 1, j, dst, row);
     };
     for_each_band(out, nx, ny, passes, |a, b, out| {
         let input = |j: usize, dst: &mut [f32]| {

@@ -71,7 +71,7 @@ pub(crate) fn link_sum_row(
 
 /// One relaxation pass's row in one loop: the Jacobi value `v = (Σ a x_n + b_scale·b) / D`
 /// (the link sum in [`link_sum_row`]'s order; 0 outside the solve, where `1/D` is 0), and
-/// with `damp = Some(w)` the damped value `x + w·(v − x)` ([`damp`]'s arithmetic).
+/// with `damp = Some(w)` the damped value `x + w·(v − x)` (`damp_row`'s arithmetic).
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
