@@ -38,12 +38,11 @@ impl<'a> Clamped<'a> {
     pub(super) fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
         let x = x.clamp(0.0, self.xmax);
         let z = z.clamp(0.0, self.zmax);
-        // In range after the clamp, so the i32 conversion is exact and cheap.
-        let i0 = (x as i32).min(self.imax);
-        let j0 = (z as i32).min(self.jmax);
+        let i0 = index(x, self.xmax).min(self.imax);
+        let j0 = index(z, self.zmax).min(self.jmax);
         let (fx, fz) = (x - i0 as f32, z - j0 as f32);
         let (k, w) = ((j0 * self.w as i32 + i0) as usize, self.w);
-        // SAFETY: 0 ≤ i0 ≤ w − 2 and 0 ≤ j0 ≤ h − 2 (the clamps above; NaN converts to 0), so
+        // SAFETY: 0 ≤ i0 ≤ w − 2 and 0 ≤ j0 ≤ h − 2 (the clamps above; NaN gives 0), so
         // k + w + 1 ≤ (h − 2)·w + w − 2 + w + 1 = h·w − 1 < src.len(), as `new` asserts.
         // Unchecked loads let the loops over faces vectorise into gathers.
         let (a, b, c, d) = unsafe {
@@ -57,6 +56,17 @@ impl<'a> Clamped<'a> {
         };
         (a, b, c, d, fx, fz)
     }
+}
+
+/// `t` clamped to `[0, m]` (`0 ≤ m < 2³¹`; NaN gives 0) and truncated to an i32: what
+/// `t as i32` and a clamp give, in vector instructions. Rust's saturating `as` compiles to a
+/// scalar compare and select per lane on AVX2, and those took half the sampler's time.
+#[inline(always)]
+fn index(t: f32, m: f32) -> i32 {
+    // `max` turns NaN into 0.
+    let t = t.max(0.0).min(m);
+    // SAFETY: `t` is finite and in [0, 2³¹), so its truncation fits an i32.
+    unsafe { t.to_int_unchecked::<i32>() }
 }
 
 /// The four samples around a departure point of a face field on a periodic grid, which
@@ -95,8 +105,9 @@ impl<'a> Wrapped<'a> {
 #[inline(always)]
 pub(super) fn wrap(t: f32, p: f32, n: i32) -> (i32, i32, f32) {
     let t = wrap_coordinate(t, p);
-    // `t` lies in [0, p] (NaN converts to 0), so the clamp is what `as usize` and `min` did.
-    let i0 = (t as i32).clamp(0, n - 1);
+    // `t` lies in [0, p] but for rounding far from the period, or is NaN (index 0); the
+    // clamp is what `as usize` and `min` did.
+    let i0 = index(t, p).clamp(0, n - 1);
     let i1 = if i0 + 1 == n { 0 } else { i0 + 1 };
     (i0, i1, t - i0 as f32)
 }
@@ -196,3 +207,51 @@ macro_rules! row_samplers {
 
 row_samplers!(Clamped, sample_clamped, correct_clamped);
 row_samplers!(Wrapped, sample_wrapped, correct_wrapped);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The vectorisable index is the saturating `as` it replaced, for every float the
+    /// samplers can meet: NaN, infinities, values far outside the field or period, and the
+    /// edges (its `unsafe` conversion is only sound if it clamps first).
+    #[test]
+    fn the_sampler_index_is_the_saturating_conversion() {
+        let mut ts = vec![
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            f32::MAX,
+            f32::MIN,
+            -1e30,
+            1e30,
+            -0.0,
+            0.0,
+            -0.5,
+            2147483648.0,
+            -2147483904.0,
+        ];
+        for m in [1.0f32, 89.0, 90.0, 1000.0] {
+            for d in [-1.0, -1e-4, 0.0, 1e-4, 0.5, 1.0, 7.3] {
+                ts.push(m + d);
+                ts.push(d);
+            }
+        }
+        for &m in &[1.0f32, 89.0, 90.0, 1000.0] {
+            let n = m as i32;
+            for &t in &ts {
+                let clamped = t.clamp(0.0, m);
+                assert_eq!(
+                    index(clamped, m).min(n - 1),
+                    (clamped as i32).min(n - 1),
+                    "clamped {t} in [0, {m}]"
+                );
+                let w = wrap_coordinate(t, m);
+                let (i0, i1, f) = wrap(t, m, n);
+                assert_eq!(i0, (w as i32).clamp(0, n - 1), "wrapped {t} by {m}");
+                assert_eq!(i1, (i0 + 1) % n);
+                assert_eq!(f.to_bits(), (w - i0 as f32).to_bits(), "{t} by {m}");
+            }
+        }
+    }
+}
