@@ -3065,3 +3065,72 @@ mod grass {
         }
     }
 }
+
+/// The advection samplers read a face's neighbourhood as whole rows where the departure
+/// point lies within a cell of the face, and point by point elsewhere (farther points, the
+/// row ends, the first and last rows, a period's seam). Both must give the reference's bits:
+/// a flow of slow smooth wind (most faces local) with a band of fast noise (points up to
+/// three cells away), every boundary, both schemes, 1–3 threads.
+#[test]
+fn advection_matches_the_reference_near_and_far() {
+    use doc::Advection::{MacCormack, SemiLagrangian};
+    for boundary in [Boundary::Open, Boundary::Closed, Boundary::Periodic] {
+        for advection in [SemiLagrangian, MacCormack] {
+            let mut l = example("obstacles.json");
+            l.world.grid = [67, 45];
+            l.sim.boundary = boundary;
+            l.sim.advection = advection;
+            let seeded = || {
+                let mut s = noisy_solver(&l, (11, 12), 1.0);
+                let dt = s.params.dt;
+                let cells = [l.world.size[0] / 67.0 / dt, l.world.size[1] / 45.0 / dt];
+                let (u, v) = s.faces_mut();
+                for (c, f) in [u, v].into_iter().enumerate() {
+                    let w = f.len() / if c == 0 { 45 } else { 46 };
+                    for (k, x) in f.iter_mut().enumerate() {
+                        let (i, j) = ((k % w) as f32, (k / w) as f32);
+                        let smooth = 0.8 * (0.21 * i + 0.13 * j + c as f32).sin();
+                        let band = if (20.0..26.0).contains(&j) {
+                            3.0 * *x
+                        } else {
+                            0.0
+                        };
+                        *x = (smooth + band) * cells[c];
+                    }
+                }
+                s.enforce_boundaries();
+                s
+            };
+            let dt = l.sim.dt;
+            let bits = |s: &Solver| -> Vec<u32> {
+                [&s.u, &s.v]
+                    .into_iter()
+                    .flat_map(|f| f.iter().map(|x| x.to_bits()))
+                    .collect()
+            };
+            let mut want = seeded();
+            let speeds = |s: &Solver, far: bool| {
+                let cell = l.world.size[0] / 67.0 / dt;
+                s.u.iter().filter(|&&u| (u.abs() >= cell) == far).count()
+            };
+            assert!(
+                speeds(&want, true) > 50 && speeds(&want, false) > 1000,
+                "{boundary:?}: faces both near and far"
+            );
+            want.advect_plain_reference(dt);
+            let want = bits(&want);
+            for threads in [1, 2, 3] {
+                let got = on_threads(threads, || {
+                    let mut s = seeded();
+                    s.advect(dt);
+                    bits(&s)
+                });
+                let first = want.iter().zip(&got).position(|(a, b)| a != b);
+                assert!(
+                    first.is_none(),
+                    "{boundary:?} {advection:?}, {threads} threads: first differing value {first:?}"
+                );
+            }
+        }
+    }
+}

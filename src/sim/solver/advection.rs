@@ -273,9 +273,18 @@ pub(super) fn advect_faces(
                 let free = &free[j * w..][..w];
                 if g.periodic {
                     let f = Wrapped::new(src, w, h, g.nx, g.ny);
-                    sample_wrapped(&f, [ox, oz], xs, zs, free, keep, row);
+                    sample_wrapped(&f, [ox, oz], j, xs, zs, free, keep, row);
                 } else {
-                    sample_clamped(&Clamped::new(src, w, h), [ox, oz], xs, zs, free, keep, row);
+                    sample_clamped(
+                        &Clamped::new(src, w, h),
+                        [ox, oz],
+                        j,
+                        xs,
+                        zs,
+                        free,
+                        keep,
+                        row,
+                    );
                 }
             },
         );
@@ -314,17 +323,17 @@ pub(super) fn maccormack(
                 departures_row(g, u, v, j, is_v, -dt, xs, zs);
                 if g.periodic {
                     let f = Wrapped::new(fwd, w, h, g.nx, g.ny);
-                    sample_wrapped(&f, o, xs, zs, free, 1.0, row);
+                    sample_wrapped(&f, o, j, xs, zs, free, 1.0, row);
                 } else {
-                    sample_clamped(&Clamped::new(fwd, w, h), o, xs, zs, free, 1.0, row);
+                    sample_clamped(&Clamped::new(fwd, w, h), o, j, xs, zs, free, 1.0, row);
                 }
                 departures_row(g, u, v, j, is_v, dt, xs, zs);
                 if g.periodic {
                     let f = Wrapped::new(orig, w, h, g.nx, g.ny);
-                    correct_wrapped(&f, o, xs, zs, free, fwd_row, orig_row, keep, row);
+                    correct_wrapped(&f, o, j, xs, zs, free, fwd_row, orig_row, keep, row);
                 } else {
                     let f = Clamped::new(orig, w, h);
-                    correct_clamped(&f, o, xs, zs, free, fwd_row, orig_row, keep, row);
+                    correct_clamped(&f, o, j, xs, zs, free, fwd_row, orig_row, keep, row);
                 }
             },
         );

@@ -448,7 +448,7 @@ impl Solver {
     /// Step 7: advection with dissipation `1 / (1 + dissipation × dt)` folded into the write.
     /// Semi-Lagrangian: φ' = A(φ). Limited MacCormack: φ̂ = A(φ), φ̌ = A⁻¹(φ̂), and
     /// φ' = clamp(φ̂ + (φ − φ̌)/2) to the range of the samples φ̂ was taken from.
-    fn advect_plain_reference(&mut self, dt: f32) {
+    pub fn advect_plain_reference(&mut self, dt: f32) {
         let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
         let (u, v) = match self.params.advection {
             Advection::SemiLagrangian => (

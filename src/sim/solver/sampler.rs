@@ -108,7 +108,8 @@ pub(super) fn wrap(t: f32, p: f32, n: i32) -> (i32, i32, f32) {
     // `t` lies in [0, p] but for rounding far from the period, or is NaN (index 0); the
     // clamp is what `as usize` and `min` did.
     let i0 = index(t, p).clamp(0, n - 1);
-    let i1 = if i0 + 1 == n { 0 } else { i0 + 1 };
+    // `i0 + 1`, or 0 past the period's end.
+    let i1 = (i0 + 1) * ((i0 + 1 != n) as i32);
     (i0, i1, t - i0 as f32)
 }
 
@@ -119,30 +120,214 @@ impl Wrapped<'_> {
     pub(super) fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
         let (i0, i1, fx) = wrap(x, self.px, self.ix);
         let (j0, j1, fz) = wrap(z, self.pz, self.iz);
-        let (r0, r1) = (j0 as usize * self.w, j1 as usize * self.w);
-        let (i0, i1) = (i0 as usize, i1 as usize);
+        // In i32, as the clamped sampler: w·h ≤ i32::MAX (`new`), and 32-bit lanes
+        // vectorise twice as wide as 64-bit ones.
+        let w = self.w as i32;
+        let (r0, r1) = (j0 * w, j1 * w);
         // SAFETY: 0 ≤ i0, i1 < px ≤ w and 0 ≤ j0, j1 < pz ≤ h (the clamps and selects in
-        // `wrap`), so every index is below w·h ≤ src.len(), as `new` asserts.
+        // `wrap`), so every index is in [0, w·h) and w·h ≤ src.len(), as `new` asserts.
         let (a, b, c, d) = unsafe {
             let s = self.src;
             (
-                *s.get_unchecked(r0 + i0),
-                *s.get_unchecked(r0 + i1),
-                *s.get_unchecked(r1 + i0),
-                *s.get_unchecked(r1 + i1),
+                *s.get_unchecked((r0 + i0) as usize),
+                *s.get_unchecked((r0 + i1) as usize),
+                *s.get_unchecked((r1 + i0) as usize),
+                *s.get_unchecked((r1 + i1) as usize),
             )
         };
         (a, b, c, d, fx, fz)
     }
 }
 
-/// The row loops of one sampler type `$ty`: `$sample` (semi-Lagrangian: the bilinear sample
-/// at each departure point, offset by `-o` into sample coordinates, times `keep`; 0 on faces
-/// that are not free) and `$correct` (MacCormack: `back` holds φ̌ on entry and
-/// `(φ̂ + (φ − φ̌)/2)` clamped to the range of the four samples of φ around the departure
-/// point, times `keep`, on exit). Compiled for several SIMD levels, picked at run time; the
-/// same bits as the reference's sampler. A macro rather than a generic so each loop is
-/// written once and still compiles as plainly as a hand-written one.
+/// What the samplers' row driver needs of a field: the cell a point falls in, the four
+/// samples around a point, and where those samples are plain neighbours in memory.
+pub(super) trait Field {
+    /// `(i0, j0, fx, fz)`: the lower-left sample of the point and the fractions, as
+    /// [`Self::corners`] finds them.
+    fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32);
+    /// `(a, b, c, d, fx, fz)`: the samples at `(i0, j0)`, `(i1, j0)`, `(i0, j1)`, `(i1, j1)`
+    /// and the fractions.
+    fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32);
+    /// `(src, w, cols, rows)`: the samples, their row stride, and the extent in which a
+    /// cell's `(i1, j1)` is `(i0 + 1, j0 + 1)`: all of a clamped field; one period of a
+    /// periodic one, whose last cell wraps to the first.
+    fn window(&self) -> (&[f32], usize, i32, i32);
+    /// Whether [`sample_row`] reads the row's neighbourhood as whole rows. Measured per
+    /// sampler (1000² examples, AVX2): the periodic sampler's advection 3.9 → 2.5 ms; the
+    /// clamped one, whose point-by-point loads cost less (no wrap), gained nothing.
+    const ROWS: bool;
+}
+
+impl Field for Clamped<'_> {
+    const ROWS: bool = false;
+    #[inline(always)]
+    fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
+        let x = x.clamp(0.0, self.xmax);
+        let z = z.clamp(0.0, self.zmax);
+        let i0 = index(x, self.xmax).min(self.imax);
+        let j0 = index(z, self.zmax).min(self.jmax);
+        (i0, j0, x - i0 as f32, z - j0 as f32)
+    }
+    #[inline(always)]
+    fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
+        Clamped::corners(self, x, z)
+    }
+    #[inline(always)]
+    fn window(&self) -> (&[f32], usize, i32, i32) {
+        (self.src, self.w, self.imax + 2, self.jmax + 2)
+    }
+}
+
+impl Field for Wrapped<'_> {
+    const ROWS: bool = true;
+    #[inline(always)]
+    fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
+        let (i0, _, fx) = wrap(x, self.px, self.ix);
+        let (j0, _, fz) = wrap(z, self.pz, self.iz);
+        (i0, j0, fx, fz)
+    }
+    #[inline(always)]
+    fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
+        Wrapped::corners(self, x, z)
+    }
+    #[inline(always)]
+    fn window(&self) -> (&[f32], usize, i32, i32) {
+        (self.src, self.w, self.ix, self.iz)
+    }
+}
+
+/// `a` where `c` holds, else `b`, as bit masks. A plain `if` between two loaded values lets
+/// LLVM load from a selected address instead, which on AVX2 is a scalar load per lane.
+#[inline(always)]
+fn pick(c: bool, a: f32, b: f32) -> f32 {
+    let m = (c as u32).wrapping_neg();
+    f32::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
+}
+
+/// The value of every face `k` of row `j` of a field sampled at departure points
+/// `(xs[k] − ox, zs[k] − oz)`: `out[k] = value(k, out[k], a, b, c, d, fx, fz)`, with the
+/// four samples around the point and its fractions (`reads_old`: `value` uses `out[k]`).
+///
+/// A face's departure point is within one cell of the face itself almost everywhere (99.9%
+/// of the faces of every example at 1000², all of them at the editor's grids): its cell is
+/// `(k − 1 or k, j − 1 or j)`. Then the four samples are among the 3 × 3 around the face,
+/// which the row's interior reads as nine plain vector loads and picks from per face, where
+/// fetching them point by point costs four scalar loads per face (AVX2 compilers emit no
+/// gathers). The row's two end faces, the faces whose point lies farther (or across a
+/// period's seam) and the field's first and last rows are sampled point by point. Both give
+/// the same values.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+pub(super) fn sample_row<F: Field>(
+    f: &F,
+    [ox, oz]: [f32; 2],
+    j: usize,
+    xs: &[f32],
+    zs: &[f32],
+    out: &mut [f32],
+    reads_old: bool,
+    value: impl Fn(usize, f32, f32, f32, f32, f32, f32, f32) -> f32,
+) {
+    let n = out.len();
+    let (xs, zs) = (&xs[..n], &zs[..n]);
+    let (src, w, cols, rows) = f.window();
+    let by_point = |k: usize, out: &mut [f32]| {
+        let (a, b, c, d, fx, fz) = f.corners(xs[k] - ox, zs[k] - oz);
+        out[k] = value(k, out[k], a, b, c, d, fx, fz);
+    };
+    // Rows j − 1 ..= j + 1 inside the window, and a row of the field's own width.
+    if !F::ROWS || n < 3 || n != w || j == 0 || j + 1 >= rows as usize {
+        for k in 0..n {
+            let (a, b, c, d, fx, fz) = f.corners(xs[k] - ox, zs[k] - oz);
+            out[k] = value(k, out[k], a, b, c, d, fx, fz);
+        }
+        return;
+    }
+    let m = n - 2;
+    let row = |r: usize| &src[r * w..][..n];
+    let (below, here, above) = (row(j - 1), row(j), row(j + 1));
+    // Each row's samples at columns k − 1, k, k + 1 for the interior faces k = 1 ..= m.
+    fn three(r: &[f32], m: usize) -> (&[f32], &[f32], &[f32]) {
+        (&r[..m], &r[1..][..m], &r[2..][..m])
+    }
+    let ((bl, bc, br), (hl, hc, hr)) = (three(below, m), three(here, m));
+    let (al, ac, ar) = three(above, m);
+    let (xi, zi) = (&xs[1..][..m], &zs[1..][..m]);
+    let local = |k: usize, i0: i32, j0: i32| {
+        let (dx, dz) = (i0 - k as i32, j0 - j as i32);
+        ((dx + 1) as u32 <= 1) & ((dz + 1) as u32 <= 1) & (i0 + 1 < cols) & (j0 + 1 < rows)
+    };
+    let mut far = false;
+    {
+        let inner = &mut out[1..][..m];
+        for q in 0..m {
+            let (i0, j0, fx, fz) = f.cell(xi[q] - ox, zi[q] - oz);
+            let near = local(q + 1, i0, j0);
+            far |= !near;
+            let (left, down) = (i0 as usize != q + 1, j0 as usize != j);
+            // The point's lower and upper rows, then its column and the next.
+            let (t0, t1, t2) = (
+                pick(down, bl[q], hl[q]),
+                pick(down, bc[q], hc[q]),
+                pick(down, br[q], hr[q]),
+            );
+            let (u0, u1, u2) = (
+                pick(down, hl[q], al[q]),
+                pick(down, hc[q], ac[q]),
+                pick(down, hr[q], ar[q]),
+            );
+            let (a, b) = (pick(left, t0, t1), pick(left, t1, t2));
+            let (c, d) = (pick(left, u0, u1), pick(left, u1, u2));
+            // A far face keeps its value for the point-by-point pass below where `value`
+            // reads it (MacCormack's correction).
+            let v = value(q + 1, inner[q], a, b, c, d, fx, fz);
+            inner[q] = if reads_old {
+                pick(near, v, inner[q])
+            } else {
+                v
+            };
+        }
+    }
+    by_point(0, out);
+    by_point(n - 1, out);
+    if far {
+        for k in 1..=m {
+            let (i0, j0, _, _) = f.cell(xs[k] - ox, zs[k] - oz);
+            if !local(k, i0, j0) {
+                by_point(k, out);
+            }
+        }
+    }
+}
+
+/// The bilinear blend of four samples, as the reference writes it.
+#[inline(always)]
+fn bilerp(a: f32, b: f32, c: f32, d: f32, fx: f32, fz: f32) -> f32 {
+    let top = a + (b - a) * fx;
+    let bottom = c + (d - c) * fx;
+    top + (bottom - top) * fz
+}
+
+/// MacCormack's corrected value `φ̂ + (φ − φ̌)/2`, clamped to the range of the four samples.
+#[inline(always)]
+fn limited(a: f32, b: f32, c: f32, d: f32, fwd: f32, orig: f32, back: f32) -> f32 {
+    let lo = a.min(b).min(c).min(d);
+    let hi = a.max(b).max(c).max(d);
+    let x = fwd + 0.5 * (orig - back);
+    // `x.clamp(lo, hi)` without its `lo ≤ hi` assertion, which would keep the loop scalar
+    // (lo ≤ hi always holds here).
+    let x = if x < lo { lo } else { x };
+    if x > hi { hi } else { x }
+}
+
+/// The row loops of one sampler type `$ty`, through [`sample_row`]: `$sample`
+/// (semi-Lagrangian: the bilinear sample at each departure point of row `j`, offset by `-o`
+/// into sample coordinates, times `keep`; 0 on faces that are not free) and `$correct`
+/// (MacCormack: `back` holds φ̌ on entry and `(φ̂ + (φ − φ̌)/2)` clamped to the range of the
+/// four samples of φ around the departure point, times `keep`, on exit). Compiled for several
+/// SIMD levels, picked at run time; the same bits as the reference's sampler. A macro rather
+/// than a generic so each loop is written once and still compiles as plainly as a
+/// hand-written one.
 macro_rules! row_samplers {
     ($ty:ident, $sample:ident, $correct:ident) => {
         #[allow(clippy::too_many_arguments)]
@@ -153,22 +338,18 @@ macro_rules! row_samplers {
         )]
         pub(super) fn $sample(
             f: &$ty,
-            [ox, oz]: [f32; 2],
+            o: [f32; 2],
+            j: usize,
             xs: &[f32],
             zs: &[f32],
             free: &[u8],
             keep: f32,
             out: &mut [f32],
         ) {
-            let n = out.len();
-            let (xs, zs, free) = (&xs[..n], &zs[..n], &free[..n]);
-            for i in 0..n {
-                let (a, b, c, d, fx, fz) = f.corners(xs[i] - ox, zs[i] - oz);
-                let top = a + (b - a) * fx;
-                let bottom = c + (d - c) * fx;
-                let s = top + (bottom - top) * fz;
-                out[i] = if free[i] != 0 { s * keep } else { 0.0 };
-            }
+            let free = &free[..out.len()];
+            sample_row(f, o, j, xs, zs, out, false, |k, _, a, b, c, d, fx, fz| {
+                pick(free[k] != 0, bilerp(a, b, c, d, fx, fz) * keep, 0.0)
+            });
         }
 
         #[allow(clippy::too_many_arguments)]
@@ -179,7 +360,8 @@ macro_rules! row_samplers {
         )]
         pub(super) fn $correct(
             f: &$ty,
-            [ox, oz]: [f32; 2],
+            o: [f32; 2],
+            j: usize,
             xs: &[f32],
             zs: &[f32],
             free: &[u8],
@@ -189,18 +371,11 @@ macro_rules! row_samplers {
             back: &mut [f32],
         ) {
             let n = back.len();
-            let (xs, zs, free, fwd, orig) = (&xs[..n], &zs[..n], &free[..n], &fwd[..n], &orig[..n]);
-            for i in 0..n {
-                let (a, b, c, d, _, _) = f.corners(xs[i] - ox, zs[i] - oz);
-                let lo = a.min(b).min(c).min(d);
-                let hi = a.max(b).max(c).max(d);
-                let x = fwd[i] + 0.5 * (orig[i] - back[i]);
-                // `x.clamp(lo, hi)` without its `lo ≤ hi` assertion, which would keep the
-                // loop scalar (lo ≤ hi always holds here).
-                let x = if x < lo { lo } else { x };
-                let x = if x > hi { hi } else { x };
-                back[i] = if free[i] != 0 { x * keep } else { 0.0 };
-            }
+            let (free, fwd, orig) = (&free[..n], &fwd[..n], &orig[..n]);
+            sample_row(f, o, j, xs, zs, back, true, |k, back, a, b, c, d, _, _| {
+                let x = limited(a, b, c, d, fwd[k], orig[k], back);
+                pick(free[k] != 0, x * keep, 0.0)
+            });
         }
     };
 }
