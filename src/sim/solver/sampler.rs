@@ -1,7 +1,7 @@
 //! The bilinear samplers of the advection passes, clamped (open and closed grids) or wrapped
-//! (periodic grids), in vectorised row loops. Their four loads are unchecked so the loops
-//! compile into gathers: the solver's only `unsafe` blocks, kept here beside the checks that
-//! make them sound.
+//! (periodic grids), in vectorised row loops ([`sample_row`]). Their four loads and their
+//! float-to-index conversion are unchecked so the loops vectorise: the solver's only
+//! `unsafe` blocks, kept here beside the checks that make them sound.
 
 use super::*;
 
