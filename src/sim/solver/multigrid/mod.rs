@@ -214,32 +214,20 @@ impl Multigrid {
         let n = self.levels.len();
         let lv = &mut self.levels[l];
         let (mut x, mut t, b) = take(lv);
-        if l == n - 1 {
-            let sweeps = 2 * coarsest_sweeps(lv);
-            smooth(
-                lv,
-                &mut x,
-                &mut t,
-                &b,
-                1.0,
-                sweeps,
-                Relax::RedBlack(0),
-                false,
-            );
+        // The coarsest level is solved by red–black sweeps; the others smooth before
+        // restricting (their weights are empty on the finest level).
+        let coarsest = l == n - 1;
+        let (passes, relax) = if coarsest {
+            (2 * coarsest_sweeps(lv), Relax::RedBlack(0))
+        } else {
+            let w = self.smoothing.weights(l, false);
+            (w.len(), Relax::Damped(w))
+        };
+        smooth(lv, &mut x, &mut t, &b, 1.0, passes, relax, false);
+        if coarsest {
             put(lv, x, t, b);
             return;
         }
-        let w = self.smoothing.weights(l, false);
-        smooth(
-            lv,
-            &mut x,
-            &mut t,
-            &b,
-            1.0,
-            w.len(),
-            Relax::Damped(w),
-            false,
-        );
         {
             let (fine, coarse) = self.levels.split_at_mut(l + 1);
             restrict(&fine[l], &x, &b, 1.0, &mut coarse[0]);
