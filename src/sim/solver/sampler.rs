@@ -32,17 +32,24 @@ impl<'a> Clamped<'a> {
         }
     }
 
-    /// `(a, b, c, d, fx, fz)`: the samples at `(i0, j0)`, `(i0+1, j0)`, `(i0, j0+1)`,
-    /// `(i0+1, j0+1)` and the fractions.
+    /// `(i0, j0, fx, fz)`: the point clamped to the field, its lower-left sample and the
+    /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (NaN gives 0).
     #[inline(always)]
-    pub(super) fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
+    pub(super) fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
         let x = x.clamp(0.0, self.xmax);
         let z = z.clamp(0.0, self.zmax);
         let i0 = index(x, self.xmax).min(self.imax);
         let j0 = index(z, self.zmax).min(self.jmax);
-        let (fx, fz) = (x - i0 as f32, z - j0 as f32);
+        (i0, j0, x - i0 as f32, z - j0 as f32)
+    }
+
+    /// `(a, b, c, d, fx, fz)`: the samples at `(i0, j0)`, `(i0+1, j0)`, `(i0, j0+1)`,
+    /// `(i0+1, j0+1)` and the fractions.
+    #[inline(always)]
+    pub(super) fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
+        let (i0, j0, fx, fz) = self.cell(x, z);
         let (k, w) = ((j0 * self.w as i32 + i0) as usize, self.w);
-        // SAFETY: 0 ≤ i0 ≤ w − 2 and 0 ≤ j0 ≤ h − 2 (the clamps above; NaN gives 0), so
+        // SAFETY: 0 ≤ i0 ≤ w − 2 and 0 ≤ j0 ≤ h − 2 (`cell`), so
         // k + w + 1 ≤ (h − 2)·w + w − 2 + w + 1 = h·w − 1 < src.len(), as `new` asserts.
         // Unchecked loads let the loops over faces vectorise into gathers.
         let (a, b, c, d) = unsafe {
@@ -162,11 +169,7 @@ impl Field for Clamped<'_> {
     const ROWS: bool = false;
     #[inline(always)]
     fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        let x = x.clamp(0.0, self.xmax);
-        let z = z.clamp(0.0, self.zmax);
-        let i0 = index(x, self.xmax).min(self.imax);
-        let j0 = index(z, self.zmax).min(self.jmax);
-        (i0, j0, x - i0 as f32, z - j0 as f32)
+        Clamped::cell(self, x, z)
     }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
@@ -237,6 +240,8 @@ pub(super) fn sample_row<F: Field>(
     };
     // Rows j − 1 ..= j + 1 inside the window, and a row of the field's own width.
     if !F::ROWS || n < 3 || n != w || j == 0 || j + 1 >= rows as usize {
+        // `by_point`'s body written out, so this loop's vectorisation does not hang on the
+        // closure being inlined (its calls below are not).
         for k in 0..n {
             let (a, b, c, d, fx, fz) = f.corners(xs[k] - ox, zs[k] - oz);
             out[k] = value(k, out[k], a, b, c, d, fx, fz);
