@@ -732,6 +732,77 @@ fn exp_neg_is_accurate_to_two_ulp() {
     }
 }
 
+/// The forces visit, in each row, only the faces inside a splat's slice
+/// (`ArrowSplat::x_extent_at`): every point a splat pushes lies inside its slice, the slice
+/// is no wider than the pushed points (up to a hair), and for a slanted arrow it is much
+/// narrower than the bounding box near the arrow's ends.
+#[test]
+fn a_splat_s_row_slice_holds_every_point_it_pushes_and_no_more() {
+    let mut rng = 0x2545_f491_u32;
+    let mut next = move || {
+        rng ^= rng << 13;
+        rng ^= rng >> 17;
+        rng ^= rng << 5;
+        rng as f32 / u32::MAX as f32
+    };
+    let mut narrower = 0;
+    for case in 0..300 {
+        let a = [next() * 100.0 - 50.0, next() * 100.0 - 50.0];
+        // Some arrows are axis-aligned or of zero length, the awkward cases of the strip.
+        let b = match case % 4 {
+            0 => [a[0], a[1] + next() * 30.0],
+            1 => [a[0] + next() * 30.0, a[1]],
+            2 if case % 8 == 2 => a,
+            _ => [next() * 100.0 - 50.0, next() * 100.0 - 50.0],
+        };
+        let s = forces::ArrowSplat {
+            a,
+            b,
+            dir: [1.0, 0.0],
+            strength: 5.0,
+            radius: 0.5 + next() * 8.0,
+        };
+        let (lo, hi) = s.bounds();
+        for k in 0..40 {
+            let z = lo[1] - 1.0 + (hi[1] - lo[1] + 2.0) * k as f32 / 39.0;
+            let pushed: Vec<f32> = (0..=2000)
+                .map(|i| lo[0] - 1.0 + (hi[0] - lo[0] + 2.0) * i as f32 / 2000.0)
+                .filter(|&x| s.weight([x, z]) > 0.0)
+                .collect();
+            let extent = s.x_extent_at(z);
+            let (Some(&first), Some(&last)) = (pushed.first(), pushed.last()) else {
+                // No pushed sample on this line: the slice is absent or a sliver.
+                if let Some((x0, x1)) = extent {
+                    assert!(
+                        x1 - x0 < 0.2,
+                        "{s:?} z={z}: slice {x0}..{x1} pushes nothing"
+                    );
+                }
+                continue;
+            };
+            let (x0, x1) = extent.unwrap_or_else(|| panic!("{s:?} z={z}: no slice"));
+            let hair = 1e-3 * (1.0 + x0.abs().max(x1.abs()));
+            assert!(
+                x0 <= first + hair && last <= x1 + hair,
+                "{s:?} z={z}: pushed {first}..{last} outside the slice {x0}..{x1}"
+            );
+            let step = (hi[0] - lo[0] + 2.0) / 2000.0;
+            assert!(
+                first - x0 <= step + hair && x1 - last <= step + hair,
+                "{s:?} z={z}: slice {x0}..{x1} wider than the pushed {first}..{last}"
+            );
+            if x1 - x0 < 0.8 * (hi[0] - lo[0]) {
+                narrower += 1;
+            }
+        }
+    }
+    // Near a slanted arrow's ends the slice is far narrower than the box's row.
+    assert!(
+        narrower > 1000,
+        "only {narrower} rows narrower than the box"
+    );
+}
+
 #[test]
 fn fft_gusts_tile_and_have_unit_rms() {
     let mut f = forces::FftGusts::new(64, 32.0, 6.0, [1.0, 0.0], 7);

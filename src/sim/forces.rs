@@ -77,6 +77,55 @@ impl ArrowSplat {
         (1.0 - exp_neg(-k * g * dt)) * deficit
     }
 
+    /// The world x-interval `(min, max)` where the line at world `z` crosses the region the
+    /// splat touches (the capsule of points within the cutoff of its segment: the strip
+    /// beside the segment and the discs at its ends); `None` when it misses the line. Exact
+    /// up to rounding: callers widen it before choosing faces. For a slanted or short arrow
+    /// it is much narrower than its bounding box's rows near the ends.
+    pub fn x_extent_at(&self, z: f32) -> Option<(f32, f32)> {
+        let r = self.radius * SPLAT_CUTOFF_RADII;
+        let mut lo = f32::INFINITY;
+        let mut hi = f32::NEG_INFINITY;
+        // The discs at the ends.
+        for c in [self.a, self.b] {
+            let dz = z - c[1];
+            let h2 = r * r - dz * dz;
+            if h2 >= 0.0 {
+                let h = h2.sqrt();
+                lo = lo.min(c[0] - h);
+                hi = hi.max(c[0] + h);
+            }
+        }
+        // The strip: |cross(ab, p − a)| ≤ r·|ab| and 0 ≤ dot(ab, p − a) ≤ |ab|², each a
+        // linear condition on x along the line.
+        let ab = [self.b[0] - self.a[0], self.b[1] - self.a[1]];
+        let len2 = ab[0] * ab[0] + ab[1] * ab[1];
+        if len2 > 0.0 {
+            let dz = z - self.a[1];
+            let mut range = (f32::NEG_INFINITY, f32::INFINITY);
+            // lower ≤ k·(x − a.x) + m ≤ upper
+            let mut clip = |k: f32, m: f32, lower: f32, upper: f32| {
+                if k == 0.0 {
+                    if m < lower || m > upper {
+                        range = (f32::INFINITY, f32::NEG_INFINITY);
+                    }
+                } else {
+                    let (p, q) = ((lower - m) / k, (upper - m) / k);
+                    range.0 = range.0.max(p.min(q) + self.a[0]);
+                    range.1 = range.1.min(p.max(q) + self.a[0]);
+                }
+            };
+            let rl = r * len2.sqrt();
+            clip(-ab[1], ab[0] * dz, -rl, rl);
+            clip(ab[0], ab[1] * dz, 0.0, len2);
+            if range.0 <= range.1 {
+                lo = lo.min(range.0);
+                hi = hi.max(range.1);
+            }
+        }
+        (lo <= hi).then_some((lo, hi))
+    }
+
     /// World-space bounding box `(min, max)` of the region the splat touches.
     pub fn bounds(&self) -> ([f32; 2], [f32; 2]) {
         let r = self.radius * SPLAT_CUTOFF_RADII;

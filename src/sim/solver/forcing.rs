@@ -2,7 +2,7 @@
 //! to the faces each row's splats reach, in vectorised runs.
 
 use super::*;
-use crate::sim::forces::RowScratch;
+use crate::sim::forces::{RowScratch, SPLAT_CUTOFF_RADII};
 
 impl Solver {
     /// Step 1: AGC arrow splats and the pull toward the ambient wind. Both read the velocity
@@ -77,6 +77,27 @@ impl Forcing<'_> {
         (first <= last).then_some(first..=last)
     }
 
+    /// Faces of a row at world `z` (of `w` faces, v faces with `is_v`) that splat `s` (with
+    /// bounds `b`) can push: its [`ArrowSplat::x_extent_at`] widened by a face and a
+    /// rounding margin, within its bounding box's columns. Every face left out lies beyond
+    /// the cutoff, where the push is exactly zero, so skipping it changes no bit.
+    pub(super) fn splat_columns(
+        &self,
+        s: &ArrowSplat,
+        b: ([f32; 2], [f32; 2]),
+        z: f32,
+        w: usize,
+        is_v: bool,
+    ) -> Option<RangeInclusive<usize>> {
+        let boxed = self.columns(b, w, is_v)?;
+        let (x0, x1) = s.x_extent_at(z)?;
+        let pad = self.g.hx + 1e-3 * (s.radius * SPLAT_CUTOFF_RADII + x1.abs() + x0.abs());
+        let cols = self.columns(([x0 - pad, b.0[1]], [x1 + pad, b.1[1]]), w, is_v)?;
+        let first = *cols.start().max(boxed.start());
+        let last = *cols.end().min(boxed.end());
+        (first <= last).then_some(first..=last)
+    }
+
     /// The faces of row `j` that the forces write: the hull of the active splats' columns, or
     /// the whole row when ambient layers pull on it. Empty when nothing reaches the row.
     pub(super) fn row_reach(&self, j: usize, w: usize, is_v: bool) -> Range<usize> {
@@ -142,7 +163,7 @@ impl Forcing<'_> {
                         if z_world < b.0[1] || z_world > b.1[1] {
                             continue;
                         }
-                        if let Some(span) = self.columns(b, w, is_v) {
+                        if let Some(span) = self.splat_columns(s, b, z_world, w, is_v) {
                             self.splat_span(s, u, v, j, is_v, span, free, row);
                         }
                     }
