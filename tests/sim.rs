@@ -2129,6 +2129,103 @@ mod gpu {
             assert_eq!(wind, want, "the GPU's cells are the CPU's, bit for bit");
         }
 
+        /// What the editor's 3D view shows (the target's encoded texture, which egui reads as
+        /// plain RGBA8) is the frame's sRGB bytes, on an adapter that can view a texture in
+        /// another format and, through a copy, on one that cannot (a GL adapter): the same
+        /// bytes both ways, and a real picture (sky above, grass below).
+        #[test]
+        fn the_editor_s_view_of_the_grass_is_the_frame_with_or_without_format_views() {
+            use windloom::gpu::grass::Target;
+            let Some(ctx) = context() else { return };
+            let l = layout(4.0);
+            let mut r = GrassRenderer::new(
+                &ctx.device,
+                wgpu::TextureFormat::Rgba8UnormSrgb,
+                &l,
+                &scatter(&l),
+            );
+            let camera = Camera {
+                eye: glam::Vec3::new(2.0, 1.4, 7.5),
+                target: glam::Vec3::new(6.0, 0.2, 4.0),
+                fov_y: 45f32.to_radians(),
+            };
+            let (w, h) = (96u32, 64u32);
+            let mut shown = Vec::new();
+            for views in [true, false] {
+                let mut downlevel = ctx.downlevel;
+                downlevel.set(wgpu::DownlevelFlags::VIEW_FORMATS, views);
+                let target = Target::new(&ctx.device, [w, h], downlevel);
+                windloom::gpu::grass::render_into(
+                    &ctx.device,
+                    &ctx.queue,
+                    &mut r,
+                    &camera,
+                    (0.0, 0.0),
+                    &target,
+                )
+                .unwrap();
+                let frame =
+                    windloom::gpu::read_texture(&ctx.device, &ctx.queue, &target.texture, 4)
+                        .unwrap();
+                let encoded = windloom::gpu::read_texture(
+                    &ctx.device,
+                    &ctx.queue,
+                    target.encoded_texture(),
+                    4,
+                )
+                .unwrap();
+                assert_eq!(
+                    frame.len(),
+                    (w * h * 4) as usize,
+                    "format views {views}: a whole frame"
+                );
+                assert!(
+                    frame == encoded,
+                    "format views {views}: the view shows the frame's bytes"
+                );
+                shown.push(encoded);
+            }
+            assert!(ctx.fault().is_none(), "{:?}", ctx.fault());
+            assert!(shown[0] == shown[1], "both ways show the same picture");
+            let px = |x: u32, y: u32| &shown[0][((y * w + x) * 4) as usize..][..3];
+            let (sky, ground) = (px(w / 2, 1), px(w / 2, h - 2));
+            assert!(sky[2] > sky[0] && sky[2] > 150, "sky at the top: {sky:?}");
+            assert!(ground != sky, "something under the sky: {ground:?}");
+        }
+
+        /// A device that has reported an error no scope caught cannot be trusted to have drawn
+        /// anything: `render --view grass` then fails with the device's message instead of
+        /// writing whatever the texture held.
+        #[test]
+        fn a_grass_picture_from_a_faulted_device_is_an_error() {
+            let Some(ctx) = context() else { return };
+            let l = layout(4.0);
+            let options = windloom::gpu::grass::PictureOptions {
+                size: [64, 48],
+                time: 0.0,
+                camera: None,
+                paper_literal: false,
+                push: None,
+            };
+            let dir = tempfile::tempdir().unwrap();
+            assert!(windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).is_ok());
+            // An invalid buffer (mapped both ways), outside any error scope.
+            let _ = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("invalid on purpose"),
+                size: 16,
+                usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
+                mapped_at_creation: false,
+            });
+            let Err(err) = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options) else {
+                panic!("a faulted device drew a picture");
+            };
+            let text = err.to_string();
+            assert!(
+                text.contains("drawing the grass") && text.contains("invalid on purpose"),
+                "the error says what failed and why: {text}"
+            );
+        }
+
         /// A layout's map backdrop colours the ground under the grass (`render --view grass`).
         #[test]
         fn the_ground_shows_the_map_backdrop() {
@@ -2216,16 +2313,9 @@ mod gpu {
                     ctx.queue.submit([enc.finish()]);
                 }
             }
-            render_offscreen(
-                &ctx.device,
-                &ctx.queue,
-                &mut r,
-                &camera,
-                (0.0, 1.0 / 60.0),
-                [320, 180],
-            )
-            .unwrap()
-            .0
+            render_offscreen(ctx, &mut r, &camera, (0.0, 1.0 / 60.0), [320, 180])
+                .unwrap()
+                .0
         }
 
         fn luminance(p: &[u8]) -> f64 {

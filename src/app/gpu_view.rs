@@ -488,7 +488,11 @@ impl GrassView {
             (rect.height() * ppp).round().max(1.0) as u32,
         ];
         if self.target.as_ref().is_none_or(|(t, _)| t.size != size) {
-            let t = Target::new(&rs.device, size);
+            let t = Target::new(
+                &rs.device,
+                size,
+                rs.adapter.get_downlevel_capabilities().flags,
+            );
             let mut renderer = rs.renderer.write();
             let id = match self.target.take() {
                 Some((_, id)) => {

@@ -32,6 +32,9 @@ pub struct GpuContext {
     pub device: wgpu::Device,
     pub queue: wgpu::Queue,
     pub adapter: wgpu::AdapterInfo,
+    /// Where the adapter falls short of WebGPU (a GL adapter: no texture views in another
+    /// format, for one); what draws checks here rather than failing on the device.
+    pub downlevel: wgpu::DownlevelFlags,
     /// Who submits this context's work: the queue directly, or — on the editor's device, whose
     /// surface wgpu reconfigures only while no other thread submits — the UI thread.
     submitter: Option<Submitter>,
@@ -118,6 +121,7 @@ impl GpuContext {
             device,
             queue,
             adapter: info,
+            downlevel: adapter.get_downlevel_capabilities().flags,
             submitter: None,
         })
     }
@@ -145,6 +149,7 @@ impl GpuContext {
             device,
             queue,
             adapter: info,
+            downlevel: adapter.get_downlevel_capabilities().flags,
             submitter: None,
         })
     }

@@ -122,14 +122,7 @@ pub fn picture(
             ctx.queue.submit([enc.finish()]);
         }
     }
-    let (pixels, _) = render_offscreen(
-        &ctx.device,
-        &ctx.queue,
-        &mut grass,
-        &camera,
-        (time, 1.0 / FPS),
-        size,
-    )?;
+    let (pixels, _) = render_offscreen(ctx, &mut grass, &camera, (time, 1.0 / FPS), size)?;
     Ok(pixels)
 }
 
@@ -195,7 +188,7 @@ pub fn bench(
     }
     wind_at(ctx, &mut grass, &layout, 2.0);
     let camera = camera.unwrap_or_else(|| Camera::walk(&layout));
-    let target = Target::new(&ctx.device, size);
+    let target = Target::new(&ctx.device, size, ctx.downlevel);
     // One untimed frame (pipelines, first use of the buffers), then the timed ones.
     render_into(
         &ctx.device,
@@ -219,6 +212,13 @@ pub fn bench(
     }
     times.sort_by(f64::total_cmp);
     let (culled, _) = grass.read_cull(&ctx.device, &ctx.queue)?;
+    // Frames timed on a faulted device drew nothing worth timing.
+    if let Some(message) = ctx.fault() {
+        return Err(GpuError::Runtime {
+            what: "drawing the grass".into(),
+            message,
+        });
+    }
     Ok(GrassBench {
         adapter: ctx.adapter.name.clone(),
         adapter_type: format!("{:?}", ctx.adapter.device_type),

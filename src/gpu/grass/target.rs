@@ -19,6 +19,10 @@ pub struct Target {
     /// The colour texture viewed as plain `Rgba8Unorm`: sampling gives the sRGB-encoded bytes,
     /// which is what egui's painter expects of an image.
     pub encoded_view: wgpu::TextureView,
+    /// On an adapter that cannot view a texture in another format (a GL adapter lacks
+    /// `DownlevelFlags::VIEW_FORMATS`), a plain `Rgba8Unorm` copy of the colour texture that
+    /// each frame ends by filling, and `encoded_view` views that instead.
+    encoded_copy: Option<wgpu::Texture>,
     depth_view: wgpu::TextureView,
     pub size: [u32; 2],
 }
@@ -26,14 +30,19 @@ pub struct Target {
 impl Target {
     /// The colour format (sRGB: pictures and egui both read it as such).
     pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+    /// The format egui reads the frame in (the same bytes, not decoded from sRGB).
+    const ENCODED: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
-    pub fn new(device: &wgpu::Device, [w, h]: [u32; 2]) -> Self {
+    /// A target of `[w, h]` pixels on a device with the `downlevel` flags of its adapter
+    /// ([`GpuContext::downlevel`](crate::gpu::GpuContext::downlevel)).
+    pub fn new(device: &wgpu::Device, [w, h]: [u32; 2], downlevel: wgpu::DownlevelFlags) -> Self {
+        let views = downlevel.contains(wgpu::DownlevelFlags::VIEW_FORMATS);
         let extent = wgpu::Extent3d {
             width: w.max(1),
             height: h.max(1),
             depth_or_array_layers: 1,
         };
-        let texture = |format, usage| {
+        let texture = |format, usage, view_formats: &'static [wgpu::TextureFormat]| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("grass target"),
                 size: extent,
@@ -42,11 +51,7 @@ impl Target {
                 dimension: wgpu::TextureDimension::D2,
                 format,
                 usage,
-                view_formats: if format == Self::FORMAT {
-                    &[wgpu::TextureFormat::Rgba8Unorm]
-                } else {
-                    &[]
-                },
+                view_formats,
             })
         };
         let colour = texture(
@@ -54,17 +59,49 @@ impl Target {
             wgpu::TextureUsages::RENDER_ATTACHMENT
                 | wgpu::TextureUsages::COPY_SRC
                 | wgpu::TextureUsages::TEXTURE_BINDING,
+            if views { &[Self::ENCODED] } else { &[] },
         );
-        let depth = texture(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT);
-        Self {
-            view: colour.create_view(&Default::default()),
-            encoded_view: colour.create_view(&wgpu::TextureViewDescriptor {
-                format: Some(wgpu::TextureFormat::Rgba8Unorm),
+        let depth = texture(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT, &[]);
+        let encoded_copy = (!views).then(|| {
+            texture(
+                Self::ENCODED,
+                wgpu::TextureUsages::COPY_DST
+                    | wgpu::TextureUsages::COPY_SRC
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                &[],
+            )
+        });
+        let encoded_view = match &encoded_copy {
+            Some(copy) => copy.create_view(&Default::default()),
+            None => colour.create_view(&wgpu::TextureViewDescriptor {
+                format: Some(Self::ENCODED),
                 ..Default::default()
             }),
+        };
+        Self {
+            view: colour.create_view(&Default::default()),
+            encoded_view,
+            encoded_copy,
             depth_view: depth.create_view(&Default::default()),
             texture: colour,
             size: [extent.width, extent.height],
+        }
+    }
+
+    /// The texture `encoded_view` views: the colour texture itself, or its plain copy.
+    pub fn encoded_texture(&self) -> &wgpu::Texture {
+        self.encoded_copy.as_ref().unwrap_or(&self.texture)
+    }
+
+    /// Copies the finished frame to the plain copy, where there is one (the formats differ
+    /// only in sRGB-ness, so the bytes copy as they are).
+    fn publish(&self, enc: &mut wgpu::CommandEncoder) {
+        if let Some(copy) = &self.encoded_copy {
+            enc.copy_texture_to_texture(
+                self.texture.as_image_copy(),
+                copy.as_image_copy(),
+                self.texture.size(),
+            );
         }
     }
 }
@@ -107,6 +144,8 @@ impl GrassRenderer {
             multiview_mask: None,
         });
         self.paint(&mut pass);
+        drop(pass);
+        target.publish(enc);
     }
 }
 
@@ -114,16 +153,23 @@ impl GrassRenderer {
 /// `size` wide and high, and the time the frame took in milliseconds (wall clock, submitted
 /// and waited for).
 pub fn render_offscreen(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
+    ctx: &crate::gpu::GpuContext,
     grass: &mut GrassRenderer,
     camera: &Camera,
     (time, dt): (f32, f32),
     [w, h]: [u32; 2],
 ) -> Result<(Vec<u8>, f64), GpuError> {
-    let target = Target::new(device, [w, h]);
+    let (device, queue) = (&ctx.device, &ctx.queue);
+    let target = Target::new(device, [w, h], ctx.downlevel);
     let ms = render_into(device, queue, grass, camera, (time, dt), &target)?;
     let pixels = crate::gpu::read_texture(device, queue, &target.texture, 4)?;
+    // A picture drawn on a faulted device is not the picture: say so instead.
+    if let Some(message) = ctx.fault() {
+        return Err(GpuError::Runtime {
+            what: "drawing the grass".into(),
+            message,
+        });
+    }
     Ok((pixels, ms))
 }
 
