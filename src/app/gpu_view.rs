@@ -150,7 +150,7 @@ pub struct Orbit {
 impl Orbit {
     /// Looking at the middle of the world from its south-west, from the nearest distance that
     /// shows the whole world in a view of `aspect` (width / height): its corners, on the ground
-    /// and as high as the tallest blade or obstacle, inside [`FRAME_MARGIN`] of the picture.
+    /// and as high as the tallest blade or obstacle, inside `FRAME_MARGIN` of the picture.
     pub fn frame_all(doc: &crate::doc::Layout, aspect: f32) -> Self {
         let (min, max) = doc.bounds();
         let r = (max[0] - min[0]).hypot(max[1] - min[1]) / 2.0;

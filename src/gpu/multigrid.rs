@@ -1,5 +1,5 @@
 //! The multigrid pressure solve on the GPU (`sim.pressure = "multigrid"`): the CPU builds the
-//! hierarchy ([`Multigrid::new`], the same levels, links, interpolation tables and smoothing
+//! hierarchy (`Multigrid::new`, the same levels, links, interpolation tables and smoothing
 //! weights as the CPU solver's) and uploads it once; a V-cycle is then relaxation passes
 //! (damped Jacobi, red–black on the coarsest level), restrictions and prolongations, each a
 //! compute pass (`shaders/mg_*.wgsl`) whose CPU twin is the function of
@@ -299,7 +299,7 @@ impl GpuMultigrid {
     }
 
     /// Records one relaxation pass on level `l` with parameters `params` (0, 1: a red–black
-    /// half sweep of that colour; from 2: a damped pass, see [`GpuLevel::params`]), from `x`
+    /// half sweep of that colour; from 2: a damped pass, see `GpuLevel::params`), from `x`
     /// into `tmp` (`back`: from `tmp` into `x`).
     pub fn record_pass(
         &self,

@@ -14,7 +14,7 @@ impl Solver {
     }
 
     /// Step 5 by Jacobi: warm start and Jacobi iterations, blocked for cache: each band
-    /// of rows runs many iterations while its rows are in cache (see [`jacobi_band`]). The
+    /// of rows runs many iterations while its rows are in cache (see `jacobi_band`). The
     /// result is bit-for-bit that of [`Self::jacobi_iteration`] repeated.
     pub fn solve_pressure_jacobi(&mut self) {
         let decay = self.params.pressure_decay;
