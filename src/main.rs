@@ -416,6 +416,22 @@ fn main() -> ExitCode {
     }
 }
 
+/// What to do when the editor's window cannot open: no display, or no graphics driver.
+fn window_hint(e: &eframe::Error) -> &'static str {
+    match e {
+        eframe::Error::Winit(_) | eframe::Error::WinitEventLoop(_) => {
+            " (on a machine without a display, run the editor under Xvfb: xvfb-run -a windloom; \
+             `windloom bake` and `windloom render` need no display)"
+        }
+        eframe::Error::Wgpu(_) => {
+            " (the editor draws with wgpu: Vulkan, Metal, DX12 or OpenGL; on Linux install a \
+             Vulkan driver, for software rendering: apt-get install mesa-vulkan-drivers \
+             libvulkan1)"
+        }
+        _ => "",
+    }
+}
+
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         None => {
@@ -428,8 +444,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 Backend::Gpu => windloom::app::live::BackendChoice::Gpu,
                 Backend::Auto => windloom::app::live::BackendChoice::Auto,
             });
-            windloom::app::run(doc, cli.file, backend)
-                .map_err(|e| anyhow::anyhow!("could not open the editor window: {e}"))?;
+            windloom::app::run(doc, cli.file, backend).map_err(|e| {
+                anyhow::anyhow!("could not open the editor window: {e}{}", window_hint(&e))
+            })?;
             Ok(ExitCode::SUCCESS)
         }
         Some(Command::Validate { files }) => {

@@ -575,6 +575,57 @@ fn the_window_opens_under_xvfb() {
     assert!(!stderr.contains("panicked"), "{stderr}");
 }
 
+/// The editor that cannot open its window says what to do and exits non-zero: with no
+/// display (run it under Xvfb), and with a display but no graphics backend wgpu can use
+/// (install a Vulkan driver; `WGPU_BACKEND=dx12` stands in for a machine without one).
+#[test]
+fn an_editor_that_cannot_open_its_window_says_what_to_do() {
+    let runtime = tempfile::tempdir().unwrap();
+    let editor = || {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"));
+        c.env("XDG_RUNTIME_DIR", runtime.path())
+            .env("HOME", runtime.path())
+            .env_remove("WAYLAND_DISPLAY");
+        c
+    };
+    let out = editor().env_remove("DISPLAY").output().unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "no display: {stderr}");
+    assert!(
+        stderr.contains("could not open the editor window") && stderr.contains("xvfb-run -a"),
+        "no display: {stderr}"
+    );
+    let have_xvfb = std::process::Command::new("xvfb-run")
+        .arg("--help")
+        .output()
+        .is_ok();
+    if !have_xvfb {
+        assert!(!in_ci(), "CI must run the window test: xvfb-run not found");
+        eprintln!("\n!!!!! SKIPPING the no-backend half: xvfb-run not installed !!!!!\n");
+        return;
+    }
+    let out = std::process::Command::new("xvfb-run")
+        .args([
+            "-a",
+            "-s",
+            "-screen 0 640x480x24",
+            env!("CARGO_BIN_EXE_windloom"),
+        ])
+        .env("XDG_RUNTIME_DIR", runtime.path())
+        .env("HOME", runtime.path())
+        .env("WGPU_BACKEND", "dx12")
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "no backend: {stderr}");
+    assert!(
+        stderr.contains("could not open the editor window")
+            && stderr.contains("apt-get install mesa-vulkan-drivers"),
+        "no backend: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+}
+
 #[test]
 fn export_dialog_bakes_in_the_background_and_cancel_leaves_nothing() {
     let ctx = egui::Context::default();
