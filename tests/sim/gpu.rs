@@ -1,0 +1,536 @@
+use super::example;
+use windloom::doc::{Advection, Boundary};
+use windloom::gpu::fluid::{FieldId, GpuFluid, SHADERS, shader_source};
+use windloom::gpu::mapview;
+use windloom::gpu::{GpuContext, GpuError};
+use windloom::sim::Solver;
+
+#[test]
+fn every_shader_parses_and_validates_with_naga() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("shaders");
+    let mut on_disk: Vec<String> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n.ends_with(".wgsl") && n != "common.wgsl")
+        .collect();
+    on_disk.sort();
+    // Headers, validated inside every pass they are prepended to.
+    on_disk.retain(|n| {
+        n != "map_common.wgsl"
+            && n != "grass_common.wgsl"
+            && n != "grass_shape.wgsl"
+            && n != "mg_common.wgsl"
+    });
+    let mut listed: Vec<String> = SHADERS
+        .iter()
+        .chain(mapview::SHADERS.iter())
+        .chain(windloom::gpu::grass::SHADERS.iter())
+        .chain(windloom::gpu::multigrid::MG_SHADERS.iter())
+        .map(|(n, _)| format!("{n}.wgsl"))
+        .collect();
+    listed.sort();
+    assert_eq!(
+        on_disk, listed,
+        "every shader file is compiled by the solver or the map view"
+    );
+    let sources = SHADERS
+        .iter()
+        .map(|(n, _)| (n, shader_source(n).unwrap()))
+        .chain(
+            mapview::SHADERS
+                .iter()
+                .map(|(n, _)| (n, mapview::shader_source(n).unwrap())),
+        )
+        .chain(
+            windloom::gpu::grass::SHADERS
+                .iter()
+                .map(|(n, _)| (n, windloom::gpu::grass::shader_source(n).unwrap())),
+        )
+        .chain(
+            windloom::gpu::multigrid::MG_SHADERS
+                .iter()
+                .map(|(n, _)| (n, windloom::gpu::multigrid::shader_source(n).unwrap())),
+        );
+    for (name, source) in sources {
+        let module = naga::front::wgsl::parse_str(&source)
+            .unwrap_or_else(|e| panic!("{name}.wgsl: {}", e.emit_to_string(&source)));
+        naga::valid::Validator::new(
+            naga::valid::ValidationFlags::all(),
+            naga::valid::Capabilities::empty(),
+        )
+        .validate(&module)
+        .unwrap_or_else(|e| panic!("{name}.wgsl: {}", e.emit_to_string(&source)));
+    }
+}
+
+/// The software adapter; CI must have it (it installs lavapipe), elsewhere a missing
+/// adapter skips loudly.
+fn context() -> Option<GpuContext> {
+    match GpuContext::headless() {
+        Ok(c) => Some(c),
+        Err(e @ GpuError::NoAdapter(_)) if std::env::var_os("CI").is_none() => {
+            eprintln!("\n!!! SKIPPING a GPU test: {e}\n");
+            None
+        }
+        Err(e) => panic!("CI requires a GPU adapter (lavapipe): {e}"),
+    }
+}
+
+/// Deterministic pseudo-random values in `[-a, a]`.
+fn noise(n: usize, seed: u64, a: f32) -> Vec<f32> {
+    let mut s = seed
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (0..n)
+        .map(|_| {
+            s = s
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            ((s >> 40) as f32 / (1u64 << 24) as f32 * 2.0 - 1.0) * a
+        })
+        .collect()
+}
+
+/// The obstacles example on a small grid with non-square cells, in `boundary` mode, with
+/// a random field (zero on the faces that are not free).
+fn random_solver(boundary: Boundary, seed: u64) -> Solver {
+    let mut l = example("obstacles.json");
+    l.world.grid = [40, 28];
+    l.sim.boundary = boundary;
+    l.sim.advection = Advection::SemiLagrangian;
+    let mut s = Solver::new(&l);
+    let (nu, nv) = (s.u.len(), s.v.len());
+    let (u, v) = s.faces_mut();
+    u.copy_from_slice(&noise(nu, seed, 6.0));
+    v.copy_from_slice(&noise(nv, seed + 1, 6.0));
+    s.enforce_boundaries();
+    let n = s.p.len();
+    s.p = noise(n, seed + 2, 3.0);
+    s.div = noise(n, seed + 3, 2.0);
+    s.compute_curl();
+    s
+}
+
+fn max_err(gpu: &[f32], cpu: &[f32]) -> (f32, f32) {
+    assert_eq!(gpu.len(), cpu.len());
+    let peak = cpu.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+    let err = gpu
+        .iter()
+        .zip(cpu)
+        .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()));
+    (err, peak)
+}
+
+fn check(what: &str, gpu: &[f32], cpu: &[f32], rel: f32) {
+    let (err, peak) = max_err(gpu, cpu);
+    println!("{what}: max |GPU − CPU| {err:.2e}, peak {peak:.3}");
+    assert!(peak > 0.0, "{what}: an all-zero field tests nothing");
+    assert!(
+        err <= rel * peak,
+        "{what}: GPU differs from the CPU by {err} (peak {peak}, allowed {})",
+        rel * peak
+    );
+}
+
+/// Each pass on the GPU against the same pass on the CPU, from the same random state, on
+/// every boundary mode with obstacles: max error ≤ 1e-5 of the field's peak.
+#[test]
+fn each_pass_matches_the_cpu_on_every_boundary_with_obstacles() {
+    let Some(ctx) = context() else { return };
+    let (device, queue) = (&ctx.device, &ctx.queue);
+    for (n, boundary) in [Boundary::Closed, Boundary::Open, Boundary::Periodic]
+        .into_iter()
+        .enumerate()
+    {
+        let seed = 100 * n as u64;
+        let base = random_solver(boundary, seed);
+        let dt = base.params.dt;
+        let mut gpu = GpuFluid::new(device, &base);
+        let run = |gpu: &mut GpuFluid, pass: &dyn Fn(&mut GpuFluid, &mut wgpu::CommandEncoder)| {
+            gpu.upload_state(queue, &base);
+            let mut enc = device.create_command_encoder(&Default::default());
+            pass(gpu, &mut enc);
+            queue.submit([enc.finish()]);
+        };
+        let get = |gpu: &GpuFluid, f| gpu.download(device, queue, f).unwrap();
+        let tag = |pass: &str| format!("{pass} ({boundary:?})");
+
+        // Forces: the arrows, and every kind of ambient layer.
+        let mut windy = example("obstacles.json");
+        windy.ambient = example("meadow.json").ambient;
+        windy.ambient.extend(example("breeze-fft.json").ambient);
+        let extra = [
+            r#"{"type":"noise","direction_deg":30,"scale":9,"speed":3,"strength":4}"#,
+            r#"{"type":"sine","direction_deg":-60,"amplitude":2.5,"wavelength":17,"frequency":0.4}"#,
+        ];
+        for (n, k) in extra.iter().enumerate() {
+            windy.ambient.push(windloom::doc::AmbientLayer {
+                id: 90 + n as u32,
+                name: format!("extra {n}"),
+                enabled: true,
+                kind: serde_json::from_str(k).unwrap(),
+            });
+        }
+        let kinds: std::collections::BTreeSet<&str> =
+            windy.ambient.iter().map(|a| a.kind.type_name()).collect();
+        assert_eq!(kinds.len(), 4, "{kinds:?}");
+        let t = 1.7;
+        let mut cpu = random_solver(boundary, seed);
+        let mut l = windy.clone();
+        l.world.grid = [40, 28];
+        l.sim.boundary = boundary;
+        let mut cpu_windy = Solver::new(&l);
+        cpu_windy.u.clone_from(&cpu.u);
+        cpu_windy.v.clone_from(&cpu.v);
+        cpu_windy.time = t;
+        cpu_windy.apply_forces(dt);
+        cpu.u = cpu_windy.u;
+        cpu.v = cpu_windy.v;
+        let splats = windloom::sim::forces::agc_splats(&windy, t);
+        assert!(!splats.is_empty());
+        let mut ambient = windloom::sim::forces::Ambient::new(&windy);
+        ambient.set_time(t);
+        let (layers, gusts) = ambient.layer_params();
+        let coupling = 1.0 - (-base.params.ambient_coupling * dt).exp();
+        run(&mut gpu, &|g, e| {
+            g.forces(device, queue, e, &splats, (&layers, &gusts, coupling), dt)
+        });
+        check(&tag("forces u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+        check(&tag("forces v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+        let moved = cpu
+            .u
+            .iter()
+            .zip(&base.u)
+            .filter(|(a, b)| (*a - *b).abs() > 1e-3)
+            .count();
+        assert!(
+            moved > 50,
+            "the arrows moved {moved} faces: a real test of the forces"
+        );
+
+        let mut cpu = random_solver(boundary, seed);
+        cpu.curl.fill(0.0);
+        cpu.compute_curl();
+        run(&mut gpu, &|g, e| g.curl(device, e));
+        check(&tag("curl"), &get(&gpu, FieldId::Curl), &cpu.curl, 1e-5);
+
+        let mut cpu = random_solver(boundary, seed);
+        cpu.confine_vorticity(dt);
+        run(&mut gpu, &|g, e| g.confine(device, queue, e, dt));
+        check(&tag("confinement u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+        check(&tag("confinement v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+
+        let mut cpu = random_solver(boundary, seed);
+        cpu.compute_divergence();
+        run(&mut gpu, &|g, e| g.divergence(device, e));
+        check(&tag("divergence"), &get(&gpu, FieldId::Div), &cpu.div, 1e-5);
+
+        let mut cpu = random_solver(boundary, seed);
+        cpu.solve_pressure();
+        let iterations = cpu.params.pressure_iterations as usize;
+        run(&mut gpu, &|g, e| g.pressure(device, e, iterations));
+        check(&tag("pressure"), &get(&gpu, FieldId::P), &cpu.p, 1e-5);
+
+        let mut cpu = random_solver(boundary, seed);
+        cpu.subtract_gradient();
+        run(&mut gpu, &|g, e| g.gradient(device, e));
+        check(&tag("gradient u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+        check(&tag("gradient v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+
+        let mut cpu = random_solver(boundary, seed);
+        cpu.advect(dt);
+        let keep = 1.0 / (1.0 + cpu.params.velocity_dissipation * dt);
+        gpu.upload_state(queue, &base);
+        let mut enc = device.create_command_encoder(&Default::default());
+        gpu.advect(device, queue, &mut enc, dt, keep, false);
+        queue.submit([enc.finish()]);
+        check(&tag("advection u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+        check(&tag("advection v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+
+        let mut cpu = random_solver(boundary, seed);
+        cpu.params.advection = Advection::MacCormack;
+        cpu.advect(dt);
+        gpu.upload_state(queue, &base);
+        let mut enc = device.create_command_encoder(&Default::default());
+        gpu.advect(device, queue, &mut enc, dt, keep, true);
+        queue.submit([enc.finish()]);
+        check(&tag("MacCormack u"), &get(&gpu, FieldId::U), &cpu.u, 1e-5);
+        check(&tag("MacCormack v"), &get(&gpu, FieldId::V), &cpu.v, 1e-5);
+    }
+}
+
+/// The passes chained over 12 substeps (no forces: that pass is still CPU-only) from a
+/// random field: the GPU's velocity stays within 1e-4 of the CPU's peak. Bits differ only
+/// in the pressure solve (fused multiply-adds), and advection carries those on.
+#[test]
+fn the_passes_chained_stay_with_the_cpu() {
+    let Some(ctx) = context() else { return };
+    let (device, queue) = (&ctx.device, &ctx.queue);
+    for boundary in [Boundary::Closed, Boundary::Open, Boundary::Periodic] {
+        let mut cpu = random_solver(boundary, 7);
+        let mut gpu = GpuFluid::new(device, &cpu);
+        gpu.upload_state(queue, &cpu);
+        let dt = cpu.params.dt;
+        let keep = 1.0 / (1.0 + cpu.params.velocity_dissipation * dt);
+        let iterations = cpu.params.pressure_iterations as usize;
+        for _ in 0..12 {
+            cpu.compute_curl();
+            cpu.confine_vorticity(dt);
+            cpu.compute_divergence();
+            cpu.solve_pressure();
+            cpu.subtract_gradient();
+            cpu.advect(dt);
+            gpu.substep_without_forces(device, queue, dt, iterations, keep, false);
+        }
+        let u = gpu.download(device, queue, FieldId::U).unwrap();
+        let v = gpu.download(device, queue, FieldId::V).unwrap();
+        check(&format!("12 substeps, u ({boundary:?})"), &u, &cpu.u, 1e-4);
+        check(&format!("12 substeps, v ({boundary:?})"), &v, &cpu.v, 1e-4);
+    }
+}
+
+fn mean_speed(f: &[[f32; 2]]) -> f64 {
+    f.iter().map(|v| f64::from(v[0].hypot(v[1]))).sum::<f64>() / f.len() as f64
+}
+
+fn energy(f: &[[f32; 2]]) -> f64 {
+    f.iter()
+        .map(|v| 0.5 * f64::from(v[0] * v[0] + v[1] * v[1]))
+        .sum()
+}
+
+/// 200 whole steps of the example layouts the GPU covers, from rest, on the GPU and on the
+/// CPU: the kinetic energy and the mean speed agree within 2%. Eddies amplify a last-bit
+/// difference (the pressure solve's fused multiply-adds) into a different but equally
+/// likely flow, so the fields are compared point by point only where the flow is steady.
+#[test]
+fn whole_runs_agree_with_the_cpu() {
+    let Some(ctx) = context() else { return };
+    use windloom::doc::PressureSolve::{Jacobi, Multigrid};
+    for (name, grid, advection, pressure) in [
+        ("meadow.json", [60, 40], Advection::SemiLagrangian, Jacobi),
+        (
+            "breeze-fft.json",
+            [48, 48],
+            Advection::SemiLagrangian,
+            Jacobi,
+        ),
+        (
+            "branching.json",
+            [60, 40],
+            Advection::SemiLagrangian,
+            Jacobi,
+        ),
+        (
+            "two-winds.json",
+            [60, 40],
+            Advection::SemiLagrangian,
+            Jacobi,
+        ),
+        (
+            "obstacles.json",
+            [48, 48],
+            Advection::SemiLagrangian,
+            Jacobi,
+        ),
+        ("two-winds.json", [60, 40], Advection::MacCormack, Jacobi),
+        (
+            "meadow.json",
+            [60, 40],
+            Advection::SemiLagrangian,
+            Multigrid,
+        ),
+        (
+            "breeze-fft.json",
+            [48, 48],
+            Advection::SemiLagrangian,
+            Multigrid,
+        ),
+        (
+            "obstacles.json",
+            [48, 48],
+            Advection::SemiLagrangian,
+            Multigrid,
+        ),
+    ] {
+        let mut l = example(name);
+        l.world.grid = grid;
+        l.sim.advection = advection;
+        l.sim.pressure = pressure;
+        let mut cpu = Solver::new(&l);
+        let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
+        for _ in 0..200 {
+            cpu.step();
+            gpu.step(&ctx);
+        }
+        gpu.finish(&ctx).unwrap();
+        assert!((gpu.time - cpu.time).abs() < 1e-4);
+        let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
+        let peak = b.iter().fold(0.0f32, |m, v| m.max(v[0].hypot(v[1])));
+        let err = a
+            .iter()
+            .zip(&b)
+            .fold(0.0f32, |m, (p, q)| m.max((p[0] - q[0]).hypot(p[1] - q[1])));
+        let (ea, eb) = (energy(&a), energy(&b));
+        let (sa, sb) = (mean_speed(&a), mean_speed(&b));
+        println!(
+            "{name} ({advection:?}, {pressure:?}): 200 steps, max |Δv| {err:.2e} of peak {peak:.2}, energy {ea:.1} vs {eb:.1}, mean speed {sa:.3} vs {sb:.3}"
+        );
+        assert!(peak > 1.0, "{name}: the wind blows");
+        // At these grids and lengths the flows have not yet diverged: point by point too.
+        assert!(err <= 1e-3 * peak, "{name}: max |Δv| {err} of peak {peak}");
+        assert!((ea / eb - 1.0).abs() < 0.02, "{name}: energy {ea} vs {eb}");
+        assert!(
+            (sa / sb - 1.0).abs() < 0.02,
+            "{name}: mean speed {sa} vs {sb}"
+        );
+    }
+}
+
+fn bake_raw(backend: windloom::bake::Backend) -> (Vec<f32>, windloom::bake::Manifest) {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bake");
+    let opts = windloom::bake::BakeOptions {
+        formats: vec![windloom::bake::Format::Raw],
+        warmup: 1.0,
+        frames: 3,
+        fps: 10.0,
+        grid: Some([60, 40]),
+        backend,
+        ..Default::default()
+    };
+    let m = windloom::bake::bake(
+        &example("two-winds.json"),
+        &out,
+        &opts,
+        &std::sync::atomic::AtomicBool::new(false),
+        &mut |_, _, _| {},
+    )
+    .unwrap();
+    let bytes = std::fs::read(out.join("wind.f32")).unwrap();
+    let data = bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect();
+    (data, m)
+}
+
+/// `bake --backend gpu` and `--backend cpu` of the same layout give the same wind within
+/// the whole-run bound; `auto` on a software adapter bakes on the CPU and says why.
+#[test]
+fn a_gpu_bake_agrees_with_a_cpu_bake() {
+    let Some(_ctx) = context() else { return };
+    use windloom::bake::Backend;
+    let (cpu, mc) = bake_raw(Backend::Cpu);
+    let (gpu, mg) = bake_raw(Backend::Gpu);
+    assert_eq!(mc.solver, "cpu");
+    assert!(mg.solver.starts_with("gpu: "), "{}", mg.solver);
+    let peak = cpu.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+    let err = gpu
+        .iter()
+        .zip(&cpu)
+        .fold(0.0f32, |m, (a, b)| m.max((a - b).abs()));
+    println!("gpu bake vs cpu bake: max error {err:.2e} of peak {peak:.2}");
+    assert!(peak > 1.0 && err <= 1e-3 * peak, "{err} of {peak}");
+    if _ctx.adapter.device_type == wgpu::DeviceType::Cpu {
+        let (auto, ma) = bake_raw(Backend::Auto);
+        assert_eq!(ma.solver, "cpu");
+        assert!(
+            ma.notes.iter().any(|n| n.contains("software")),
+            "{:?}",
+            ma.notes
+        );
+        assert_eq!(auto, cpu);
+    }
+}
+
+#[test]
+fn bench_reports_the_gpu_it_ran_on() {
+    let Some(_ctx) = context() else { return };
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bench",
+            "--backend",
+            "gpu",
+            "--grid",
+            "48",
+            "--steps",
+            "3",
+            "--warmup",
+            "1",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["backend"], "gpu");
+    assert_eq!(r["adapter"]["name"], _ctx.adapter.name.as_str());
+    assert_eq!(r["grid"], serde_json::json!([48, 48]));
+    assert!(r["median_ms"].as_f64().unwrap() > 0.0);
+    assert!(r["bytes_per_step"].as_u64().unwrap() > 0);
+    // lavapipe has timestamp queries: every pass of the obstacles layout is timed, and
+    // the passes add up to no more than the wall time of a step.
+    if r["timestamps"] == true {
+        let passes = r["passes_ms"].as_object().unwrap();
+        for p in [
+            "forces",
+            "curl",
+            "confinement",
+            "divergence",
+            "pressure",
+            "gradient",
+            "advection",
+        ] {
+            assert!(passes[p].as_f64().unwrap() >= 0.0, "{p} timed: {passes:?}");
+        }
+        let sum: f64 = passes.values().map(|v| v.as_f64().unwrap()).sum();
+        assert!(
+            sum > 0.0 && sum <= r["median_ms"].as_f64().unwrap() * 1.5,
+            "{sum} vs {}",
+            r["median_ms"]
+        );
+    }
+}
+
+/// `bench --grass` prints one JSON object per run: the model and culling asked for, and
+/// counters that account for every blade; culling draws fewer blades than no culling.
+#[test]
+fn grass_bench_reports_the_model_culling_and_every_blade() {
+    let Some(_ctx) = context() else { return };
+    let run = |model: &str, cull: &str| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+            .args([
+                "bench", "--grass", "20000", "--model", model, "--cull", cull, "--size", "320x180",
+                "--steps", "2", "--json",
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(r["model"], model);
+        assert_eq!(r["cull"], cull == "on");
+        assert_eq!(r["adapter"], _ctx.adapter.name.as_str());
+        let c = &r["culled"];
+        let n = |v: &serde_json::Value| v.as_u64().unwrap();
+        let drawn: u64 = c["drawn"].as_array().unwrap().iter().map(n).sum();
+        assert_eq!(
+            drawn + n(&c["orientation"]) + n(&c["frustum"]) + n(&c["distance"]),
+            n(&r["blades"]),
+            "{r}"
+        );
+        assert!(r["median_ms"].as_f64().unwrap() > 0.0);
+        drawn
+    };
+    for model in ["cwd", "bezier"] {
+        let (on, off) = (run(model, "on"), run(model, "off"));
+        println!("{model}: {on} blades drawn culled, {off} not");
+        assert!(on < off, "culling draws fewer blades");
+    }
+}
+
+/// The grass passes against the CPU model (`grass::cwd`), and pictures of them.
+mod grass;
+
+/// The map view's passes (`shaders/map_*.wgsl`) against their CPU twins in `app::view`.
+mod map;
