@@ -1,0 +1,752 @@
+//! Bakes read back by readers written from the format specifications
+//! (`../shared/reference/export-formats.md`), not by the writers' code, and compared with the
+//! raw field.
+
+use std::collections::{BTreeMap, BTreeSet};
+use std::path::{Path, PathBuf};
+use std::sync::atomic::AtomicBool;
+use windloom::bake::{self, BakeOptions, Format};
+use windloom::doc::Layout;
+
+fn example(name: &str) -> Layout {
+    let p = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("layouts")
+        .join(name);
+    windloom::io::load(&p).unwrap()
+}
+
+fn run(layout: &Layout, out: &Path, opts: &BakeOptions) -> bake::Manifest {
+    bake::bake(
+        layout,
+        out,
+        opts,
+        &AtomicBool::new(false),
+        &mut |_, _, _| {},
+    )
+    .unwrap()
+}
+
+fn small(frames: usize) -> BakeOptions {
+    BakeOptions {
+        warmup: 1.5,
+        frames,
+        fps: 10.0,
+        grid: Some([48, 32]),
+        ..Default::default()
+    }
+}
+
+fn f32s(bytes: &[u8]) -> Vec<f32> {
+    bytes
+        .chunks_exact(4)
+        .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+        .collect()
+}
+
+/// The raw bake: `[frame][j][i][x, z]`.
+struct Raw {
+    nx: usize,
+    ny: usize,
+    data: Vec<f32>,
+}
+
+impl Raw {
+    fn read(dir: &Path, m: &serde_json::Value) -> Raw {
+        let grid = &m["grid"];
+        let (nx, ny) = (
+            grid[0].as_u64().unwrap() as usize,
+            grid[1].as_u64().unwrap() as usize,
+        );
+        let data = f32s(&std::fs::read(dir.join("wind.f32")).unwrap());
+        let frames = m["frames"]["count"].as_u64().unwrap() as usize;
+        assert_eq!(data.len(), frames * nx * ny * 2, "raw length");
+        Raw { nx, ny, data }
+    }
+
+    fn at(&self, frame: usize, i: usize, j: usize) -> [f32; 2] {
+        let k = ((frame * self.ny + j) * self.nx + i) * 2;
+        [self.data[k], self.data[k + 1]]
+    }
+}
+
+fn manifest(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap()
+}
+
+fn file_of<'a>(m: &'a serde_json::Value, format: &str) -> Vec<&'a serde_json::Value> {
+    m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|f| f["format"] == format)
+        .collect()
+}
+
+#[test]
+fn manifest_lists_exactly_the_files_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let layout = example("obstacles.json");
+    run(&layout, dir.path(), &small(3));
+    let m = manifest(dir.path());
+    assert_eq!(m["format"], "windloom-bake");
+    assert_eq!(m["version"], 1);
+    assert_eq!(m["layout"]["name"], "Obstacles");
+    assert_eq!(
+        m["layout"]["hash"],
+        bake::layout_hash(&{
+            let mut l = layout.clone();
+            l.world.grid = [48, 32];
+            l
+        })
+    );
+    assert_eq!(m["grid"], serde_json::json!([48, 32]));
+    assert_eq!(m["world"]["units"], "m");
+    assert_eq!(m["world"]["max"], serde_json::json!([120.0, 120.0]));
+    assert_eq!(m["frames"]["count"], 3);
+    assert_eq!(m["frames"]["fps"], 10.0);
+    assert_eq!(m["frames"]["loop"], false);
+    for f in m["files"].as_array().unwrap() {
+        assert!(f["axes"].is_object() && f["encoding"].is_object(), "{f}");
+    }
+    let listed: BTreeSet<String> = m["files"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| f["name"].as_str().unwrap().to_string())
+        .chain(["manifest.json".to_string()])
+        .collect();
+    let on_disk: BTreeSet<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().into_string().unwrap())
+        .collect();
+    assert_eq!(listed, on_disk, "no staging leftovers, nothing unlisted");
+    for f in m["files"].as_array().unwrap() {
+        let len = std::fs::metadata(dir.path().join(f["name"].as_str().unwrap()))
+            .unwrap()
+            .len();
+        assert_eq!(f["bytes"].as_u64().unwrap(), len);
+    }
+}
+
+#[test]
+fn fga_reads_back_per_the_unreal_format() {
+    let dir = tempfile::tempdir().unwrap();
+    run(&example("obstacles.json"), dir.path(), &small(1));
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let text = std::fs::read_to_string(dir.path().join("wind.fga")).unwrap();
+    // Comma-separated numbers with any whitespace between them.
+    let nums: Vec<f64> = text
+        .split([',', '\n', ' ', '\r', '\t'])
+        .filter(|t| !t.is_empty())
+        .map(|t| t.parse().unwrap())
+        .collect();
+    let (sx, sy, sz) = (nums[0] as usize, nums[1] as usize, nums[2] as usize);
+    assert_eq!((sx, sy, sz), (48, 32, 1));
+    // Bounds in centimetres: x and z of the world, a slab in Unreal Z.
+    assert_eq!(&nums[3..9], &[0.0, 0.0, 0.0, 12000.0, 12000.0, 200.0]);
+    let vecs = &nums[9..];
+    assert_eq!(
+        vecs.len(),
+        sx * sy * sz * 3,
+        "exactly SizeX*SizeY*SizeZ vectors"
+    );
+    // X fastest, then Y: index x + SizeX * y; vectors in cm/s, Unreal Y = world z.
+    for (i, j) in [(0, 0), (47, 0), (5, 17), (47, 31), (20, 9)] {
+        let k = (i + sx * j) * 3;
+        let want = raw.at(0, i, j);
+        assert!(
+            (vecs[k] - f64::from(want[0]) * 100.0).abs() < 1e-2,
+            "x at {i},{j}"
+        );
+        assert!(
+            (vecs[k + 1] - f64::from(want[1]) * 100.0).abs() < 1e-2,
+            "y at {i},{j}"
+        );
+        assert_eq!(vecs[k + 2], 0.0);
+    }
+    // Size, minimum and maximum on three lines, then one vector per line.
+    assert_eq!(text.lines().count(), 3 + sx * sy);
+}
+
+/// Reads an FGA the way line-based readers do (Blender's FGA add-on and others): line 1 the
+/// sizes, line 2 the minimum corner, line 3 the maximum corner, then one vector per line.
+fn fga_by_lines(text: &str) -> ([usize; 3], [f64; 3], [f64; 3], Vec<[f64; 3]>) {
+    let mut lines = text.lines();
+    let mut row = |what: &str| -> Vec<f64> {
+        lines
+            .next()
+            .unwrap_or_else(|| panic!("no {what} line"))
+            .split(',')
+            .filter(|t| !t.trim().is_empty())
+            .map(|t| t.trim().parse().unwrap())
+            .collect()
+    };
+    let size = row("size");
+    let min = row("min");
+    let max = row("max");
+    assert_eq!(
+        (size.len(), min.len(), max.len()),
+        (3, 3, 3),
+        "three values a line"
+    );
+    let vectors: Vec<[f64; 3]> = lines
+        .map(|l| {
+            let v: Vec<f64> = l
+                .split(',')
+                .filter(|t| !t.trim().is_empty())
+                .map(|t| t.trim().parse().unwrap())
+                .collect();
+            assert_eq!(v.len(), 3, "one vector per line: {l:?}");
+            [v[0], v[1], v[2]]
+        })
+        .collect();
+    (
+        [size[0] as usize, size[1] as usize, size[2] as usize],
+        [min[0], min[1], min[2]],
+        [max[0], max[1], max[2]],
+        vectors,
+    )
+}
+
+#[test]
+fn fga_reads_the_same_line_by_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let layout = example("two-winds.json");
+    run(&layout, dir.path(), &small(1));
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let text = std::fs::read_to_string(dir.path().join("wind.fga")).unwrap();
+    let (size, min, max, vectors) = fga_by_lines(&text);
+    assert_eq!(size, [48, 32, 1]);
+    let (lo, hi) = layout.bounds();
+    assert_eq!(
+        min,
+        [f64::from(lo[0]) * 100.0, f64::from(lo[1]) * 100.0, 0.0]
+    );
+    assert_eq!(
+        max,
+        [f64::from(hi[0]) * 100.0, f64::from(hi[1]) * 100.0, 200.0]
+    );
+    assert_eq!(vectors.len(), 48 * 32);
+    for (i, j) in [(0, 0), (3, 5), (47, 31), (20, 9)] {
+        let v = vectors[i + 48 * j];
+        let want = raw.at(0, i, j);
+        assert!(
+            (v[0] - f64::from(want[0]) * 100.0).abs() < 1e-2,
+            "x at {i},{j}"
+        );
+        assert!(
+            (v[1] - f64::from(want[1]) * 100.0).abs() < 1e-2,
+            "y at {i},{j}"
+        );
+    }
+}
+
+#[test]
+fn fga_is_area_averaged_down_to_128() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Fga, Format::Raw],
+        grid: Some([256, 192]),
+        warmup: 1.0,
+        ..Default::default()
+    };
+    let m = run(&example("obstacles.json"), dir.path(), &opts);
+    assert!(
+        m.notes
+            .iter()
+            .any(|n| n.contains("resampled 256x192 to 128x96")),
+        "{:?}",
+        m.notes
+    );
+    let fga = m.files.iter().find(|f| f.format == Format::Fga).unwrap();
+    assert_eq!(fga.grid, [128, 96]);
+    assert_eq!(fga.resampled_from, Some([256, 192]));
+    let mj = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &mj);
+    let text = std::fs::read_to_string(dir.path().join("wind.fga")).unwrap();
+    let nums: Vec<f64> = text
+        .split([',', '\n'])
+        .filter(|t| !t.trim().is_empty())
+        .map(|t| t.trim().parse().unwrap())
+        .collect();
+    // Each FGA cell is the mean of a 2×2 block of the raw grid.
+    for (i, j) in [(0, 0), (63, 40), (127, 95), (10, 70)] {
+        let k = 9 + (i + 128 * j) * 3;
+        let mut mean = [0.0f64; 2];
+        for (di, dj) in [(0, 0), (1, 0), (0, 1), (1, 1)] {
+            let v = raw.at(0, 2 * i + di, 2 * j + dj);
+            mean[0] += f64::from(v[0]) * 25.0;
+            mean[1] += f64::from(v[1]) * 25.0;
+        }
+        assert!(
+            (nums[k] - mean[0]).abs() < 1e-2 && (nums[k + 1] - mean[1]).abs() < 1e-2,
+            "cell {i},{j}"
+        );
+    }
+}
+
+#[test]
+fn vf_reads_back_per_the_unity_format() {
+    let dir = tempfile::tempdir().unwrap();
+    run(&example("two-winds.json"), dir.path(), &small(1));
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let bytes = std::fs::read(dir.path().join("wind.vf")).unwrap();
+    assert_eq!(&bytes[0..4], b"VF_V");
+    let size: Vec<usize> = bytes[4..10]
+        .chunks_exact(2)
+        .map(|c| u16::from_le_bytes([c[0], c[1]]) as usize)
+        .collect();
+    assert_eq!(size, vec![48, 1, 32]);
+    assert_eq!(bytes.len(), 10 + 4 * 3 * 48 * 32, "exact length");
+    let v = f32s(&bytes[10..]);
+    // Unity Z points north: Z index k holds grid row ny-1-k; vectors (x, 0, -z).
+    for (i, j) in [(0, 0), (47, 31), (24, 16), (3, 29)] {
+        let k = 31 - j;
+        let idx = (i + 48 * k) * 3;
+        let want = raw.at(0, i, j);
+        assert_eq!(
+            [v[idx], v[idx + 1], v[idx + 2]],
+            [want[0], 0.0, -want[1]],
+            "cell {i},{j}"
+        );
+    }
+}
+
+#[test]
+fn exr_reads_back_with_the_exr_crate() {
+    use exr::prelude::*;
+    for half in [false, true] {
+        let dir = tempfile::tempdir().unwrap();
+        let opts = BakeOptions {
+            formats: vec![Format::Exr, Format::Raw],
+            half,
+            ..small(1)
+        };
+        run(&example("meadow.json"), dir.path(), &opts);
+        let m = manifest(dir.path());
+        let raw = Raw::read(dir.path(), &m);
+        let image = read_all_flat_layers_from_file(dir.path().join("wind.exr")).unwrap();
+        let layer = &image.layer_data[0];
+        assert_eq!(layer.size, Vec2(48, 32));
+        let names: Vec<String> = layer
+            .channel_data
+            .list
+            .iter()
+            .map(|c| c.name.to_string())
+            .collect();
+        assert_eq!(names, ["B", "G", "R"], "R, G and B are all present");
+        let channel = |name: &str| {
+            let c = layer
+                .channel_data
+                .list
+                .iter()
+                .find(|c| c.name.to_string() == name)
+                .unwrap();
+            c.sample_data.values_as_f32().collect::<Vec<f32>>()
+        };
+        let (r, g, b) = (channel("R"), channel("G"), channel("B"));
+        for (i, j) in [(0, 0), (47, 31), (24, 16), (10, 20)] {
+            let want = raw.at(0, i, j);
+            let k = j * 48 + i;
+            let tol = if half {
+                2e-3 * want[0].abs().max(want[1].abs()).max(1.0)
+            } else {
+                0.0
+            };
+            assert!(
+                (r[k] - want[0]).abs() <= tol,
+                "R at {i},{j}: {} vs {}",
+                r[k],
+                want[0]
+            );
+            assert!((g[k] - want[1]).abs() <= tol, "G at {i},{j}");
+            assert!(
+                (b[k] - want[0].hypot(want[1])).abs() <= tol.max(1e-6),
+                "B at {i},{j}"
+            );
+        }
+    }
+}
+
+#[test]
+fn png_flowmaps_decode_within_quantisation() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Png8, Format::Png16, Format::Raw],
+        ..small(1)
+    };
+    let manifest_struct = run(&example("branching.json"), dir.path(), &opts);
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let scale = m["max_speed"].as_f64().unwrap() as f32;
+    assert!((scale - manifest_struct.max_speed).abs() < 1e-6 && scale > 1.0);
+    for (name, max, bits) in [("flow8.png", 255.0f32, 8), ("flow16.png", 65535.0, 16)] {
+        let entry = file_of(&m, if bits == 8 { "png8" } else { "png16" })[0];
+        assert_eq!(entry["encoding"]["scale"].as_f64().unwrap() as f32, scale);
+        let img = image::open(dir.path().join(name)).unwrap();
+        assert_eq!((img.width(), img.height()), (48, 32));
+        let img = img.to_rgb16();
+        let step = 2.0 * scale / max; // one quantisation step in m/s
+        for (i, j) in [(0, 0), (47, 31), (24, 16), (10, 5)] {
+            let p = img.get_pixel(i as u32, j as u32);
+            // to_rgb16 widens 8-bit values by 257; divide back to the file's own levels.
+            let to_unit = |c: u16| {
+                if bits == 8 {
+                    f32::from(c) / 257.0 / 255.0
+                } else {
+                    f32::from(c) / 65535.0
+                }
+            };
+            let decode = |c: u16| (to_unit(c) * 2.0 - 1.0) * scale;
+            let want = raw.at(0, i, j);
+            assert!(
+                (decode(p[0]) - want[0]).abs() <= step,
+                "{name} R at {i},{j}"
+            );
+            assert!(
+                (decode(p[1]) - want[1]).abs() <= step,
+                "{name} G at {i},{j}"
+            );
+            assert_eq!(p[2], 0, "{name} B unused");
+        }
+    }
+}
+
+#[test]
+fn atlas_holds_every_frame_where_the_manifest_says() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Atlas, Format::Raw],
+        ..small(5)
+    };
+    run(&example("obstacles.json"), dir.path(), &opts);
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let entry = file_of(&m, "atlas")[0];
+    let sub = &entry["axes"]["sub_images"];
+    let (cols, rows) = (
+        sub["columns"].as_u64().unwrap() as u32,
+        sub["rows"].as_u64().unwrap() as u32,
+    );
+    assert_eq!((cols, rows, sub["count"].as_u64().unwrap()), (3, 2, 5));
+    let img = image::open(dir.path().join("atlas.png"))
+        .unwrap()
+        .to_rgb16();
+    assert_eq!((img.width(), img.height()), (cols * 48, rows * 32));
+    let scale = m["max_speed"].as_f64().unwrap() as f32;
+    for frame in 0..5 {
+        let (ox, oy) = ((frame as u32 % cols) * 48, (frame as u32 / cols) * 32);
+        for (i, j) in [(0, 0), (47, 31), (20, 10)] {
+            let p = img.get_pixel(ox + i as u32, oy + j as u32);
+            let decode = |c: u16| (f32::from(c) / 65535.0 * 2.0 - 1.0) * scale;
+            let want = raw.at(frame, i, j);
+            assert!(
+                (decode(p[0]) - want[0]).abs() <= 2.0 * scale / 65535.0,
+                "frame {frame} at {i},{j}"
+            );
+            assert!((decode(p[1]) - want[1]).abs() <= 2.0 * scale / 65535.0);
+        }
+    }
+    // The unused sixth cell is zero velocity.
+    let p = img.get_pixel(2 * 48 + 5, 32 + 5);
+    assert!((i32::from(p[0]) - 32768).abs() <= 1 && (i32::from(p[1]) - 32768).abs() <= 1);
+}
+
+fn rms_diff(raw: &Raw, a: usize, b: usize) -> f32 {
+    let mut s = 0.0f64;
+    for j in 0..raw.ny {
+        for i in 0..raw.nx {
+            let (p, q) = (raw.at(a, i, j), raw.at(b, i, j));
+            s += f64::from((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2));
+        }
+    }
+    (s / (raw.nx * raw.ny) as f64).sqrt() as f32
+}
+
+#[test]
+fn a_looped_bake_has_no_seam() {
+    // The pulsed north-east gust makes the field change all the time.
+    let layout = example("obstacles.json");
+    let n = 12;
+    let opts = |looped| BakeOptions {
+        formats: vec![Format::Raw],
+        looped,
+        ..small(n)
+    };
+    let plain = tempfile::tempdir().unwrap();
+    run(&layout, plain.path(), &opts(false));
+    let raw_plain = Raw::read(plain.path(), &manifest(plain.path()));
+    let looped = tempfile::tempdir().unwrap();
+    run(&layout, looped.path(), &opts(true));
+    let m = manifest(looped.path());
+    assert_eq!(m["frames"]["loop"], true);
+    assert!(
+        m["frames"]["loop_method"]
+            .as_str()
+            .unwrap()
+            .contains("crossfade")
+    );
+    let raw = Raw::read(looped.path(), &m);
+    let steps: Vec<f32> = (0..n - 1).map(|k| rms_diff(&raw, k, k + 1)).collect();
+    let typical = steps.iter().copied().fold(0.0, f32::max);
+    let seam = rms_diff(&raw, n - 1, 0);
+    let plain_seam = rms_diff(&raw_plain, n - 1, 0);
+    println!("loop seam {seam}, largest step {typical}, seam without --loop {plain_seam}");
+    assert!(seam <= 1.5 * typical, "seam {seam} vs steps {steps:?}");
+    assert!(
+        plain_seam > 2.0 * seam,
+        "without --loop the jump is larger: {plain_seam} vs {seam}"
+    );
+}
+
+#[test]
+fn every_example_bakes_in_every_format_and_the_same_bake_gives_the_same_bytes() {
+    for name in [
+        "meadow.json",
+        "two-winds.json",
+        "branching.json",
+        "obstacles.json",
+        "breeze-fft.json",
+    ] {
+        let layout = example(name);
+        let a = tempfile::tempdir().unwrap();
+        let b = tempfile::tempdir().unwrap();
+        let opts = BakeOptions {
+            warmup: 0.5,
+            frames: 2,
+            grid: Some([40, 40]),
+            ..Default::default()
+        };
+        let m = run(&layout, a.path(), &opts);
+        run(&layout, b.path(), &opts);
+        let formats: BTreeSet<Format> = m.files.iter().map(|f| f.format).collect();
+        assert_eq!(formats.len(), Format::ALL.len(), "{name}");
+        for f in m
+            .files
+            .iter()
+            .map(|f| f.name.clone())
+            .chain(["manifest.json".into()])
+        {
+            let x = std::fs::read(a.path().join(&f)).unwrap();
+            let y = std::fs::read(b.path().join(&f)).unwrap();
+            assert!(x == y, "{name}: {f} differs between two identical bakes");
+        }
+    }
+}
+
+fn entries(dir: &Path) -> Vec<PathBuf> {
+    std::fs::read_dir(dir).map_or_else(|_| Vec::new(), |r| r.map(|e| e.unwrap().path()).collect())
+}
+
+#[test]
+fn cancelled_or_failed_bakes_leave_no_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let cancel = AtomicBool::new(false);
+    let mut calls = 0;
+    let result = bake::bake(
+        &example("meadow.json"),
+        &out,
+        &small(4),
+        &cancel,
+        &mut |_, _, _| {
+            calls += 1;
+            if calls == 3 {
+                cancel.store(true, std::sync::atomic::Ordering::SeqCst);
+            }
+        },
+    );
+    assert!(
+        matches!(result, Err(bake::BakeError::Cancelled)),
+        "{result:?}"
+    );
+    assert!(entries(&out).is_empty(), "{:?}", entries(&out));
+
+    // An output "folder" that is a file is a clear error.
+    let file = dir.path().join("not-a-folder");
+    std::fs::write(&file, "x").unwrap();
+    let err = bake::bake(
+        &example("meadow.json"),
+        &file,
+        &small(1),
+        &AtomicBool::new(false),
+        &mut |_, _, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        err.contains("cannot use output folder") && err.contains("not-a-folder"),
+        "{err}"
+    );
+
+    // Bad settings are refused before anything is written.
+    let bad = BakeOptions {
+        looped: true,
+        ..small(1)
+    };
+    let err = bake::bake(
+        &example("meadow.json"),
+        &out,
+        &bad,
+        &AtomicBool::new(false),
+        &mut |_, _, _| {},
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(err.contains("--loop needs --frames 2"), "{err}");
+    assert!(entries(&out).is_empty());
+}
+
+#[test]
+fn cli_bake_and_render() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bake");
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/meadow.json");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bake",
+            layout.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--format",
+            "vf",
+            "--format",
+            "raw",
+            "--grid",
+            "32x16",
+            "--warmup",
+            "0.5",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let mut names: Vec<String> = entries(&out)
+        .iter()
+        .map(|p| p.file_name().unwrap().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["manifest.json", "wind.f32", "wind.vf"]);
+    // An unwritable output is a clear, non-zero error.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bake",
+            layout.to_str().unwrap(),
+            "--out",
+            layout.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    assert!(String::from_utf8_lossy(&o.stderr).contains("cannot use output folder"));
+
+    let png = dir.path().join("meadow.png");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "render",
+            layout.to_str().unwrap(),
+            "-o",
+            png.to_str().unwrap(),
+            "--size",
+            "640x400",
+            "--time",
+            "2",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let img = image::open(&png).unwrap().to_rgb8();
+    assert_eq!((img.width(), img.height()), (640, 400));
+    // The picture is not blank: it holds many colours (streamlines, legend, arrows).
+    let colours: BTreeSet<[u8; 3]> = img.pixels().map(|p| p.0).collect();
+    assert!(colours.len() > 500, "{} colours", colours.len());
+}
+
+#[test]
+fn render_draws_the_arrows_and_wind_where_they_are() {
+    let layout = example("two-winds.json");
+    let mut solver = windloom::sim::Solver::new(&layout);
+    for _ in 0..240 {
+        solver.step();
+    }
+    let pix = windloom::render::render(&layout, Path::new("."), &solver, 800, 600).unwrap();
+    // Find a pixel of the arrow colour (70, 160, 255) along the west tree's first arrow.
+    let arrow_pixels = pix
+        .pixels()
+        .iter()
+        .filter(|p| {
+            let c = p.demultiply();
+            (i32::from(c.red()) - 70).abs() < 8
+                && (i32::from(c.green()) - 160).abs() < 8
+                && (i32::from(c.blue()) - 255).abs() < 8
+        })
+        .count();
+    assert!(arrow_pixels > 500, "arrows drawn: {arrow_pixels} pixels");
+}
+
+#[test]
+fn ctrl_c_during_a_cli_bake_leaves_no_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bake");
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/obstacles.json");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bake",
+            layout.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+            "--frames",
+            "500",
+            "--format",
+            "raw",
+            "--grid",
+            "256x256",
+            "--backend",
+            "auto",
+        ])
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    // Wait until the bake has started (its staging folder beside `bake` exists), then press
+    // Ctrl-C.
+    let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+    while staging_folders(dir.path()).is_empty() {
+        assert!(
+            std::time::Instant::now() < deadline,
+            "the bake never started"
+        );
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let status = std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(status.success());
+    let o = child.wait_with_output().unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(130),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(String::from_utf8_lossy(&o.stderr).contains("no files were written"));
+    assert!(!out.exists(), "{:?}", entries(&out));
+    assert!(
+        staging_folders(dir.path()).is_empty(),
+        "{:?}",
+        entries(dir.path())
+    );
+}
+
+fn staging_folders(dir: &Path) -> Vec<PathBuf> {
+    entries(dir)
+        .into_iter()
+        .filter(|p| p.to_string_lossy().contains(".windloom-bake-"))
+        .collect()
+}
+
+/// What a studio must be able to trust: frame timing, other EXR readers, one bake per
+/// folder, limits and modes, and no half-written output after a kill.
+mod trust;
