@@ -7,7 +7,7 @@
 //! drawn with `+z` pointing down the screen they turn clockwise.
 
 // The schema states the bounds `validate` enforces (as f64 literals where the f32 constant
-// would print with conversion noise); `tests/doc.rs` checks that they agree.
+// would print with conversion noise); `tests/doc/main.rs` checks that they agree.
 use super::validate::{COORD_MAX, GRID_AXIS_MAX, GRID_AXIS_MIN, RADIUS_MAX, STRENGTH_MAX};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
