@@ -178,6 +178,17 @@ impl GpuContext {
         self.fault.lock().unwrap_or_else(|p| p.into_inner()).clone()
     }
 
+    /// `Ok` while the device has reported no fault; else the fault, as an error in `what`.
+    pub fn check(&self, what: &str) -> Result<(), GpuError> {
+        match self.fault() {
+            Some(message) => Err(GpuError::Runtime {
+                what: what.into(),
+                message,
+            }),
+            None => Ok(()),
+        }
+    }
+
     /// Whether the device is a software rasteriser.
     pub fn is_software(&self) -> bool {
         is_software(&self.adapter)

@@ -42,9 +42,7 @@ impl GpuSolver {
 
     /// [`Self::from_solver`] once the grid is known to fit.
     fn build(ctx: &GpuContext, layout: &Layout, cpu: &Solver) -> Result<Self, GpuError> {
-        if let Some(f) = ctx.fault() {
-            return Err(faulted(f));
-        }
+        ctx.check("the device")?;
         // `GpuFluid::new` creates its buffers holding `cpu`'s state; an allocation the device
         // refuses is an error here, not a panic.
         let oom = ctx.device.push_error_scope(wgpu::ErrorFilter::OutOfMemory);
@@ -173,10 +171,7 @@ impl GpuSolver {
                 what: "a solver step".into(),
                 message: e.to_string(),
             })?;
-        match ctx.fault() {
-            Some(f) => Err(faulted(f)),
-            None => Ok(()),
-        }
+        ctx.check("the device")
     }
 
     /// The face velocities `(u, v)` read back from the GPU.
@@ -202,13 +197,6 @@ impl GpuSolver {
                 ]
             })
             .collect())
-    }
-}
-
-fn faulted(message: String) -> GpuError {
-    GpuError::Runtime {
-        what: "the device".into(),
-        message,
     }
 }
 

@@ -213,12 +213,7 @@ pub fn bench(
     times.sort_by(f64::total_cmp);
     let (culled, _) = grass.read_cull(&ctx.device, &ctx.queue)?;
     // Frames timed on a faulted device drew nothing worth timing.
-    if let Some(message) = ctx.fault() {
-        return Err(GpuError::Runtime {
-            what: "drawing the grass".into(),
-            message,
-        });
-    }
+    ctx.check("drawing the grass")?;
     Ok(GrassBench {
         adapter: ctx.adapter.name.clone(),
         adapter_type: format!("{:?}", ctx.adapter.device_type),

@@ -164,12 +164,7 @@ pub fn render_offscreen(
     let ms = render_into(device, queue, grass, camera, (time, dt), &target)?;
     let pixels = crate::gpu::read_texture(device, queue, &target.texture, 4)?;
     // A picture drawn on a faulted device is not the picture: say so instead.
-    if let Some(message) = ctx.fault() {
-        return Err(GpuError::Runtime {
-            what: "drawing the grass".into(),
-            message,
-        });
-    }
+    ctx.check("drawing the grass")?;
     Ok((pixels, ms))
 }
 
