@@ -413,10 +413,7 @@ fn editor_window_snapshot() {
 
 #[test]
 fn the_window_opens_under_xvfb() {
-    let have_xvfb = std::process::Command::new("xvfb-run")
-        .arg("--help")
-        .output()
-        .is_ok();
+    let have_xvfb = program_exists("xvfb-run", "--help");
     if !have_xvfb {
         assert!(!in_ci(), "CI must run the window test: xvfb-run not found");
         eprintln!("\n!!!!! SKIPPING: xvfb-run not installed (apt-get install xvfb) !!!!!\n");
@@ -478,10 +475,7 @@ fn an_editor_that_cannot_open_its_window_says_what_to_do() {
         stderr.contains("could not open the editor window") && stderr.contains("xvfb-run -a"),
         "no display: {stderr}"
     );
-    let have_xvfb = std::process::Command::new("xvfb-run")
-        .arg("--help")
-        .output()
-        .is_ok();
+    let have_xvfb = program_exists("xvfb-run", "--help");
     if !have_xvfb {
         assert!(!in_ci(), "CI must run the window test: xvfb-run not found");
         eprintln!("\n!!!!! SKIPPING the no-backend half: xvfb-run not installed !!!!!\n");
