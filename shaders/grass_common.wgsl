@@ -57,6 +57,32 @@ struct Scene {
     _pad: vec2<f32>,
 }
 
+// The far field (`gpu::grass::FarUniform`; `grass::far`): a grid of texels over the world
+// holding the grass's look from afar, and what the ground needs to blend to it.
+struct Far {
+    // Texel grid: origin and texel size (metres), texels along x and z.
+    origin: vec2<f32>,
+    cell: vec2<f32>,
+    nx: u32,
+    ny: u32,
+    // Bits: 1 the ground shows the far field; 2 distance culling is on.
+    flags: u32,
+    buckets: u32,
+    max_distance: f32,
+    // A blade budget's sample threshold (metres; 0: every blade drawn).
+    sample_reach: f32,
+    // The mean blade.
+    height: f32,
+    width: f32,
+    stiffness: f32,
+    // Blades a square metre.
+    density: f32,
+    _pad1: vec2<f32>,
+    // The palettes' mean base and tip colours (linear, the mean tint applied).
+    base: vec4<f32>,
+    tip: vec4<f32>,
+}
+
 // A Bezier blade's control points (`gpu::grass::BezierState`): root, guide, tip.
 struct BezierState {
     v0: vec4<f32>,

@@ -1,13 +1,19 @@
 // Grass, render: the ground under the blades — the world rectangle at y = 0, a soil colour
 // darkened under the grass or, where the layout has a map backdrop, the backdrop image laid
-// over it at its opacity; lit by the same sun and sky as the blades.
+// over it at its opacity; lit by the same sun and sky as the blades. Where the renderer draws
+// fewer blades than the field holds (distance culling, a blade budget), the ground takes the
+// far field's look (`grass_far.wgsl`) by the share of coverage the blades no longer give.
 
+@group(1) @binding(0) var<uniform> F: Far;
+@group(1) @binding(1) var far_image: texture_2d<f32>;
+@group(1) @binding(2) var far_sampler: sampler;
 @group(2) @binding(0) var backdrop_image: texture_2d<f32>;
 @group(2) @binding(1) var backdrop_sampler: sampler;
 
 struct GroundOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
+    @location(1) world: vec2<f32>,
 }
 
 @vertex
@@ -17,7 +23,7 @@ fn vs_main(@builtin(vertex_index) k: u32) -> GroundOut {
         vec2<f32>(1.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 1.0),
     )[k];
     let w = mix(S.world_min, S.world_max, c);
-    return GroundOut(S.view_proj * vec4<f32>(w.x, 0.0, w.y, 1.0), c);
+    return GroundOut(S.view_proj * vec4<f32>(w.x, 0.0, w.y, 1.0), c, w);
 }
 
 @fragment
@@ -26,7 +32,15 @@ fn fs_main(in: GroundOut) -> @location(0) vec4<f32> {
     // The image is sRGB; the texture view decodes it to linear.
     let map = textureSample(backdrop_image, backdrop_sampler, in.uv).rgb;
     let ground = mix(soil, map, clamp(S.backdrop, 0.0, 1.0));
+    // The far field, bilinear between texel centres and clamped at the edges (the sampler's).
+    let far_uv = (in.world - F.origin) / (F.cell * vec2<f32>(f32(F.nx), f32(F.ny)));
+    let far = textureSample(far_image, far_sampler, far_uv);
     let l = normalize(S.sun.xyz);
     let light = S.sun.w + (1.0 - S.sun.w) * max(l.y, 0.0);
-    return vec4<f32>(encode(ground * light), 1.0);
+    var colour = ground * light;
+    if ((F.flags & 1u) != 0u) {
+        // rgb: the blades from afar, lit; a: how much of the ground they take here.
+        colour = mix(colour, far.rgb, clamp(far.a, 0.0, 1.0));
+    }
+    return vec4<f32>(encode(colour), 1.0);
 }

@@ -107,6 +107,8 @@ struct ViewSample {
     for_camera: (glam::Vec3, glam::Vec3, f32),
     seen: (glam::Vec3, glam::Vec3, f32),
     moved_at: f64,
+    /// The threshold of the last sample chosen (the far field fills in what it thins).
+    threshold: f32,
 }
 
 impl ViewSample {
@@ -122,6 +124,7 @@ impl ViewSample {
         let s = sample::choose(&self.all, camera.eye, &vp, SOFTWARE_BLADE_BUDGET as usize);
         self.slots = sample::assign(&self.slots, &s.blades, self.all.len());
         self.for_camera = (camera.eye, camera.target, aspect);
+        self.threshold = s.threshold;
         self.slots
             .iter()
             .map(|&i| {
@@ -413,11 +416,15 @@ impl GrassView {
                     for_camera: Default::default(),
                     seen: (camera.eye, camera.target, aspect),
                     moved_at: 0.0,
+                    threshold: f32::INFINITY,
                 };
                 blades = sample.choose(&camera, aspect);
                 self.sample = Some(sample);
             }
             let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
+            if let Some(sample) = &self.sample {
+                grass.set_sample_reach(sample.threshold);
+            }
             // Defaults that follow the blade height, once; the user's toggles after that.
             let cull = *self.controls.cull.get_or_insert(grass.cull_params());
             grass.set_cull(cull);
@@ -448,6 +455,7 @@ impl GrassView {
         if let Some(c) = self.controls.cull {
             grass.set_cull(c);
         }
+        grass.set_far(self.controls.far);
         grass.set_sphere(sphere);
         grass.set_trail_lifetime(self.controls.lifetime);
         // Obstacles and arrows: rebuilt when the trees or obstacles change.
@@ -536,6 +544,7 @@ impl GrassView {
             if seen != sample.for_camera && now - sample.moved_at >= RESAMPLE_AFTER {
                 let blades = sample.choose(&camera, aspect);
                 grass.replace_blades(&rs.queue, &mut enc, &blades);
+                grass.set_sample_reach(sample.threshold);
             }
         }
         let dt = ui.input(|i| i.stable_dt);

@@ -1,5 +1,5 @@
 //! The 3D view's own controls (egui only; the GPU side is `gpu_view.rs`): a toggle per
-//! culling test and for the LOD, the pushing sphere and its trail, and the counters line —
+//! culling test, for the LOD and for the far field, the pushing sphere and its trail, and the counters line —
 //! blades total, culled by each test, drawn per LOD level.
 
 use crate::gpu::grass::CullStats;
@@ -12,6 +12,9 @@ use eframe::egui;
 pub struct GrassControls {
     /// `None` until the first renderer gives its defaults (they follow the blade height).
     pub cull: Option<CullParams>,
+    /// The ground shows the grass's look from afar where fewer blades are drawn than the field
+    /// holds (`crate::grass::far`).
+    pub far: bool,
     /// Left-drag pushes a sphere through the grass instead of orbiting.
     pub push: bool,
     pub radius: f32,
@@ -22,6 +25,7 @@ impl Default for GrassControls {
     fn default() -> Self {
         Self {
             cull: None,
+            far: true,
             push: false,
             radius: 0.6,
             lifetime: crate::gpu::grass::TRAIL_LIFETIME,
@@ -45,6 +49,11 @@ impl GrassControls {
                     "{} / {} / {} segments a blade, near to far (dithered, with hysteresis)",
                     LOD_SEGMENTS[0], LOD_SEGMENTS[1], LOD_SEGMENTS[2]
                 ));
+                ui.checkbox(&mut self.far, "far field").on_hover_text(
+                    "Where fewer blades are drawn than the field holds (far away, or a \
+                     software adapter's sample), the ground shows the grass and its wind as \
+                     seen from afar",
+                );
                 ui.separator();
             }
             ui.toggle_value(&mut self.push, "Push")

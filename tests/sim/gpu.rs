@@ -529,6 +529,9 @@ fn grass_bench_reports_the_model_culling_and_every_blade() {
     }
 }
 
+/// The far field (`shaders/grass_far.wgsl`) against `grass::far`, and pictures of it.
+mod far;
+
 /// The grass passes against the CPU model (`grass::cwd`), and pictures of them.
 mod grass;
 

@@ -512,3 +512,81 @@ mod cull {
         assert!(distance_width(far.0, far.1, &p) > 1.5);
     }
 }
+
+/// The far field's share of blade coverage (`grass::far::cover`): nearly whole while the
+/// distance cull's widening keeps up with its thinning (to ⅔ of its reach: over 0.96, the
+/// dips where a bucket fades before the widening catches up), then falling to none at its
+/// end and never rising again; with a blade budget's
+/// sample, whole until the thinned blades' widening runs out, then falling as `2.5·(T/d)²`;
+/// with nothing culled or thinned, whole everywhere.
+#[test]
+fn the_far_field_takes_over_exactly_where_blades_go_missing() {
+    use windloom::grass::cull::CullParams;
+    use windloom::grass::far::cover;
+    let cull = CullParams::for_height(0.5);
+    let top = cull.max_distance;
+    assert_eq!(cover(0.0, &cull, 0.0), 1.0);
+    assert_eq!(cover(top, &cull, 0.0), 0.0);
+    assert_eq!(cover(3.0 * top, &cull, 0.0), 0.0);
+    let mut last = 1.0;
+    for k in 0..=400 {
+        let d = top * k as f32 / 400.0;
+        let c = cover(d, &cull, 0.0);
+        if d <= top * 2.0 / 3.0 {
+            assert!(c > 0.96, "nearly whole at {d} m: {c}");
+        } else {
+            assert!(c <= last + 1e-5, "coverage grows with distance at {d} m");
+        }
+        last = c;
+    }
+    assert!(cover(0.8 * top, &cull, 0.0) < 0.9);
+    let none = CullParams::OFF;
+    for d in [0.0, 10.0, 1e3, 1e5] {
+        assert_eq!(cover(d, &none, 0.0), 1.0, "nothing culled at {d} m");
+    }
+    let t = 20.0f32;
+    assert_eq!(
+        cover(t * 1.5, &none, t),
+        1.0,
+        "widened survivors still cover"
+    );
+    let far = cover(t * 10.0, &none, t);
+    assert!((far - 2.5 / 100.0).abs() < 1e-6, "thinned as (T/d)²: {far}");
+}
+
+/// The far field's texels (`grass::far::texel`): a denser field and a lower eye hide more
+/// of the ground; calm grass looks the same at every moment, wind makes it roll (the
+/// flutter, phased by position as the blades are); the colours lie between the palettes'
+/// shaded base and lit tip.
+#[test]
+fn far_texels_follow_the_density_the_view_and_the_wind() {
+    use windloom::grass::far::{Look, texel};
+    let mut g = GrassParams::default();
+    let look = Look::new(&g, windloom::gpu::grass::SUN);
+    let calm = [0.0, 0.0];
+    let at = |g: &GrassParams, wind: [f32; 2], time: f32, eye: [f32; 3]| {
+        texel(g, &look, wind, [10.0, 10.0], time, eye, (0.0, [0.0, 0.0]))
+    };
+    let high = [10.0, 60.0, -20.0];
+    let low = [10.0, 5.0, -20.0];
+    assert!(at(&g, calm, 0.0, low).hidden > at(&g, calm, 0.0, high).hidden);
+    let sparse = at(&g, calm, 0.0, high).hidden;
+    g.density *= 4.0;
+    assert!(at(&g, calm, 0.0, high).hidden > sparse);
+    assert_eq!(at(&g, calm, 0.0, high), at(&g, calm, 7.3, high));
+    let wind = [6.0, 2.0];
+    let (a, b) = (at(&g, wind, 0.0, high), at(&g, wind, 0.3, high));
+    assert_ne!(
+        a.colour, b.colour,
+        "the wind's flutter rolls across the far field"
+    );
+    assert_ne!(
+        a.colour,
+        at(&g, calm, 0.0, high).colour,
+        "wind changes the look"
+    );
+    for c in 0..3 {
+        let top = look.tip[c] * 1.5;
+        assert!(a.colour[c] > 0.0 && a.colour[c] < top, "{:?}", a.colour);
+    }
+}

@@ -3,13 +3,14 @@
 //! (`src/grass/bezier.rs`). Per-blade data is uploaded once; per frame the CPU writes one small
 //! scene uniform (camera, time, sphere) and, when it changes, the wind grid. Each frame: the
 //! trail pass (while a sphere pushes or its trail lasts), the model's compute pass (CWD poses or
-//! Bezier steps), the cull pass (orientation, frustum, distance, LOD → per-level visible lists
+//! Bezier steps), the far field (the grass's look from afar, which the ground shows where
+//! blades are missing), the cull pass (orientation, frustum, distance, LOD → per-level visible lists
 //! and indirect draw arguments), then ground, scene and one indirect draw per LOD level, each
 //! blade a strip built in the vertex shader from its index. Passes: `shaders/grass_*.wgsl`,
 //! sharing `grass_common.wgsl` (and `grass_shape.wgsl` for the cull pass and the blades).
 //!
 //! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. `camera.rs`: the glam camera;
-//! `cull.rs`, `bezier.rs`, `trail.rs`: those passes' buffers and pipelines; `backdrop.rs`: the
+//! `cull.rs`, `bezier.rs`, `trail.rs`, `far.rs`: those passes' buffers and pipelines; `backdrop.rs`: the
 //! map image on the ground; `target.rs`: the colour + depth target and whole frames into it;
 //! `headless.rs`: pictures
 //! and the benchmark for the CLI.
@@ -18,6 +19,7 @@ mod backdrop;
 mod bezier;
 mod camera;
 mod cull;
+mod far;
 mod headless;
 mod target;
 mod trail;
@@ -26,6 +28,7 @@ use backdrop::{backdrop_group, backdrop_texture};
 pub use bezier::{BezierPass, BezierState};
 pub use camera::Camera;
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
+pub use far::{FarPass, FarUniform};
 pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture};
 pub use target::{Target, render_into, render_offscreen};
 
@@ -49,7 +52,7 @@ pub const SHAPE: &str = include_str!("../../../shaders/grass_shape.wgsl");
 
 /// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`] (and
 /// [`SHAPE`] for `grass_cull` and `grass_blades`).
-pub const SHADERS: [(&str, &str); 8] = [
+pub const SHADERS: [(&str, &str); 9] = [
     (
         "grass_cull",
         include_str!("../../../shaders/grass_cull.wgsl"),
@@ -82,6 +85,7 @@ pub const SHADERS: [(&str, &str); 8] = [
         "grass_ground",
         include_str!("../../../shaders/grass_ground.wgsl"),
     ),
+    ("grass_far", include_str!("../../../shaders/grass_far.wgsl")),
 ];
 
 /// The full WGSL of grass pass `name` (the common header, then the pass; `grass_wind` alone:
@@ -164,6 +168,8 @@ pub struct Pose {
     pub dim: f32,
 }
 
+/// The sun: unit-ish vector toward it (xyz) and the sky's share of the light (w).
+pub const SUN: [f32; 4] = [0.42, 0.80, 0.43, 0.32];
 /// Segments of a blade at full detail.
 pub const SEGMENTS: u32 = LOD_SEGMENTS[0];
 /// How long the sphere's trail lasts by default, seconds.
@@ -195,6 +201,8 @@ pub struct GrassRenderer {
     bezier: Option<bezier::BezierPass>,
     cull: CullPass,
     trail: trail::TrailPass,
+    /// The grass's look from afar, which the ground shows where blades are missing.
+    far: FarPass,
     /// Seconds the trail still holds anything (the trail pass and its reads are skipped at 0).
     trail_left: f32,
     ground_pipeline: wgpu::RenderPipeline,
@@ -263,7 +271,7 @@ impl GrassRenderer {
         let scene = Scene {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             eye: [0.0; 4],
-            sun: [0.42, 0.80, 0.43, 0.32],
+            sun: SUN,
             origin: min,
             cell: [1.0, 1.0],
             nx: 1,
@@ -400,6 +408,14 @@ impl GrassRenderer {
             blades.len() as u32,
             CullParams::for_height((g.height[0] + g.height[1]) / 2.0),
         );
+        let far = FarPass::new(
+            device,
+            &layout0,
+            &module("grass_far"),
+            layout,
+            blades.len() as u32,
+            scene.sun,
+        );
         let compute_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("grass deform"),
             bind_group_layouts: &[Some(&layout0), Some(&layout_deform)],
@@ -455,7 +471,11 @@ impl GrassRenderer {
         });
         let ground_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("grass ground"),
-            bind_group_layouts: &[Some(&layout0), None, Some(&backdrop_layout)],
+            bind_group_layouts: &[
+                Some(&layout0),
+                Some(&far.ground_layout),
+                Some(&backdrop_layout),
+            ],
             immediate_size: 0,
         });
         let render = |name: &str,
@@ -525,6 +545,7 @@ impl GrassRenderer {
             bezier: None,
             cull,
             trail,
+            far,
             trail_left: 0.0,
             ground_pipeline: render("grass_ground", "fs_main", TRIANGLES, &[]),
             solid_pipeline: render(
@@ -687,6 +708,7 @@ impl GrassRenderer {
                 &self.trail.texture,
             );
         }
+        self.far.resize(device, (nx, ny));
         self.scene.nx = nx as u32;
         self.scene.ny = ny as u32;
         self.scene.origin = origin;
@@ -809,6 +831,38 @@ impl GrassRenderer {
         self.cull.params = params;
     }
 
+    /// Whether the ground shows the grass's look from afar where the blades drawn cover less
+    /// than the field would ([`crate::grass::far`]); on by default.
+    pub fn set_far(&mut self, on: bool) {
+        self.far.set_on(on, self.total);
+    }
+
+    /// The threshold of the view-dependent sample the blades now drawn were chosen with
+    /// ([`crate::grass::sample::Sample::threshold`]; infinite or 0: every blade is drawn), so
+    /// the far field fills in what the sample thins.
+    pub fn set_sample_reach(&mut self, threshold: f32) {
+        self.far.uniform.sample_reach = if threshold.is_finite() {
+            threshold.max(0.0)
+        } else {
+            0.0
+        };
+    }
+
+    /// The far field's settings as last written (for tests).
+    pub fn far_uniform(&self) -> FarUniform {
+        self.far.uniform
+    }
+
+    /// The far field's texels, row-major: the grass's look from afar (rgb) and the share of
+    /// blade coverage drawn there (a), after a [`Self::prepare`] (for tests; waits for the GPU).
+    pub fn read_far(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.far.read(device, queue)
+    }
+
     /// The sphere pushing the grass this frame (`None`: none); it leaves a trail that fades
     /// over the trail's lifetime.
     pub fn set_sphere(&mut self, sphere: Option<Sphere>) {
@@ -866,6 +920,8 @@ impl GrassRenderer {
             pass.set_bind_group(1, &self.group_deform, &[]);
             dispatch_blades(&mut pass, blades);
         }
+        self.far
+            .record(queue, encoder, &self.group0, &self.cull.params);
         self.cull
             .record(queue, encoder, &self.group0, &self.group_shape, blades);
     }
@@ -875,6 +931,7 @@ impl GrassRenderer {
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group0, &[]);
         pass.set_pipeline(&self.ground_pipeline);
+        pass.set_bind_group(1, &self.far.ground_group, &[]);
         pass.set_bind_group(2, &self.backdrop_group, &[]);
         pass.draw(0..6, 0..1);
         if let Some((b, n)) = &self.solids {

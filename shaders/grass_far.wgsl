@@ -1,0 +1,110 @@
+// Grass, compute: the far field — per texel of a grid over the world, the blades' look from
+// afar (rgb, linear and lit) and how much of the ground the ground pass covers with it (a):
+// the share of the ground the field hides along the line of sight, times the share of the
+// field's blades the renderer does not draw at the texel's distance from the eye. So a view
+// of the whole world, where every blade is culled, shows its grass and its wind, and near
+// blades stand on plain ground. CPU twin: `grass::far::texel` and `grass::far::cover`.
+
+@group(1) @binding(0) var<uniform> F: Far;
+@group(1) @binding(1) var far: texture_storage_2d<rgba16float, write>;
+
+// `far::PROBES`, `far::POINTS`.
+const PROBES: u32 = 4u;
+const POINTS: u32 = 4u;
+
+// `far::light`: the blade shader's light on a normal facing the eye.
+fn far_light(n: vec3<f32>) -> f32 {
+    let l = normalize(S.sun.xyz);
+    let d = dot(n, l);
+    return S.sun.w * (0.6 + 0.4 * n.y) + (1.0 - S.sun.w) * (max(d, 0.0) + 0.35 * max(-d, 0.0));
+}
+
+fn unit_or_zero(v: vec3<f32>) -> vec3<f32> {
+    let l = length(v);
+    if (l > 0.0) {
+        return v / l;
+    }
+    return v;
+}
+
+// `far::MIN_VIEW_SINE`.
+const MIN_VIEW_SINE: f32 = 0.05;
+
+// `far::texel`: the mean probe blades at `pos`, bent in their wind cell, each segment's colour
+// weighted by the area it shows the eye (rgb), and the share of the ground they hide (a).
+fn far_texel(pos: vec2<f32>) -> vec4<f32> {
+    var sum = vec3<f32>(0.0);
+    var plain = vec3<f32>(0.0);
+    var weights = 0.0;
+    var depth = 0.0;
+    for (var m = 0u; m < PROBES; m = m + 1u) {
+        let facing = TAU * (f32(m) + 0.5) / f32(PROBES);
+        let b = Blade(pos, facing, F.height, F.width, F.stiffness, 0u, 0.0);
+        let pose = blade_pose(b, S.eye.w);
+        let fr = blade_frame(b);
+        let side = vec3<f32>(fr[1].x, 0.0, fr[1].y);
+        var p0 = blade_point(b, pose, 0.0);
+        for (var s = 0u; s < POINTS; s = s + 1u) {
+            let p1 = blade_point(b, pose, f32(s + 1u) / f32(POINTS));
+            let t = (f32(s) + 0.5) / f32(POINTS);
+            let ahead = p1 - p0;
+            var n = unit_or_zero(cross(side, ahead));
+            let view = unit_or_zero(S.eye.xyz - 0.5 * (p0 + p1));
+            let toward = dot(n, view);
+            if (toward < 0.0) {
+                n = -n;
+            }
+            let shade = 0.5 * (blade_shade(p0.y, pose) + blade_shade(p1.y, pose));
+            let colour = mix(F.base.rgb, F.tip.rgb, t) * (shade * far_light(n));
+            let w = (1.0 - pow(t, 1.4)) * length(ahead) * abs(toward);
+            sum = sum + colour * w;
+            plain = plain + colour;
+            weights = weights + w;
+            depth = depth + w * F.width / max(view.y, MIN_VIEW_SINE);
+            p0 = p1;
+        }
+    }
+    var colour = plain / f32(PROBES * POINTS);
+    if (weights > 1e-12) {
+        colour = sum / weights;
+    }
+    return vec4<f32>(colour, 1.0 - exp(-max(F.density, 0.0) * depth / f32(PROBES)));
+}
+
+// `far::cover`: the share of the field's coverage drawn as blades at distance `d`.
+fn far_cover(d0: f32) -> f32 {
+    let d = max(d0, 0.0);
+    var culled = 1.0;
+    if ((F.flags & 2u) != 0u) {
+        let n = max(F.buckets, 1u);
+        let top = max(F.max_distance, 1e-3);
+        var kept = 0.0;
+        for (var b = 0u; b < n; b = b + 1u) {
+            let r = top * (1.0 - f32(b) / f32(n));
+            let x = clamp((r - d) / (0.2 * r), 0.0, 1.0);
+            kept = kept + x * x * (3.0 - 2.0 * x);
+        }
+        culled = kept / f32(n) / max(1.0 - d / top, 1.0 / 3.0);
+    }
+    var sampled = 1.0;
+    if (F.sample_reach > 0.0 && d > 0.0) {
+        let q = F.sample_reach / d;
+        sampled = min(min(q * q, 1.0) * 2.5, 1.0);
+    }
+    return clamp(culled * sampled, 0.0, 1.0);
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= F.nx || id.y >= F.ny) {
+        return;
+    }
+    let pos = F.origin + (vec2<f32>(id.xy) + vec2<f32>(0.5)) * F.cell;
+    let d = distance(vec3<f32>(pos.x, 0.0, pos.y), S.eye.xyz);
+    let look = far_texel(pos);
+    var shown = 0.0;
+    if ((F.flags & 1u) != 0u) {
+        shown = look.a * (1.0 - far_cover(d));
+    }
+    textureStore(far, vec2<i32>(id.xy), vec4<f32>(look.rgb, shown));
+}

@@ -1,0 +1,297 @@
+//! The far field on the GPU (`shaders/grass_far.wgsl`; CPU twin [`crate::grass::far`]): an
+//! `rgba16float` texture over the world, each texel the blades' look from afar (rgb) and how
+//! much of the ground takes it (a), recomputed each frame (the wind, the eye and the cull
+//! change) and sampled, filtered, by the ground (`shaders/grass_ground.wgsl`, group 1). A
+//! texture rather than a buffer: on a software rasteriser the ground's four buffer loads
+//! and its own interpolation per pixel cost about 100 ms a 1080p frame, one filtered sample
+//! does not.
+
+use super::super::buffer_entry as entry;
+use crate::doc::Layout;
+use crate::gpu::GpuError;
+use crate::grass::cull::CullParams;
+use crate::grass::far::{self, Look};
+use bytemuck::{Pod, Zeroable};
+
+/// The far field's settings as the shaders read them; mirrors `struct Far` in
+/// `shaders/grass_common.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct FarUniform {
+    pub origin: [f32; 2],
+    pub cell: [f32; 2],
+    pub nx: u32,
+    pub ny: u32,
+    /// Bits: 1 the ground shows the far field; 2 distance culling is on.
+    pub flags: u32,
+    pub buckets: u32,
+    pub max_distance: f32,
+    /// A blade budget's sample threshold (metres; 0: every blade drawn).
+    pub sample_reach: f32,
+    pub height: f32,
+    pub width: f32,
+    pub stiffness: f32,
+    /// Blades a square metre.
+    pub density: f32,
+    pub _pad1: [f32; 2],
+    pub base: [f32; 4],
+    pub tip: [f32; 4],
+}
+
+/// The far field's texels, uniform and pipeline, and the ground's view of them.
+pub struct FarPass {
+    pub(super) uniform: FarUniform,
+    uniform_buf: wgpu::Buffer,
+    texels: wgpu::Texture,
+    sampler: wgpu::Sampler,
+    compute_layout: wgpu::BindGroupLayout,
+    compute_group: wgpu::BindGroup,
+    /// Group 1 of the ground pipeline: the uniform and the texels, read-only.
+    pub(super) ground_layout: wgpu::BindGroupLayout,
+    pub(super) ground_group: wgpu::BindGroup,
+    pipeline: wgpu::ComputePipeline,
+    /// The world rectangle the texels cover.
+    world: ([f32; 2], [f32; 2]),
+}
+
+impl FarPass {
+    /// The far field of `layout`'s grass (`blades` of them; none: never drawn) under `sun`,
+    /// one texel to start with (see [`Self::resize`]).
+    pub fn new(
+        device: &wgpu::Device,
+        layout0: &wgpu::BindGroupLayout,
+        module: &wgpu::ShaderModule,
+        layout: &Layout,
+        blades: u32,
+        sun: [f32; 4],
+    ) -> Self {
+        use wgpu::ShaderStages as S;
+        let g = &layout.grass;
+        let look = Look::new(g, sun);
+        let mid = |r: [f32; 2]| 0.5 * (r[0] + r[1]);
+        let (min, max) = layout.bounds();
+        let uniform = FarUniform {
+            origin: min,
+            cell: [max[0] - min[0], max[1] - min[1]],
+            nx: 1,
+            ny: 1,
+            flags: u32::from(blades > 0),
+            buckets: 1,
+            max_distance: 1.0,
+            sample_reach: 0.0,
+            height: mid(g.height),
+            width: mid(g.width),
+            stiffness: mid(g.stiffness),
+            density: g.density,
+            _pad1: [0.0; 2],
+            base: [look.base[0], look.base[1], look.base[2], 1.0],
+            tip: [look.tip[0], look.tip[1], look.tip[2], 1.0],
+        };
+        let uniform_buf = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass far"),
+            size: std::mem::size_of::<FarUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        let texels = texel_texture(device, (1, 1));
+        let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
+            label: Some("grass far"),
+            mag_filter: wgpu::FilterMode::Linear,
+            min_filter: wgpu::FilterMode::Linear,
+            ..Default::default()
+        });
+        let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass far (compute)"),
+            entries: &[
+                entry(0, S::COMPUTE, wgpu::BufferBindingType::Uniform),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: S::COMPUTE,
+                    ty: wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: FORMAT,
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                    },
+                    count: None,
+                },
+            ],
+        });
+        let ground_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass far (ground)"),
+            entries: &[
+                entry(0, S::FRAGMENT, wgpu::BufferBindingType::Uniform),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 1,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
+                wgpu::BindGroupLayoutEntry {
+                    binding: 2,
+                    visibility: S::FRAGMENT,
+                    ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+                    count: None,
+                },
+            ],
+        });
+        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("grass far"),
+            bind_group_layouts: &[Some(layout0), Some(&compute_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("grass_far"),
+            layout: Some(&pipeline_layout),
+            module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let (compute_group, ground_group) = groups(
+            device,
+            (&compute_layout, &ground_layout),
+            &uniform_buf,
+            &texels,
+            &sampler,
+        );
+        Self {
+            uniform,
+            compute_group,
+            ground_group,
+            uniform_buf,
+            texels,
+            sampler,
+            compute_layout,
+            ground_layout,
+            pipeline,
+            world: (min, max),
+        }
+    }
+
+    /// Sizes the texels for a wind grid of `nx × ny` cells ([`far::grid`]).
+    pub fn resize(&mut self, device: &wgpu::Device, (nx, ny): (usize, usize)) {
+        let (fx, fy) = far::grid(nx, ny);
+        if (fx as u32, fy as u32) == (self.uniform.nx, self.uniform.ny) {
+            return;
+        }
+        let (min, max) = self.world;
+        self.uniform.nx = fx as u32;
+        self.uniform.ny = fy as u32;
+        self.uniform.cell = [(max[0] - min[0]) / fx as f32, (max[1] - min[1]) / fy as f32];
+        self.texels = texel_texture(device, (fx as u32, fy as u32));
+        (self.compute_group, self.ground_group) = groups(
+            device,
+            (&self.compute_layout, &self.ground_layout),
+            &self.uniform_buf,
+            &self.texels,
+            &self.sampler,
+        );
+    }
+
+    /// Whether the ground shows the far field (never for a layout with no blades).
+    pub fn set_on(&mut self, on: bool, blades: u32) {
+        self.uniform.flags = (self.uniform.flags & !1) | u32::from(on && blades > 0);
+    }
+
+    /// Records this frame's texels for the cull settings `cull` (the scene uniform, group 0,
+    /// holds the eye, the time, the wind and the trail).
+    pub fn record(
+        &mut self,
+        queue: &wgpu::Queue,
+        enc: &mut wgpu::CommandEncoder,
+        group0: &wgpu::BindGroup,
+        cull: &CullParams,
+    ) {
+        self.uniform.flags = (self.uniform.flags & 1) | (u32::from(cull.distance) << 1);
+        self.uniform.buckets = cull.buckets.max(1);
+        self.uniform.max_distance = cull.max_distance.max(1e-3);
+        queue.write_buffer(&self.uniform_buf, 0, bytemuck::bytes_of(&self.uniform));
+        if self.uniform.flags & 1 == 0 {
+            return;
+        }
+        let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("grass far"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, group0, &[]);
+        pass.set_bind_group(1, &self.compute_group, &[]);
+        pass.dispatch_workgroups(self.uniform.nx.div_ceil(8), self.uniform.ny.div_ceil(8), 1);
+    }
+
+    /// The texels, row-major: colour (rgb) and the share of the ground it takes (a) (for
+    /// tests; waits for the GPU).
+    pub fn read(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        let bytes = crate::gpu::read_texture(device, queue, &self.texels, 8)?;
+        let half = |k: usize| half::f16::from_le_bytes([bytes[k], bytes[k + 1]]).to_f32();
+        Ok((0..bytes.len() / 8)
+            .map(|t| [0, 1, 2, 3].map(|c| half(t * 8 + c * 2)))
+            .collect())
+    }
+}
+
+/// The texels' format: half floats are plenty for a colour and a share, and filterable and
+/// writable from a compute pass on every adapter.
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+fn texel_texture(device: &wgpu::Device, (w, h): (u32, u32)) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("grass far texels"),
+        size: wgpu::Extent3d {
+            width: w.max(1),
+            height: h.max(1),
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: FORMAT,
+        usage: wgpu::TextureUsages::STORAGE_BINDING
+            | wgpu::TextureUsages::TEXTURE_BINDING
+            | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    })
+}
+
+/// The compute pass's and the ground's bind groups over the uniform and the texels.
+fn groups(
+    device: &wgpu::Device,
+    (compute, ground): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+    uniform: &wgpu::Buffer,
+    texels: &wgpu::Texture,
+    sampler: &wgpu::Sampler,
+) -> (wgpu::BindGroup, wgpu::BindGroup) {
+    let view = texels.create_view(&Default::default());
+    let make = |layout, with_sampler: bool| {
+        let mut entries = vec![
+            wgpu::BindGroupEntry {
+                binding: 0,
+                resource: uniform.as_entire_binding(),
+            },
+            wgpu::BindGroupEntry {
+                binding: 1,
+                resource: wgpu::BindingResource::TextureView(&view),
+            },
+        ];
+        if with_sampler {
+            entries.push(wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(sampler),
+            });
+        }
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("grass far"),
+            layout,
+            entries: &entries,
+        })
+    };
+    (make(compute, false), make(ground, true))
+}

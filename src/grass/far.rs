@@ -1,0 +1,231 @@
+//! The grass seen from afar: what the ground shows where the renderer draws fewer blades than
+//! the field holds — beyond the distance cull, and where a blade budget thins the field
+//! ([`super::sample`]). The CPU twin of `shaders/grass_far.wgsl` and of the far field in
+//! `shaders/grass_ground.wgsl`.
+//!
+//! Without it, a view of the whole world showed bare ground: at that distance every blade
+//! is under the cull's 2-pixel rule, so a designer who framed the level saw no grass and no
+//! wind at all. With it the ground carries the field's look, evaluated per texel of a grid
+//! over the world (the wind grid, at most [`MAX_TEXELS`] a side) from the same model the
+//! blades use:
+//!
+//! - [`texel`]: [`PROBES`] mean blades (the layout's mean height, width and stiffness, the
+//!   palettes' mean colours, facings spread evenly) stand at the texel's centre in its wind
+//!   cell's velocity, bent by the CWD model with its flutter (phased by position as the
+//!   blades are, so gusts roll across the far field too) and the trail's crush. Each is cut
+//!   into [`POINTS`] segments, coloured and shaded as the blade shader colours and shades them
+//!   (base-to-tip gradient, eq. 14's self-shadow, the sun and sky on the side facing the
+//!   eye), and weighted by the area it shows the eye. The same areas give how much of the
+//!   ground the field hides along the line of sight (Beer–Lambert over the layout's density):
+//!   from above, more ground shows between upright blades than between bent ones.
+//! - [`cover`]: the share of the field's blade coverage the renderer still draws at a
+//!   distance — the distance cull's buckets with their fade and widening, times the sample's
+//!   kept share with its widening. The ground takes the blades' colour over the share
+//!   `hidden · (1 − cover)` of it, so near blades stand on plain ground and the far field
+//!   takes over where they thin out, with no line between.
+
+use super::Blade;
+use super::cull::{CullParams, FADE, MAX_WIDEN};
+use super::cwd;
+use crate::doc::GrassParams;
+use glam::Vec3;
+
+/// Mean blades evaluated per texel, their facings spread evenly around the circle.
+pub const PROBES: usize = 4;
+/// Segments each probe blade is cut into.
+pub const POINTS: usize = 4;
+/// Most texels of the far field along a side (the wind grid when it is smaller).
+pub const MAX_TEXELS: usize = 256;
+/// The blade shader's per-blade tint `(1 + 0.08v, 1 + 0.04v, 1 − 0.10v)·(1 + 0.12v)` averaged
+/// over the variation `v`, uniform in `[-1, 1]` (`E[v] = 0`, `E[v²] = ⅓`).
+pub const MEAN_TINT: [f32; 3] = [
+    1.0 + 0.12 * 0.08 / 3.0,
+    1.0 + 0.12 * 0.04 / 3.0,
+    1.0 - 0.12 * 0.10 / 3.0,
+];
+
+/// Texels of the far field over a wind grid of `nx × ny` cells: the same grid, or one scaled
+/// down to at most [`MAX_TEXELS`] along its longer side.
+pub fn grid(nx: usize, ny: usize) -> (usize, usize) {
+    let longest = nx.max(ny).max(1);
+    if longest <= MAX_TEXELS {
+        return (nx.max(1), ny.max(1));
+    }
+    let scale = MAX_TEXELS as f32 / longest as f32;
+    let fit = |n: usize| ((n as f32 * scale).round() as usize).clamp(1, MAX_TEXELS);
+    (fit(nx), fit(ny))
+}
+
+/// What the far field draws with besides the wind: the mean palette (linear RGB, the mean
+/// tint applied), the sun (unit vector toward it) and the sky's share of the light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Look {
+    pub base: [f32; 3],
+    pub tip: [f32; 3],
+    pub sun: [f32; 3],
+    pub ambient: f32,
+}
+
+impl Look {
+    /// The mean of `g`'s palettes (the blades pick one each, evenly), under `sun` (`xyz` toward
+    /// it, `w` the sky's share, as the renderer's scene holds it).
+    pub fn new(g: &GrassParams, sun: [f32; 4]) -> Self {
+        let n = g.palettes.len().max(1) as f32;
+        let mean = |pick: fn(&crate::doc::Palette) -> [f32; 3], fallback: [f32; 3]| {
+            if g.palettes.is_empty() {
+                return mul(fallback, MEAN_TINT);
+            }
+            let mut s = [0.0; 3];
+            for p in &g.palettes {
+                let c = pick(p);
+                for k in 0..3 {
+                    s[k] += c[k] / n;
+                }
+            }
+            mul(s, MEAN_TINT)
+        };
+        Self {
+            base: mean(|p| p.base, FALLBACK_BASE),
+            tip: mean(|p| p.tip, FALLBACK_TIP),
+            sun: Vec3::new(sun[0], sun[1], sun[2])
+                .normalize_or_zero()
+                .to_array(),
+            ambient: sun[3],
+        }
+    }
+}
+
+/// The renderer's colours when a layout has no palette.
+pub const FALLBACK_BASE: [f32; 3] = [0.1, 0.22, 0.05];
+pub const FALLBACK_TIP: [f32; 3] = [0.45, 0.65, 0.2];
+
+/// Probe blade `m` of a texel centred at `pos`: the layout's mean blade, facing
+/// `τ·(m + ½)/PROBES`, with no colour variation.
+pub fn probe(g: &GrassParams, pos: [f32; 2], m: usize) -> Blade {
+    let mid = |r: [f32; 2]| 0.5 * (r[0] + r[1]);
+    Blade {
+        pos,
+        facing: std::f32::consts::TAU * (m as f32 + 0.5) / PROBES as f32,
+        height: mid(g.height),
+        width: mid(g.width),
+        stiffness: mid(g.stiffness),
+        palette: 0,
+        variation: 0.0,
+    }
+}
+
+/// The blade shader's light on a surface of unit normal `n` facing the eye: the sky, the sun
+/// on the lit side, and a share of it through the blade.
+pub fn light(look: &Look, n: Vec3) -> f32 {
+    let d = n.dot(Vec3::from(look.sun));
+    let sky = look.ambient * (0.6 + 0.4 * n.y);
+    sky + (1.0 - look.ambient) * (d.max(0.0) + 0.35 * (-d).max(0.0))
+}
+
+/// Shallowest view elevation (its sine) the ground coverage is computed for: nearer the
+/// horizon the field counts as fully covered.
+pub const MIN_VIEW_SINE: f32 = 0.05;
+
+/// What the field looks like from afar at one texel.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Texel {
+    /// The blades' mean colour as the eye sees them (linear RGB, lit).
+    pub colour: [f32; 3],
+    /// How much of the ground the blades hide along the eye's line of sight (0–1); the rest
+    /// is the ground between them.
+    pub hidden: f32,
+}
+
+/// The far field at a texel centred at `pos` whose wind cell blows `wind` (m/s), at
+/// simulation `time`, seen from `eye`, with the trail's crush `(c, direction)` there
+/// (`(0, _)`: none).
+///
+/// Each probe segment counts by the area it shows the eye: `w·pinch(t)·length·|n·v|` for the
+/// blade's width `w`, the shader's tip pinch `1 − t^1.4`, and its unit normal `n` against the
+/// unit vector `v` toward the eye. The same areas, projected down the line of sight onto the
+/// ground (`÷ v_y`) and summed over `density` blades a square metre, are the optical depth
+/// `τ` of the field; the ground shows through a share `e^−τ` of it (Beer–Lambert).
+pub fn texel(
+    g: &GrassParams,
+    look: &Look,
+    wind: [f32; 2],
+    pos: [f32; 2],
+    time: f32,
+    eye: [f32; 3],
+    crush: (f32, [f32; 2]),
+) -> Texel {
+    let (base, tip) = (Vec3::from(look.base), Vec3::from(look.tip));
+    let eye = Vec3::from(eye);
+    let (mut sum, mut plain, mut weights, mut depth) = (Vec3::ZERO, Vec3::ZERO, 0.0f32, 0.0f32);
+    for m in 0..PROBES {
+        let b = probe(g, pos, m);
+        let line = cwd::centreline_crushed(&b, wind, g, time, POINTS, crush);
+        let (_, side) = cwd::frame(&b);
+        let side = Vec3::new(side[0], 0.0, side[1]);
+        for (s, pair) in line.windows(2).enumerate() {
+            let (p0, p1) = (Vec3::from(pair[0].pos), Vec3::from(pair[1].pos));
+            let t = (s as f32 + 0.5) / POINTS as f32;
+            let ahead = p1 - p0;
+            let n = side.cross(ahead).normalize_or_zero();
+            let view = (eye - 0.5 * (p0 + p1)).normalize_or_zero();
+            let facing = n.dot(view);
+            let n = if facing < 0.0 { -n } else { n };
+            let shade = 0.5 * (pair[0].shade + pair[1].shade);
+            let colour = base.lerp(tip, t) * (shade * light(look, n));
+            let w = (1.0 - t.powf(1.4)) * ahead.length() * facing.abs();
+            sum += colour * w;
+            plain += colour;
+            weights += w;
+            depth += w * b.width / view.y.max(MIN_VIEW_SINE);
+        }
+    }
+    let colour = if weights > 1e-12 {
+        sum / weights
+    } else {
+        plain / (PROBES * POINTS) as f32
+    };
+    Texel {
+        colour: colour.to_array(),
+        hidden: 1.0 - (-g.density.max(0.0) * depth / PROBES as f32).exp(),
+    }
+}
+
+/// The share (0–1) of the field's blade coverage the renderer draws at `distance` metres
+/// from the eye: the distance cull's buckets (each blade kept to its bucket's reach, fading
+/// over the last [`FADE`] of it, the survivors widened by `1 / kept`) and a blade budget's
+/// sample (blades kept with `p = min(1, (reach / d)²)` and widened by `1 / p`, at most
+/// [`super::sample::MAX_WIDEN`]; `sample_reach` is the sample's threshold, 0 when every blade
+/// is drawn).
+pub fn cover(distance: f32, cull: &CullParams, sample_reach: f32) -> f32 {
+    let d = distance.max(0.0);
+    let culled = if cull.distance {
+        let n = cull.buckets.max(1);
+        let max = cull.max_distance.max(1e-3);
+        let mut kept = 0.0;
+        for b in 0..n {
+            let r = max * (1.0 - b as f32 / n as f32);
+            let f = ((r - d) / (FADE * r)).clamp(0.0, 1.0);
+            kept += f * f * (3.0 - 2.0 * f);
+        }
+        kept / n as f32 / (1.0 - d / max).max(1.0 / MAX_WIDEN)
+    } else {
+        1.0
+    };
+    let sampled = if sample_reach > 0.0 && d > 0.0 {
+        let q = sample_reach / d;
+        let p = (q * q).min(1.0);
+        (p * super::sample::MAX_WIDEN).min(1.0)
+    } else {
+        1.0
+    };
+    (culled * sampled).clamp(0.0, 1.0)
+}
+
+/// How much of the far field the ground shows at `distance`: what the blades no longer cover.
+pub fn weight(distance: f32, cull: &CullParams, sample_reach: f32) -> f32 {
+    1.0 - cover(distance, cull, sample_reach)
+}
+
+fn mul(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
+    (Vec3::from(a) * Vec3::from(b)).to_array()
+}
