@@ -402,17 +402,35 @@ fn bench_layouts(layout: &Option<PathBuf>) -> anyhow::Result<Vec<(doc::Layout, S
 }
 
 fn main() -> ExitCode {
+    let cli = Cli::parse();
+    if cli.command.is_some() {
+        quiet_device_select();
+    }
     // `RUST_LOG=info` (or `wgpu=warn`, `windloom=debug`…) shows what eframe, wgpu and windloom
     // log; by default windloom's own warnings alone (wgpu reports failed probes of backends it
     // does not use as errors).
     env_logger::Builder::from_env(env_logger::Env::default().default_filter_or("windloom=warn"))
         .init();
-    match run(Cli::parse()) {
+    match run(cli) {
         Ok(code) => code,
         Err(e) => {
             eprintln!("error: {e:#}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// Mesa's Vulkan device-select layer asks the Wayland compositor which GPU drives the
+/// display; where `XDG_RUNTIME_DIR` is unset (a CI job, a build server, ssh) libwayland then
+/// prints "error: XDG_RUNTIME_DIR is invalid or not set in the environment." twice on a run
+/// that succeeds. The headless commands drive no display, so there they turn the layer off
+/// (`NODEVICE_SELECT=1`, unless the caller set it); wgpu still picks the adapter.
+fn quiet_device_select() {
+    if std::env::var_os("XDG_RUNTIME_DIR").is_none()
+        && std::env::var_os("NODEVICE_SELECT").is_none()
+    {
+        // SAFETY: called first thing in `main`, before any other thread exists.
+        unsafe { std::env::set_var("NODEVICE_SELECT", "1") };
     }
 }
 

@@ -85,12 +85,30 @@ pub enum GpuError {
     Runtime { what: String, message: String },
 }
 
+/// A wgpu instance without a window, on the backends `WGPU_BACKEND` names: every backend
+/// when it is unset or empty (`WGPU_BACKEND= windloom …` is a common way to clear it, and
+/// wgpu alone would read it as "no backend"), an error naming the variable when it names
+/// none wgpu knows.
+pub(crate) fn headless_instance() -> Result<wgpu::Instance, GpuError> {
+    let mut desc = wgpu::InstanceDescriptor::new_without_display_handle_from_env();
+    if let Ok(value) = std::env::var("WGPU_BACKEND") {
+        if value.trim().is_empty() {
+            desc.backends = wgpu::InstanceDescriptor::new_without_display_handle().backends;
+        } else if desc.backends.is_empty() {
+            return Err(GpuError::NoAdapter(format!(
+                "WGPU_BACKEND={value:?} names no backend wgpu knows (vulkan, gl, metal, dx12; \
+                 unset it to try them all)"
+            )));
+        }
+    }
+    Ok(wgpu::Instance::new(desc))
+}
+
 impl GpuContext {
     /// Opens the default adapter (a high-performance one when there is a choice) without a
     /// window, asking for the adapter's own limits, which the largest grids need.
     pub fn headless() -> Result<Self, GpuError> {
-        let instance =
-            wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+        let instance = headless_instance()?;
         let adapter = pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions {
             power_preference: wgpu::PowerPreference::HighPerformance,
             ..Default::default()

@@ -19,8 +19,7 @@ pub use solver::GpuSolver;
 /// own GPU tests.
 #[cfg(test)]
 pub(crate) fn test_context(limits: impl FnOnce(&mut wgpu::Limits)) -> Option<GpuContext> {
-    let instance =
-        wgpu::Instance::new(wgpu::InstanceDescriptor::new_without_display_handle_from_env());
+    let instance = context::headless_instance().expect("WGPU_BACKEND names a backend");
     let adapter =
         match pollster::block_on(instance.request_adapter(&wgpu::RequestAdapterOptions::default()))
         {

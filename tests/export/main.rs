@@ -664,6 +664,64 @@ fn cli_bake_and_render() {
     assert!(colours.len() > 500, "{} colours", colours.len());
 }
 
+/// A headless grass picture from a job with no desktop session (no `XDG_RUNTIME_DIR`)
+/// succeeds with nothing on stderr (Mesa's device-select layer used to print two
+/// "error: XDG_RUNTIME_DIR is invalid" lines); an empty `WGPU_BACKEND` means every backend,
+/// as unset does; one naming no backend is a one-line error that names the variable.
+#[test]
+fn a_headless_grass_picture_is_quiet_and_wgpu_backend_is_read_as_meant() {
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("grass.png");
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/meadow.json");
+    let render = |backend: Option<&str>| {
+        let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"));
+        c.args([
+            "render",
+            layout.to_str().unwrap(),
+            "--view",
+            "grass",
+            "-o",
+            png.to_str().unwrap(),
+            "--size",
+            "96x64",
+        ])
+        .env_remove("XDG_RUNTIME_DIR")
+        .env_remove("NODEVICE_SELECT")
+        .env_remove("RUST_LOG");
+        match backend {
+            Some(b) => c.env("WGPU_BACKEND", b),
+            None => c.env_remove("WGPU_BACKEND"),
+        };
+        let o = c.output().unwrap();
+        (
+            o.status.success(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let (ok, stderr) = render(None);
+    if !ok && stderr.contains("no GPU adapter") && std::env::var_os("CI").is_none() {
+        eprintln!("\n!!! SKIPPING a GPU test: {stderr}\n");
+        return;
+    }
+    assert!(ok, "render --view grass failed: {stderr}");
+    assert_eq!(
+        stderr, "",
+        "a successful headless render prints nothing on stderr"
+    );
+    let (ok, stderr) = render(Some(""));
+    assert!(
+        ok && stderr.is_empty(),
+        "an empty WGPU_BACKEND is unset: {stderr}"
+    );
+    let (ok, stderr) = render(Some("vulcan"));
+    assert!(!ok, "a backend wgpu does not know is an error");
+    assert_eq!(stderr.lines().count(), 1, "one line: {stderr}");
+    assert!(
+        stderr.contains("WGPU_BACKEND=\"vulcan\"") && stderr.contains("vulkan, gl"),
+        "the error names the variable and what it may hold: {stderr}"
+    );
+}
+
 #[test]
 fn render_draws_the_arrows_and_wind_where_they_are() {
     let layout = example("two-winds.json");
