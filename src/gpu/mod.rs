@@ -36,6 +36,30 @@ pub(crate) fn test_context(limits: impl FnOnce(&mut wgpu::Limits)) -> Option<Gpu
     Some(GpuContext::from_parts(&adapter, device, queue).unwrap())
 }
 
+/// Bind-group-layout entries for a filterable 2D float texture at `binding` and a filtering
+/// sampler at `binding + 1`, for fragment shaders (the grass ground's images).
+pub(crate) fn sampled_texture_entries(binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
+    let visibility = wgpu::ShaderStages::FRAGMENT;
+    [
+        wgpu::BindGroupLayoutEntry {
+            binding,
+            visibility,
+            ty: wgpu::BindingType::Texture {
+                sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                view_dimension: wgpu::TextureViewDimension::D2,
+                multisampled: false,
+            },
+            count: None,
+        },
+        wgpu::BindGroupLayoutEntry {
+            binding: binding + 1,
+            visibility,
+            ty: wgpu::BindingType::Sampler(wgpu::SamplerBindingType::Filtering),
+            count: None,
+        },
+    ]
+}
+
 /// A bind-group-layout entry for a buffer at `binding` (the passes' explicit layouts).
 pub(crate) fn buffer_entry(
     binding: u32,
