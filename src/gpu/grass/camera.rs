@@ -61,3 +61,125 @@ impl Camera {
         proj * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
     }
 }
+
+/// How far from the picture's centre (in normalised device coordinates, 1 at the edge) a
+/// framed world's corners may come.
+pub const FRAME_MARGIN: f32 = 0.94;
+
+/// An orbit camera for the 3D view: around a point on the ground, by yaw, pitch and distance.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Orbit {
+    pub target: glam::Vec3,
+    /// Radians: yaw around +y from +x toward +z, pitch above the ground.
+    pub yaw: f32,
+    pub pitch: f32,
+    pub distance: f32,
+}
+
+impl Orbit {
+    /// Looking at the middle of the world from its south-west, from the nearest distance that
+    /// shows the whole world in a view of `aspect` (width / height): its corners, on the ground
+    /// and as high as the tallest blade or obstacle, inside `FRAME_MARGIN` of the picture.
+    pub fn frame_all(doc: &crate::doc::Layout, aspect: f32) -> Self {
+        let (min, max) = doc.bounds();
+        let r = (max[0] - min[0]).hypot(max[1] - min[1]) / 2.0;
+        let mut orbit = Self {
+            target: glam::Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0),
+            yaw: 2.07,
+            pitch: 0.55,
+            distance: r,
+        };
+        let top = doc.grass.height[1].max(crate::grass::scene::OBSTACLE_HEIGHT);
+        let corners: Vec<glam::Vec3> = [0.0, top]
+            .into_iter()
+            .flat_map(|y| {
+                [
+                    (min[0], min[1]),
+                    (max[0], min[1]),
+                    (min[0], max[1]),
+                    (max[0], max[1]),
+                ]
+                .map(|(x, z)| glam::Vec3::new(x, y, z))
+            })
+            .collect();
+        let aspect = aspect.clamp(0.1, 10.0);
+        let fits = |o: &Self| {
+            let vp = o.camera().view_proj(aspect);
+            corners.iter().all(|c| {
+                let p = vp * c.extend(1.0);
+                p.w > 0.0 && (p.x / p.w).abs() <= FRAME_MARGIN && (p.y / p.w).abs() <= FRAME_MARGIN
+            })
+        };
+        // The corners' extent in the picture shrinks as the camera backs away along its ray.
+        let (mut near, mut far) = (0.05 * r, 50.0 * r);
+        for _ in 0..40 {
+            orbit.distance = 0.5 * (near + far);
+            if fits(&orbit) {
+                far = orbit.distance;
+            } else {
+                near = orbit.distance;
+            }
+        }
+        orbit.distance = far;
+        orbit
+    }
+
+    pub fn camera(&self) -> Camera {
+        let (sy, cy) = self.yaw.sin_cos();
+        let (sp, cp) = self.pitch.sin_cos();
+        let eye = self.target + glam::Vec3::new(cy * cp, sp, sy * cp) * self.distance;
+        Camera {
+            eye,
+            target: self.target,
+            fov_y: 45f32.to_radians(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// "Frame all" shows every example whole in views from tall to wide, and no farther than
+    /// it must: some corner comes near the picture's edge.
+    #[test]
+    fn framing_shows_the_whole_world_and_fills_the_view() {
+        for name in [
+            "meadow",
+            "obstacles",
+            "two-winds",
+            "branching",
+            "breeze-fft",
+        ] {
+            let path = format!("{}/layouts/{name}.json", env!("CARGO_MANIFEST_DIR"));
+            let doc = crate::io::load(std::path::Path::new(&path)).unwrap();
+            let (min, max) = doc.bounds();
+            for aspect in [0.5, 1.0, 16.0 / 9.0, 3.0] {
+                let o = Orbit::frame_all(&doc, aspect);
+                let vp = o.camera().view_proj(aspect);
+                let mut widest = 0.0f32;
+                for y in [0.0, crate::grass::scene::OBSTACLE_HEIGHT] {
+                    for (x, z) in [
+                        (min[0], min[1]),
+                        (max[0], min[1]),
+                        (min[0], max[1]),
+                        (max[0], max[1]),
+                    ] {
+                        let p = vp * glam::Vec4::new(x, y, z, 1.0);
+                        assert!(p.w > 0.0, "{name} {aspect}: a corner behind the camera");
+                        let (sx, sy) = ((p.x / p.w).abs(), (p.y / p.w).abs());
+                        assert!(
+                            sx <= FRAME_MARGIN + 1e-4 && sy <= FRAME_MARGIN + 1e-4,
+                            "{name} at aspect {aspect}: corner ({x}, {y}, {z}) at ({sx}, {sy})"
+                        );
+                        widest = widest.max(sx).max(sy);
+                    }
+                }
+                assert!(
+                    widest >= FRAME_MARGIN - 0.01,
+                    "{name} at {aspect}: framed loosely, {widest}"
+                );
+            }
+        }
+    }
+}

@@ -47,7 +47,8 @@ fn wind_at(ctx: &crate::gpu::GpuContext, grass: &mut GrassRenderer, layout: &Lay
 }
 
 /// How `windloom render --view grass` draws: the picture's size, the wind's time, the camera
-/// ([`Camera::overview`] when `None`), the paper's literal equations, and a sphere rolled
+/// (when `None`, the whole world framed as the editor's "frame all" frames it:
+/// [`Orbit::frame_all`]), the paper's literal equations, and a sphere rolled
 /// through the grass before the picture.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PictureOptions {
@@ -102,7 +103,10 @@ pub fn picture(
         &crate::grass::scene::arrows(layout),
     );
     wind_at(ctx, &mut grass, layout, time);
-    let camera = o.camera.unwrap_or_else(|| Camera::overview(layout));
+    let aspect = o.size[0].max(1) as f32 / o.size[1].max(1) as f32;
+    let camera = o
+        .camera
+        .unwrap_or_else(|| super::Orbit::frame_all(layout, aspect).camera());
     settle(ctx, &mut grass, &camera, time, 3.0);
     if let Some(p) = o.push {
         let frames = FPS as usize;

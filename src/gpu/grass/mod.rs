@@ -26,7 +26,7 @@ mod trail;
 
 use backdrop::{backdrop_group, backdrop_texture};
 pub use bezier::{BezierPass, BezierState};
-pub use camera::Camera;
+pub use camera::{Camera, FRAME_MARGIN, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
 pub use far::{FarPass, FarUniform};
 pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture};

@@ -664,3 +664,44 @@ fn grass_pictures_match_their_references_and_a_gale_stays_lit() {
         "a gale darkens the Bezier grass too much: {gale} against {calm}"
     );
 }
+
+/// `render --view grass` with no `--camera` shows the whole level, as the editor's "frame
+/// all" does (it used to crop the world's corners): for every example, every pixel on the
+/// picture's border is sky, and the level fills over a fifth of the picture.
+#[test]
+fn the_default_grass_picture_shows_the_whole_level() {
+    let Some(ctx) = context() else { return };
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    let (w, h) = (160u32, 100u32);
+    let options = windloom::gpu::grass::PictureOptions {
+        size: [w, h],
+        time: 0.5,
+        camera: None,
+        paper_literal: false,
+        push: None,
+    };
+    for name in ["meadow.json", "obstacles.json", "branching.json"] {
+        let mut l = example(name);
+        // Fewer blades: the framing, not the grass, is under test.
+        l.grass.density = l.grass.density.min(4.0);
+        let px = windloom::gpu::grass::picture(&ctx, &l, &dir, &options).unwrap();
+        let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
+        let sky = at(0, 0).to_vec();
+        let is_sky = |p: &[u8]| p.iter().zip(&sky).all(|(a, b)| a.abs_diff(*b) <= 3);
+        let border = (0..w)
+            .flat_map(|x| [(x, 0), (x, h - 1)])
+            .chain((0..h).flat_map(|y| [(0, y), (w - 1, y)]));
+        for (x, y) in border {
+            assert!(
+                is_sky(at(x, y)),
+                "{name}: the level reaches the edge at ({x}, {y})"
+            );
+        }
+        let ground = (0..w * h).filter(|k| !is_sky(at(k % w, k / w))).count();
+        println!("{name}: the level covers {ground} of {} pixels", w * h);
+        assert!(
+            ground * 5 > (w * h) as usize,
+            "{name}: the level is too small"
+        );
+    }
+}
