@@ -3,9 +3,9 @@
 //! ([`super::sample`]). The CPU twin of `shaders/grass_far.wgsl` and of the far field in
 //! `shaders/grass_ground.wgsl`.
 //!
-//! Without it, a view of the whole world showed bare ground: at that distance every blade
-//! is under the cull's 2-pixel rule, so a designer who framed the level saw no grass and no
-//! wind at all. With it the ground carries the field's look, evaluated per texel of a grid
+//! Without it, a view of the whole world showed plain soil: at that distance every blade is
+//! under the cull's 2-pixel rule, so a designer who framed the level saw neither the grass's
+//! colours nor anything of the wind. With it the ground carries the field's look, evaluated per texel of a grid
 //! over the world (the wind grid, at most [`MAX_TEXELS`] a side) from the same model the
 //! blades use:
 //!
@@ -70,19 +70,14 @@ impl Look {
     /// The mean of `g`'s palettes (the blades pick one each, evenly), under `sun` (`xyz` toward
     /// it, `w` the sky's share, as the renderer's scene holds it).
     pub fn new(g: &GrassParams, sun: [f32; 4]) -> Self {
-        let n = g.palettes.len().max(1) as f32;
         let mean = |pick: fn(&crate::doc::Palette) -> [f32; 3], fallback: [f32; 3]| {
-            if g.palettes.is_empty() {
-                return mul(fallback, MEAN_TINT);
-            }
-            let mut s = [0.0; 3];
-            for p in &g.palettes {
-                let c = pick(p);
-                for k in 0..3 {
-                    s[k] += c[k] / n;
-                }
-            }
-            mul(s, MEAN_TINT)
+            let sum: Vec3 = g.palettes.iter().map(|p| Vec3::from(pick(p))).sum();
+            let mean = if g.palettes.is_empty() {
+                Vec3::from(fallback)
+            } else {
+                sum / g.palettes.len() as f32
+            };
+            (mean * Vec3::from(MEAN_TINT)).to_array()
         };
         Self {
             base: mean(|p| p.base, FALLBACK_BASE),
@@ -95,7 +90,7 @@ impl Look {
     }
 }
 
-/// The renderer's colours when a layout has no palette.
+/// The palette the renderer uses when a layout has none: base and tip (linear RGB).
 pub const FALLBACK_BASE: [f32; 3] = [0.1, 0.22, 0.05];
 pub const FALLBACK_TIP: [f32; 3] = [0.45, 0.65, 0.2];
 
@@ -219,13 +214,4 @@ pub fn cover(distance: f32, cull: &CullParams, sample_reach: f32) -> f32 {
         1.0
     };
     (culled * sampled).clamp(0.0, 1.0)
-}
-
-/// How much of the far field the ground shows at `distance`: what the blades no longer cover.
-pub fn weight(distance: f32, cull: &CullParams, sample_reach: f32) -> f32 {
-    1.0 - cover(distance, cull, sample_reach)
-}
-
-fn mul(a: [f32; 3], b: [f32; 3]) -> [f32; 3] {
-    (Vec3::from(a) * Vec3::from(b)).to_array()
 }

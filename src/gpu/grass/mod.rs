@@ -321,7 +321,11 @@ impl GrassRenderer {
             })
             .collect();
         if colours.is_empty() {
-            colours = vec![[0.1, 0.22, 0.05, 1.0], [0.45, 0.65, 0.2, 1.0]];
+            let (b, t) = (
+                crate::grass::far::FALLBACK_BASE,
+                crate::grass::far::FALLBACK_TIP,
+            );
+            colours = vec![[b[0], b[1], b[2], 1.0], [t[0], t[1], t[2], 1.0]];
         }
         // Storage buffers may not be empty.
         let blade_bytes: &[u8] = if blades.is_empty() {
