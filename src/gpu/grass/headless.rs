@@ -48,7 +48,7 @@ fn wind_at(ctx: &crate::gpu::GpuContext, grass: &mut GrassRenderer, layout: &Lay
 
 /// How `windloom render --view grass` draws: the picture's size, the wind's time, the camera
 /// (when `None`, the whole world framed as the editor's "frame all" frames it:
-/// [`Orbit::frame_all`]), the paper's literal equations, and a sphere rolled
+/// [`super::Orbit::frame_all`]), the paper's literal equations, and a sphere rolled
 /// through the grass before the picture.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PictureOptions {
