@@ -9,8 +9,8 @@ use crate::grass::cull::CullParams;
 const FPS: f32 = 60.0;
 
 /// Lets the Bezier blades (with the CWD model: nothing to settle) answer the wind for
-/// `seconds` before the picture, at [`FPS`].
-fn settle(
+/// `seconds` before a picture at `time`, at 60 frames a second.
+pub fn settle(
     ctx: &crate::gpu::GpuContext,
     grass: &mut GrassRenderer,
     camera: &Camera,

@@ -29,7 +29,7 @@ pub use bezier::{BezierPass, BezierState};
 pub use camera::{Camera, FRAME_MARGIN, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
 pub use far::{FarPass, FarUniform};
-pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture};
+pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture, settle};
 pub use target::{Target, render_into, render_offscreen};
 
 use super::GpuError;

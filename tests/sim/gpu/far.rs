@@ -133,14 +133,8 @@ fn picture(
     );
     r.set_cull(cull);
     r.set_far(far_on);
-    // Two seconds at 60 fps for the Bezier blades to answer the wind.
-    if l.grass.model == windloom::doc::GrassModel::BezierPhysics {
-        for _ in 0..120 {
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            r.prepare(&ctx.queue, &mut enc, camera, 1.6, 0.0, 1.0 / 60.0);
-            ctx.queue.submit([enc.finish()]);
-        }
-    }
+    // Two seconds for the Bezier blades to answer the wind.
+    windloom::gpu::grass::settle(ctx, &mut r, camera, 2.0, 2.0);
     render_offscreen(ctx, &mut r, camera, (2.0, 1.0 / 60.0), [320, 200])
         .unwrap()
         .0

@@ -569,14 +569,8 @@ fn picture(ctx: &GpuContext, speed: f32, model: windloom::doc::GrassModel) -> Ve
         target: glam::Vec3::new(6.0, 0.2, 4.0),
         fov_y: 45f32.to_radians(),
     };
-    // Two seconds at 60 fps for the Bezier blades to answer the wind.
-    if model == windloom::doc::GrassModel::BezierPhysics {
-        for _ in 0..120 {
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            r.prepare(&ctx.queue, &mut enc, &camera, 16.0 / 9.0, 0.0, 1.0 / 60.0);
-            ctx.queue.submit([enc.finish()]);
-        }
-    }
+    // Two seconds for the Bezier blades to answer the wind.
+    windloom::gpu::grass::settle(ctx, &mut r, &camera, 0.0, 2.0);
     render_offscreen(ctx, &mut r, &camera, (0.0, 1.0 / 60.0), [320, 180])
         .unwrap()
         .0
