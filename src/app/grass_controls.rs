@@ -1,6 +1,6 @@
 //! The 3D view's own controls (egui only; the GPU side is `gpu_view.rs`): a toggle per
-//! culling test, for the LOD and for the far field, the pushing sphere and its trail, and the counters line —
-//! blades total, culled by each test, drawn per LOD level.
+//! culling test, for the LOD and for the far field, the pushing sphere and its trail, and the
+//! counters line — blades total, culled by each test, drawn per LOD level.
 
 use crate::gpu::grass::CullStats;
 use crate::grass::cull::{CullParams, LOD_SEGMENTS};

@@ -5,9 +5,9 @@
 //!
 //! Without it, a view of the whole world showed plain soil: at that distance every blade is
 //! under the cull's 2-pixel rule, so a designer who framed the level saw neither the grass's
-//! colours nor anything of the wind. With it the ground carries the field's look, evaluated per texel of a grid
-//! over the world (the wind grid, at most [`MAX_TEXELS`] a side) from the same model the
-//! blades use:
+//! colours nor anything of the wind. With it the ground carries the field's look, evaluated
+//! per texel of a grid over the world (the wind grid, at most [`MAX_TEXELS`] a side) from the
+//! same model the blades use:
 //!
 //! - [`texel`]: [`PROBES`] mean blades (the layout's mean height, width and stiffness, the
 //!   palettes' mean colours, facings spread evenly) stand at the texel's centre in its wind

@@ -1,19 +1,20 @@
 //! The grass renderer: blades as GPU instances in the live wind over a ground plane, shaped by
 //! the CWD-Sim model (`src/grass/cwd.rs` is its CPU twin) or by Jahrmann's Bezier physics
-//! (`src/grass/bezier.rs`). Per-blade data is uploaded once; per frame the CPU writes one small
-//! scene uniform (camera, time, sphere) and, when it changes, the wind grid. Each frame: the
-//! trail pass (while a sphere pushes or its trail lasts), the model's compute pass (CWD poses or
-//! Bezier steps), the far field (the grass's look from afar, which the ground shows where
-//! blades are missing), the cull pass (orientation, frustum, distance, LOD → per-level visible lists
-//! and indirect draw arguments), then ground, scene and one indirect draw per LOD level, each
-//! blade a strip built in the vertex shader from its index. Passes: `shaders/grass_*.wgsl`,
-//! sharing `grass_common.wgsl` (and `grass_shape.wgsl` for the cull pass and the blades).
+//! (`src/grass/bezier.rs`). Per-blade data is uploaded once; per frame the CPU writes one
+//! small scene uniform (camera, time, sphere) and, when it changes, the wind grid. Each frame:
+//! the trail pass (while a sphere pushes or its trail lasts), the model's compute pass (CWD
+//! poses or Bezier steps), the far field (the grass's look from afar, which the ground shows
+//! where blades are missing), the cull pass (orientation, frustum, distance, LOD → per-level
+//! visible lists and indirect draw arguments), then ground, scene and one indirect draw per
+//! LOD level, each blade a strip built in the vertex shader from its index. Passes:
+//! `shaders/grass_*.wgsl`, sharing `grass_common.wgsl` (and `grass_shape.wgsl` for the cull
+//! pass and the blades).
 //!
-//! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. `camera.rs`: the glam camera;
-//! `cull.rs`, `bezier.rs`, `trail.rs`, `far.rs`: those passes' buffers and pipelines; `backdrop.rs`: the
-//! map image on the ground; `target.rs`: the colour + depth target and whole frames into it;
-//! `headless.rs`: pictures
-//! and the benchmark for the CLI.
+//! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. `camera.rs`: the glam camera and
+//! the orbit that frames the world; `cull.rs`, `bezier.rs`, `trail.rs`, `far.rs`: those
+//! passes' buffers and pipelines; `backdrop.rs`: the map image on the ground; `target.rs`:
+//! the colour + depth target and whole frames into it; `headless.rs`: pictures and the
+//! benchmark for the CLI.
 
 mod backdrop;
 mod bezier;
