@@ -33,6 +33,112 @@ fn num(
     })
 }
 
+/// A setting chosen from a few named values, shown by name (not by its Rust spelling) with
+/// what each does on hover.
+trait Choice: Copy + PartialEq + 'static {
+    const ALL: &'static [Self];
+    fn label(self) -> &'static str;
+    fn hint(self) -> &'static str;
+}
+
+impl Choice for doc::PressureSolve {
+    const ALL: &'static [Self] = &[Self::Jacobi, Self::Multigrid];
+    fn label(self) -> &'static str {
+        match self {
+            Self::Jacobi => "Jacobi",
+            Self::Multigrid => "Multigrid",
+        }
+    }
+    fn hint(self) -> &'static str {
+        match self {
+            Self::Jacobi => {
+                "Cheap sweeps that remove small-scale divergence; big grids keep some of the \
+                 large-scale rest"
+            }
+            Self::Multigrid => "V-cycles that remove divergence at every scale",
+        }
+    }
+}
+
+impl Choice for doc::Boundary {
+    const ALL: &'static [Self] = &[Self::Open, Self::Closed, Self::Periodic];
+    fn label(self) -> &'static str {
+        match self {
+            Self::Open => "Open",
+            Self::Closed => "Closed (walls)",
+            Self::Periodic => "Periodic (tiles)",
+        }
+    }
+    fn hint(self) -> &'static str {
+        match self {
+            Self::Open => "Wind leaves the world freely at its edges",
+            Self::Closed => "The edges are walls: no wind crosses them",
+            Self::Periodic => {
+                "Wind leaving one edge enters the opposite one: bakes tile seamlessly"
+            }
+        }
+    }
+}
+
+impl Choice for doc::Advection {
+    const ALL: &'static [Self] = &[Self::SemiLagrangian, Self::MacCormack];
+    fn label(self) -> &'static str {
+        match self {
+            Self::SemiLagrangian => "Semi-Lagrangian",
+            Self::MacCormack => "MacCormack",
+        }
+    }
+    fn hint(self) -> &'static str {
+        match self {
+            Self::SemiLagrangian => {
+                "First order, the paper's scheme: smooth and stable, blurs gusts"
+            }
+            Self::MacCormack => {
+                "Limited second order: keeps gusts sharp; a step costs about twice as much"
+            }
+        }
+    }
+}
+
+impl Choice for doc::GrassModel {
+    const ALL: &'static [Self] = &[Self::CwdQuadratic, Self::BezierPhysics];
+    fn label(self) -> &'static str {
+        match self {
+            Self::CwdQuadratic => "CWD quadratic",
+            Self::BezierPhysics => "Bezier physics",
+        }
+    }
+    fn hint(self) -> &'static str {
+        match self {
+            Self::CwdQuadratic => "The paper's grouped quadratic bend with height self-shadow",
+            Self::BezierPhysics => {
+                "Bezier blades stepped by physics (gravity, stiffness, wind): they sway and settle"
+            }
+        }
+    }
+}
+
+/// A labelled drop-down of a [`Choice`] in a grid row; true when the user picked another value.
+fn choice<T: Choice>(ui: &mut egui::Ui, label: &str, value: &mut T) -> bool {
+    let l = ui.label(label);
+    let mut changed = false;
+    egui::ComboBox::from_id_salt(label)
+        .selected_text(value.label())
+        .show_ui(ui, |ui| {
+            for &c in T::ALL {
+                changed |= ui
+                    .selectable_value(value, c, c.label())
+                    .on_hover_text(c.hint())
+                    .changed();
+            }
+        })
+        .response
+        .labelled_by(l.id)
+        .on_hover_text(value.hint());
+    ui.end_row();
+    changed
+}
+
 pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
     let ctx = ui.ctx().clone();
     egui::Panel::right("inspector")
@@ -460,23 +566,7 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
     let mut s = app.doc.sim;
     let mut changed = false;
     egui::Grid::new("sim").num_columns(2).show(ui, |ui| {
-        let l = ui.label("Pressure solve");
-        egui::ComboBox::from_id_salt("pressure")
-            .selected_text(format!("{:?}", s.pressure))
-            .show_ui(ui, |ui| {
-                for p in [doc::PressureSolve::Jacobi, doc::PressureSolve::Multigrid] {
-                    changed |= ui
-                        .selectable_value(&mut s.pressure, p, format!("{p:?}"))
-                        .changed();
-                }
-            })
-            .response
-            .labelled_by(l.id)
-            .on_hover_text(
-                "Jacobi: cheap sweeps that leave large-scale divergence on big grids. \
-                 Multigrid: V-cycles that remove it at every scale.",
-            );
-        ui.end_row();
+        changed |= choice(ui, "Pressure solve", &mut s.pressure);
         changed |= match s.pressure {
             doc::PressureSolve::Jacobi => row(ui, "Pressure iterations", |ui| {
                 ui.add(egui::Slider::new(&mut s.pressure_iterations, 1..=200))
@@ -499,36 +589,8 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
         changed |= row(ui, "Arrow response", |ui| {
             ui.add(egui::Slider::new(&mut s.arrow_response, 0.1..=30.0).suffix(" /s"))
         });
-        let l = ui.label("Boundary");
-        egui::ComboBox::from_id_salt("boundary")
-            .selected_text(format!("{:?}", s.boundary))
-            .show_ui(ui, |ui| {
-                for b in [
-                    doc::Boundary::Open,
-                    doc::Boundary::Closed,
-                    doc::Boundary::Periodic,
-                ] {
-                    changed |= ui
-                        .selectable_value(&mut s.boundary, b, format!("{b:?}"))
-                        .changed();
-                }
-            })
-            .response
-            .labelled_by(l.id);
-        ui.end_row();
-        let l = ui.label("Advection");
-        egui::ComboBox::from_id_salt("advection")
-            .selected_text(format!("{:?}", s.advection))
-            .show_ui(ui, |ui| {
-                for a in [doc::Advection::SemiLagrangian, doc::Advection::MacCormack] {
-                    changed |= ui
-                        .selectable_value(&mut s.advection, a, format!("{a:?}"))
-                        .changed();
-                }
-            })
-            .response
-            .labelled_by(l.id);
-        ui.end_row();
+        changed |= choice(ui, "Boundary", &mut s.boundary);
+        changed |= choice(ui, "Advection", &mut s.advection);
     });
     if changed {
         app.edit_merged(ctx, Edit::SetSim(s), "sim");
@@ -603,22 +665,7 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
                     .inner
                 });
             }
-            let l = ui.label("Model");
-            egui::ComboBox::from_id_salt("grass model")
-                .selected_text(format!("{:?}", g.model))
-                .show_ui(ui, |ui| {
-                    for m in [
-                        doc::GrassModel::CwdQuadratic,
-                        doc::GrassModel::BezierPhysics,
-                    ] {
-                        changed |= ui
-                            .selectable_value(&mut g.model, m, format!("{m:?}"))
-                            .changed();
-                    }
-                })
-                .response
-                .labelled_by(l.id);
-            ui.end_row();
+            changed |= choice(ui, "Model", &mut g.model);
         });
         if changed {
             app.edit_merged(ctx, Edit::SetGrass(g), "grass");

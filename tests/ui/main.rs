@@ -250,6 +250,68 @@ fn the_inspector_warns_of_settings_that_run_away() {
     );
 }
 
+/// The simulation's and the grass's choices read as words a designer knows (not the Rust
+/// spelling: "SemiLagrangian", "CwdQuadratic"), and picking one by clicking is one undo step.
+#[test]
+fn the_inspector_s_choices_read_as_words_and_switch_by_clicking() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.run_steps(2);
+    let shown = |h: &Harness<'_, EditorApp>, label: &str| h.get_by_label(label).value();
+    for (label, value) in [
+        ("Pressure solve", "Jacobi"),
+        ("Boundary", "Open"),
+        ("Advection", "Semi-Lagrangian"),
+    ] {
+        assert_eq!(shown(&h, label).as_deref(), Some(value), "{label}");
+    }
+    h.get_by_label("Advection").click();
+    h.run_steps(2);
+    h.get_by_label("MacCormack").click();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.advection, doc::Advection::MacCormack);
+    assert_eq!(shown(&h, "Advection").as_deref(), Some("MacCormack"));
+
+    h.get_by_label("Boundary").click();
+    h.run_steps(2);
+    h.get_by_label("Periodic (tiles)").click();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.boundary, doc::Boundary::Periodic);
+
+    // The grass model, in its collapsed section.
+    h.get_by_label("Grass").click();
+    h.run_steps(2);
+    assert_eq!(shown(&h, "Model").as_deref(), Some("CWD quadratic"));
+    // Scrolled into view as a user would (the section ends below the window).
+    for _ in 0..20 {
+        if h.get_by_label("Model").rect().bottom() < 760.0 {
+            break;
+        }
+        h.get_by_label("Model").scroll_down();
+        h.run_steps(2);
+    }
+    h.get_by_label("Model").click();
+    h.run_steps(2);
+    h.get_by_label("Bezier physics").click();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.grass.model, doc::GrassModel::BezierPhysics);
+
+    // Each pick is its own undo step, undone in turn.
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.grass.model, doc::GrassModel::CwdQuadratic);
+    assert_eq!(h.state().doc.sim.boundary, doc::Boundary::Periodic);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.boundary, doc::Boundary::Open);
+    assert_eq!(h.state().doc.sim.advection, doc::Advection::MacCormack);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.advection, doc::Advection::SemiLagrangian);
+}
+
 /// The map does not move under the pointer when the selection changes: the side panels keep
 /// their widths whatever the inspector shows (a node, an obstacle, nothing), so a click that
 /// adds a root and the drag that follows from it land on the same world point.
