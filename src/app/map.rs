@@ -85,14 +85,15 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     interact(app, &ctx, &response, rect, &cam, &painter);
     draw_legend(&painter, rect, app.settings.wind_view, max_speed);
 
-    // Hint for the current tool.
-    painter.text(
-        rect.left_bottom() + Vec2::new(10.0, -10.0),
-        egui::Align2::LEFT_BOTTOM,
-        app.tool.hint(),
+    // Hint for the current tool, wrapped to the map's width (narrow beside the 3D view).
+    let hint = painter.layout(
+        app.tool.hint().to_owned(),
         egui::FontId::proportional(13.0),
         Color32::from_white_alpha(170),
+        (rect.width() - 20.0).max(40.0),
     );
+    let at = rect.left_bottom() + Vec2::new(10.0, -10.0 - hint.size().y);
+    painter.galley(at, hint, Color32::from_white_alpha(170));
 }
 
 fn navigate(app: &mut EditorApp, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
