@@ -147,9 +147,9 @@ enum Command {
         /// Which solver to time.
         #[arg(long, value_enum, default_value_t = Backend::Cpu)]
         backend: Backend,
-        /// Grid cells per axis (N × N).
-        #[arg(long, default_value_t = 512)]
-        grid: u32,
+        /// Grid: N for N × N cells, or WIDTHxHEIGHT as `bake --grid` takes it (e.g. 240x160).
+        #[arg(long, default_value = "512", value_parser = parse_grid_or_side)]
+        grid: [u32; 2],
         /// Jacobi pressure iterations per step.
         #[arg(long, default_value_t = 20)]
         iterations: u32,
@@ -245,6 +245,17 @@ fn parse_grid(s: &str) -> Result<[u32; 2], String> {
             .map_err(|_| format!("expected WIDTHxHEIGHT like 256x128, got {s:?}"))
     };
     Ok([n(a)?, n(b)?])
+}
+
+/// `N` → `[N, N]`, or `NXxNY` as [`parse_grid`].
+fn parse_grid_or_side(s: &str) -> Result<[u32; 2], String> {
+    match s.trim().parse::<u32>() {
+        Ok(n) => Ok([n, n]),
+        Err(_) if s.contains(['x', 'X']) => parse_grid(s),
+        Err(_) => Err(format!(
+            "expected N (cells a side) or WIDTHxHEIGHT like 256x128, got {s:?}"
+        )),
+    }
 }
 
 /// `500M`, `16G`, `2T`, `1048576` → bytes (binary units: 1K = 1024).
@@ -724,7 +735,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 .build()?;
             let mut reports = Vec::new();
             for (mut l, name) in bench_layouts(&layout)? {
-                l.world.grid = [grid, grid];
+                l.world.grid = grid;
                 l.sim.pressure_iterations = iterations;
                 l.sim.pressure_cycles = cycles;
                 l.sim.pressure = match pressure {

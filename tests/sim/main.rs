@@ -1148,6 +1148,11 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
     assert!(before > 0.0 && after < before, "{before} -> {after}");
     let cut = j["divergence_reduction"].as_f64().unwrap();
     assert!((cut - before / after).abs() <= 1e-3 * cut, "{cut}");
+
+    // A level's own proportions, as `bake --grid` writes them.
+    let out = bench(&["--grid", "48x32", "--steps", "1", "--warmup", "0"]);
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["grid"], serde_json::json!([48, 32]));
 }
 
 /// `bench --layout all` runs every bundled example and prints a JSON array, one object each.
