@@ -297,6 +297,17 @@ fn unit_wrap(t: f32) -> f32 {
     t - t.floor()
 }
 
+/// `t` clamped to `[0, m]` (`0 ≤ m < 2³¹`; NaN gives 0) and truncated to an i32: what
+/// `t as i32` and a clamp give, in vector instructions. Rust's saturating `as` compiles to a
+/// scalar compare and select per lane on AVX2, and those took half the sampler's time.
+#[inline(always)]
+pub(crate) fn index(t: f32, m: f32) -> i32 {
+    // `max` turns NaN into 0.
+    let t = t.max(0.0).min(m);
+    // SAFETY: `t` is finite and in [0, 2³¹), so its truncation fits an i32.
+    unsafe { t.to_int_unchecked::<i32>() }
+}
+
 /// An FFT gust field (Tessendorf/Phillips spectrum), tiling with period `tile` metres.
 pub struct FftGusts {
     n: usize,

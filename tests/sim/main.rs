@@ -825,6 +825,66 @@ fn fft_gusts_tile_and_have_unit_rms() {
     );
 }
 
+/// The ambient wind along a row (what the forces pass uses) is `Ambient::wind` point by point,
+/// to the bit: every kind of layer, alone and stacked, for rows of faces from many to a
+/// texel (runs of faces) to several texels a face apart (face by face), rows crossing the FFT
+/// tile's edge and starting at negative x, both components, at several times.
+#[test]
+fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
+    let mut stacked = example("meadow.json");
+    stacked.ambient.extend(example("breeze-fft.json").ambient);
+    for kind in [
+        doc::AmbientKind::Noise {
+            direction_deg: 200.0,
+            scale: 7.0,
+            speed: 1.5,
+            strength: 3.0,
+        },
+        doc::AmbientKind::Sine {
+            direction_deg: 95.0,
+            amplitude: 2.0,
+            wavelength: 11.0,
+            frequency: 0.4,
+        },
+    ] {
+        let mut a = stacked.ambient[0].clone();
+        a.id = 100 + stacked.ambient.len() as u32;
+        a.kind = kind;
+        stacked.ambient.push(a);
+    }
+    let layouts = [example("meadow.json"), example("breeze-fft.json"), stacked];
+    let mut scratch = forces::RowScratch::default();
+    let mut checked = 0;
+    for l in &layouts {
+        let mut ambient = forces::Ambient::new(l);
+        // Face spacings from 40 faces a texel (1 m texels) to 2.5 texels a face.
+        for spacing in [0.025f32, 0.2, 0.3, 0.7, 1.0, 2.5] {
+            for (x0, z) in [(0.0f32, 3.3), (-17.25, 40.1), (61.9, -2.0)] {
+                let xs: Vec<f32> = (0..300).map(|i| x0 + i as f32 * spacing).collect();
+                let mut row = vec![0.0; xs.len()];
+                for t in [0.0, 1.7, 9.25] {
+                    ambient.set_time(t);
+                    for c in 0..2 {
+                        ambient.component_row(c, z, &xs, &mut row, &mut scratch);
+                        for (k, &x) in xs.iter().enumerate() {
+                            let want = ambient.wind([x, z])[c];
+                            assert!(
+                                row[k].to_bits() == want.to_bits(),
+                                "{}: spacing {spacing}, x {x}, z {z}, t {t}, component {c}: \
+                                 row {} vs wind {want}",
+                                l.name,
+                                row[k]
+                            );
+                            checked += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert_eq!(checked, 3 * 6 * 3 * 300 * 3 * 2);
+}
+
 #[test]
 fn ambient_layers_drive_the_field_toward_their_wind() {
     let mut l = example("breeze-fft.json");

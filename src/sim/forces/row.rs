@@ -5,7 +5,7 @@
 
 use super::{
     Ambient, FftGusts, LAYER_DIRECTIONAL, LAYER_FFT, LAYER_NOISE, fade, gradient, hash_angle,
-    unit_wrap,
+    index, unit_wrap,
 };
 use multiversion::multiversion;
 
@@ -236,19 +236,56 @@ fn fft_row(
     let wrapped = &mut wrapped[..xs.len()];
     texel_coordinates(xs, shift, f.tile, nf, wrapped);
     let step = spacing(xs) / f.tile * nf;
+    let c = FftConstants {
+        xf: 0.0,
+        fz,
+        mean,
+        amplitude,
+        dc,
+    };
+    if step > FFT_FACES_PER_RUN.recip() {
+        // A texel holds a face or two: finding each run would cost more than its blend, so
+        // every face takes its own texel (the same texel and arithmetic as a run's).
+        return fft_faces(wrapped, [r0, r1], &c, out);
+    }
     runs(wrapped, step, |r, xf| {
         let i0 = xf as usize % f.n;
         let i1 = (i0 + 1) % f.n;
         let corners = [r0[i0], r0[i1], r1[i0], r1[i1]];
-        let c = FftConstants {
-            xf,
-            fz,
-            mean,
-            amplitude,
-            dc,
-        };
+        let c = FftConstants { xf, ..c };
         fft_blend(&wrapped[r.clone()], &corners, &c, &mut out[r]);
     });
+}
+
+/// Below this many faces per texel, [`fft_row`] samples face by face rather than by runs.
+const FFT_FACES_PER_RUN: f32 = 6.0;
+
+/// [`fft_blend`] for every face on its own: face `k`'s texel is `⌊xw[k]⌋` (`n` wraps to 0,
+/// as `%` does for a run), its corners gathered from the two texel rows `rows` (`n` each).
+#[inline(always)]
+fn fft_faces(xw: &[f32], rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
+    let n = rows[0].len();
+    assert!(rows[1].len() == n && (1..i32::MAX as usize).contains(&n));
+    let (r0, r1) = (rows[0], rows[1]);
+    for (o, &x) in out.iter_mut().zip(xw) {
+        let xf = x.floor();
+        let i = index(xf, n as f32) as usize;
+        let i0 = if i >= n { i - n } else { i };
+        let i1 = if i0 + 1 >= n { 0 } else { i0 + 1 };
+        // SAFETY: `index` gives 0..=n, so `i0` and `i1` are in 0..n, the rows' length.
+        let t = unsafe {
+            [
+                *r0.get_unchecked(i0),
+                *r0.get_unchecked(i1),
+                *r1.get_unchecked(i0),
+                *r1.get_unchecked(i1),
+            ]
+        };
+        let fx = x - xf;
+        let a = t[0] + (t[1] - t[0]) * fx;
+        let b = t[2] + (t[3] - t[2]) * fx;
+        *o += c.dc * (c.mean + c.amplitude * (a + (b - a) * c.fz));
+    }
 }
 
 /// `out[k] = unit_wrap((xs[k] − shift) / tile) · n`: each sample's texel coordinate.
@@ -265,6 +302,7 @@ fn texel_coordinates(xs: &[f32], shift: f32, tile: f32, n: f32, out: &mut [f32])
 
 /// What [`fft_blend`] needs besides the samples: the run's texel column, the row's fraction,
 /// and the layer's mean, amplitude and direction component.
+#[derive(Clone, Copy)]
 struct FftConstants {
     xf: f32,
     fz: f32,

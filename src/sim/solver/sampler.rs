@@ -4,6 +4,7 @@
 //! `unsafe` blocks, kept here beside the checks that make them sound.
 
 use super::*;
+use crate::sim::forces::index;
 
 /// The four samples around a departure point of a `w × h` field on a non-periodic grid and
 /// the bilinear weights: the point (sample coordinates `x`, `z`) is clamped to the field, as
@@ -63,17 +64,6 @@ impl<'a> Clamped<'a> {
         };
         (a, b, c, d, fx, fz)
     }
-}
-
-/// `t` clamped to `[0, m]` (`0 ≤ m < 2³¹`; NaN gives 0) and truncated to an i32: what
-/// `t as i32` and a clamp give, in vector instructions. Rust's saturating `as` compiles to a
-/// scalar compare and select per lane on AVX2, and those took half the sampler's time.
-#[inline(always)]
-fn index(t: f32, m: f32) -> i32 {
-    // `max` turns NaN into 0.
-    let t = t.max(0.0).min(m);
-    // SAFETY: `t` is finite and in [0, 2³¹), so its truncation fits an i32.
-    unsafe { t.to_int_unchecked::<i32>() }
 }
 
 /// The four samples around a departure point of a face field on a periodic grid, which
