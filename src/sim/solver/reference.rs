@@ -3,7 +3,7 @@
 //! in the other files (only the force *model* — `agc_splats`, `ArrowSplat`, `Ambient::wind` —
 //! which defines what both must compute). The fast passes are restructured for speed (rows
 //! split into interior and ends, vectorisable loops, cache-blocked Jacobi) and must give the
-//! same numbers: `tests/sim/main.rs` steps both on layouts with every boundary kind and both
+//! same numbers: `tests/sim/bits.rs` steps both on layouts with every boundary kind and both
 //! advection schemes and compares the fields. The GPU passes mirror these formulas too.
 
 use super::*;

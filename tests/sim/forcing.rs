@@ -1,0 +1,192 @@
+//! The force model behaves like the paper's AGC trees (arrows, branches, pulses, time
+//! windows), and the ambient layers drive the field toward their wind.
+
+use super::*;
+
+#[test]
+fn an_arrow_blows_downstream_not_upstream() {
+    let mut l = Layout::new("arrow", [100.0, 60.0], [100, 60]);
+    l.trees
+        .push(tree(1, chain(10, &[[30.0, 30.0], [50.0, 30.0]], 10.0, 4.0)));
+    let mut s = Solver::new(&l);
+    run(&mut s, 4.0);
+    // 15 m past the arrow's end and 15 m before its root. Continuity draws air in from behind
+    // too, but spread over a half-plane, so it is much slower than the jet downstream.
+    let down = s.velocity_at([65.0, 30.0]);
+    let up = s.velocity_at([15.0, 30.0]);
+    let speed = |v: [f32; 2]| (v[0] * v[0] + v[1] * v[1]).sqrt();
+    assert!(down[0] > 1.0, "downstream wind {down:?}");
+    assert!(
+        down[0].abs() > 5.0 * down[1].abs(),
+        "downstream is along the arrow: {down:?}"
+    );
+    assert!(speed(down) > 2.5 * speed(up), "down {down:?} vs up {up:?}");
+    assert!(up[0] > -0.05, "no flow against the arrow upstream: {up:?}");
+}
+
+#[test]
+fn two_opposing_winds_deflect_sideways_where_they_meet() {
+    let l = example("two-winds.json");
+    let mut s = Solver::new(&l);
+    run(&mut s, 3.0);
+    let (cx, cz) = (60.0, 40.0);
+    let north = s.velocity_at([cx, cz - 10.0]);
+    let south = s.velocity_at([cx, cz + 10.0]);
+    let incoming = s.velocity_at([45.0, cz]);
+    let centre = s.velocity_at([cx, cz]);
+    assert!(incoming[0] > 1.0, "the west wind arrives: {incoming:?}");
+    // Flow turns aside: toward −z north of the centre, toward +z south of it…
+    assert!(north[1] < -0.5, "north of the meeting point {north:?}");
+    assert!(south[1] > 0.5, "south of the meeting point {south:?}");
+    // …and the head-on component cancels in the middle.
+    assert!(
+        centre[0].abs() < 0.25 * incoming[0],
+        "centre {centre:?} vs {incoming:?}"
+    );
+}
+
+#[test]
+fn a_branching_tree_feeds_all_its_branches() {
+    let l = example("branching.json");
+    let mut s = Solver::new(&l);
+    run(&mut s, 3.0);
+    let arrows = l.trees[0].root.arrows();
+    let leaves: Vec<_> = arrows
+        .iter()
+        .filter(|(_, c, _)| c.children.is_empty())
+        .collect();
+    assert!(leaves.len() >= 3);
+    for (p, c, _) in leaves {
+        let mid = [(p.pos[0] + c.pos[0]) / 2.0, (p.pos[1] + c.pos[1]) / 2.0];
+        let d = [c.pos[0] - p.pos[0], c.pos[1] - p.pos[1]];
+        let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
+        let w = s.velocity_at(mid);
+        let along = (w[0] * d[0] + w[1] * d[1]) / len;
+        assert!(along > 1.0, "branch ending at {:?} gets {w:?}", c.pos);
+    }
+}
+
+#[test]
+fn a_pulse_reaches_the_leaves_later_than_the_root() {
+    let mut l = Layout::new("pulse", [120.0, 40.0], [120, 40]);
+    let mut t = tree(
+        1,
+        chain(
+            10,
+            &[[5.0, 20.0], [30.0, 20.0], [60.0, 20.0], [90.0, 20.0]],
+            10.0,
+            4.0,
+        ),
+    );
+    t.propagation_speed = 30.0;
+    l.trees.push(t);
+    // Force model: the first arrow fires at once, the last one after (25+30)/30 s.
+    let active = |time: f32| forces::agc_splats(&l, time).len();
+    assert_eq!(active(0.0), 1);
+    assert_eq!(active(1.0), 2);
+    assert_eq!(active(2.0), 3);
+    // In the fluid: first time the wind passes 1 m/s at the first and the last arrow.
+    let mut s = Solver::new(&l);
+    let mut first = None;
+    let mut last = None;
+    for step in 0..240 {
+        s.step();
+        let time = step as f32 * s.params.dt;
+        if first.is_none() && s.velocity_at([20.0, 20.0])[0] > 1.0 {
+            first = Some(time);
+        }
+        if last.is_none() && s.velocity_at([80.0, 20.0])[0] > 1.0 {
+            last = Some(time);
+        }
+    }
+    let (first, last) = (first.unwrap(), last.unwrap());
+    assert!(last > first + 1.0, "root {first} s, leaf {last} s");
+}
+
+#[test]
+fn windows_emission_and_disabled_trees() {
+    let mut l = Layout::new("w", [50.0, 50.0], [32, 32]);
+    let mut t = tree(1, chain(10, &[[5.0, 5.0], [20.0, 5.0]], 10.0, 3.0));
+    t.window = TimeWindow::Between {
+        start: 1.0,
+        end: 2.0,
+    };
+    l.trees.push(t);
+    let n = |l: &Layout, time: f32| forces::agc_splats(l, time).len();
+    assert_eq!(n(&l, 0.5), 0);
+    assert_eq!(n(&l, 1.5), 1);
+    assert_eq!(n(&l, 2.5), 0);
+    l.trees[0].window = TimeWindow::Always;
+    l.trees[0].emission = Emission::Pulsed {
+        period: 2.0,
+        duty: 0.25,
+    };
+    assert_eq!(n(&l, 0.1), 1);
+    assert_eq!(n(&l, 0.9), 0);
+    assert_eq!(n(&l, 2.2), 1);
+    l.trees[0].enabled = false;
+    assert_eq!(n(&l, 0.1), 0);
+}
+
+#[test]
+fn forces_never_enter_obstacles() {
+    let mut l = example("obstacles.json");
+    l.sim.vorticity = 0.0;
+    let mut s = Solver::new(&l);
+    s.apply_forces(l.sim.dt);
+    let (nx, ny) = (s.nx, s.ny);
+    let mut pushed = 0;
+    for j in 0..ny {
+        for i in 0..nx {
+            let v = s.cell_velocity(i, j);
+            if s.is_solid(i, j) {
+                assert_eq!(v, [0.0, 0.0]);
+            } else if v != [0.0, 0.0] {
+                pushed += 1;
+            }
+        }
+    }
+    assert!(pushed > 100, "the arrows push somewhere");
+}
+
+#[test]
+fn fft_gusts_tile_and_have_unit_rms() {
+    let mut f = forces::FftGusts::new(64, 32.0, 6.0, [1.0, 0.0], 7);
+    f.evaluate(1.5);
+    let rms = (f.field().iter().map(|v| v * v).sum::<f32>() / 4096.0).sqrt();
+    assert!(rms > 0.3 && rms < 3.0, "rms {rms}");
+    for p in [[0.3, 0.7], [5.5, 12.25], [31.9, 0.1]] {
+        let a = f.sample(p);
+        let b = f.sample([p[0] + 32.0, p[1] - 64.0]);
+        assert!((a - b).abs() < 1e-4, "{p:?}: {a} vs {b}");
+    }
+    // It evolves in time.
+    let before = f.field().to_vec();
+    f.evaluate(3.0);
+    assert!(
+        before
+            .iter()
+            .zip(f.field())
+            .any(|(a, b)| (a - b).abs() > 0.1)
+    );
+}
+
+#[test]
+fn ambient_layers_drive_the_field_toward_their_wind() {
+    let mut l = example("breeze-fft.json");
+    l.sim.vorticity = 0.0;
+    let mut s = Solver::new(&l);
+    run(&mut s, 4.0);
+    let field = s.velocity_field();
+    let mean = field
+        .iter()
+        .fold([0.0f32, 0.0], |a, v| [a[0] + v[0], a[1] + v[1]]);
+    let n = field.len() as f32;
+    let mean = [mean[0] / n, mean[1] / n];
+    let dir = doc::direction(20.0);
+    let along = mean[0] * dir[0] + mean[1] * dir[1];
+    assert!(
+        along > 3.0,
+        "mean wind {mean:?} should approach 6 m/s at 20°"
+    );
+}
