@@ -51,11 +51,22 @@ pub fn to_json(layout: &Layout) -> String {
 /// Parses, migrates and validates a layout text.
 pub fn parse(text: &str) -> Result<Layout, Diagnostics> {
     let mut value: Value = serde_json::from_str(text).map_err(|e| {
+        let (line, column) = (e.line().max(1), e.column().max(1));
+        let at = offset_of(text, line, column);
+        let path = path_at(text, at);
+        let mut message = strip_position(&e.to_string());
+        let rest = text[at..].trim_start_matches('-');
+        if ["NaN", "Infinity", "inf"]
+            .iter()
+            .any(|w| rest.starts_with(w))
+        {
+            message.push_str(": NaN and infinities are not numbers in JSON; write a finite number");
+        }
         Diagnostics(vec![Diagnostic {
-            line: e.line().max(1),
-            column: e.column().max(1),
-            path: None,
-            message: strip_position(&e.to_string()),
+            line,
+            column,
+            path: (!path.is_empty()).then_some(path),
+            message,
         }])
     })?;
     let locator = Locator::new(text);
@@ -170,6 +181,88 @@ fn migrate(value: &mut Value, from: u32) -> Result<(), String> {
 }
 
 /// serde_json appends " at line L column C"; we print the position ourselves.
+/// The byte offset of 1-based `line` and `column` (serde_json counts the column in bytes),
+/// clamped to the text and to a character boundary.
+fn offset_of(text: &str, line: usize, column: usize) -> usize {
+    let start: usize = text
+        .split_inclusive('\n')
+        .take(line - 1)
+        .map(str::len)
+        .sum();
+    let mut at = (start + column - 1).min(text.len());
+    while !text.is_char_boundary(at) {
+        at -= 1;
+    }
+    at
+}
+
+/// The JSON path (`world.size[1]`) of the value being read at byte `offset` of a text that
+/// may not parse: the objects' keys and the arrays' indices open at that point, found by
+/// scanning the text before it. Empty at the top level.
+fn path_at(text: &str, offset: usize) -> String {
+    enum Frame {
+        Object(Option<String>),
+        Array(usize),
+    }
+    let mut stack: Vec<Frame> = Vec::new();
+    let bytes = &text.as_bytes()[..offset.min(text.len())];
+    let mut k = 0;
+    // In an object, a string before ':' is the key of the value that follows.
+    let mut expect_key = false;
+    while k < bytes.len() {
+        match bytes[k] {
+            b'"' => {
+                let start = k + 1;
+                k += 1;
+                while k < bytes.len() && bytes[k] != b'"' {
+                    k += if bytes[k] == b'\\' { 2 } else { 1 };
+                }
+                if expect_key && k <= bytes.len() {
+                    if let Some(Frame::Object(key)) = stack.last_mut() {
+                        let raw = &text[start..k.min(bytes.len())];
+                        *key =
+                            Some(serde_json::from_str(&format!("\"{raw}\"")).unwrap_or(raw.into()));
+                    }
+                    expect_key = false;
+                }
+            }
+            b'{' => {
+                stack.push(Frame::Object(None));
+                expect_key = true;
+            }
+            b'[' => stack.push(Frame::Array(0)),
+            b'}' | b']' => {
+                stack.pop();
+                expect_key = false;
+            }
+            b',' => match stack.last_mut() {
+                Some(Frame::Array(i)) => *i += 1,
+                Some(Frame::Object(key)) => {
+                    *key = None;
+                    expect_key = true;
+                }
+                None => {}
+            },
+            _ => {}
+        }
+        k += 1;
+    }
+    let mut path = String::new();
+    for f in &stack {
+        match f {
+            Frame::Object(Some(key)) => {
+                if !path.is_empty() {
+                    path.push('.');
+                }
+                path.push_str(key);
+            }
+            Frame::Object(None) => break,
+            Frame::Array(i) => path.push_str(&format!("[{i}]")),
+        }
+    }
+    path
+}
+
 fn strip_position(msg: &str) -> String {
     match msg.rfind(" at line ") {
         Some(i) => msg[..i].to_string(),

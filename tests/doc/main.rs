@@ -130,6 +130,42 @@ fn syntax_error_has_line_and_column() {
     assert!(e[0].starts_with("3:16: "), "{}", e[0]);
 }
 
+/// A text that is not JSON still gets the path of the value being read where it breaks, so
+/// a NaN or an infinity written by a script (which JSON cannot hold) names its field.
+#[test]
+fn syntax_errors_name_the_field_being_read() {
+    let nan = small_text().replacen("\"radius\": 4.0", "\"radius\": NaN", 1);
+    let e = errors(&nan);
+    assert_eq!(e.len(), 1, "{e:?}");
+    let line = nan.lines().position(|l| l.contains("NaN")).unwrap() + 1;
+    assert!(e[0].starts_with(&format!("{line}:")), "{}", e[0]);
+    assert!(
+        e[0].contains("trees[0].root.children[0].radius: ")
+            && e[0].contains("NaN and infinities are not numbers in JSON"),
+        "{}",
+        e[0]
+    );
+    let inf = small_text().replacen("\"strength\": 25.0", "\"strength\": -Infinity", 1);
+    let e = errors(&inf);
+    assert!(
+        e[0].contains("trees[0].root.children[0].strength: "),
+        "{}",
+        e[0]
+    );
+    assert!(e[0].contains("not numbers in JSON"), "{}", e[0]);
+    // Keys with escapes, nested arrays, and an object left open at the end of the file.
+    for (text, path) in [
+        ("{\"a\\u0062\": [1, {\"k\": tru}]}", "ab[1].k: "),
+        ("{\"world\": {\"size\": [10 10]}}", "world.size[0]: "),
+        ("{\"world\": {\"size\": [10, 10],\n", "world: "),
+        ("{\"x\": \"}]\", \"y\": [[1], [2, ]]}", "y[1][1]: "),
+    ] {
+        let e = errors(text);
+        assert!(e[0].contains(path), "{text}: {}", e[0]);
+        assert!(!e[0].contains("NaN"), "{}", e[0]);
+    }
+}
+
 #[test]
 fn file_errors_name_the_file_line_and_path() {
     let dir = tempfile::tempdir().unwrap();
