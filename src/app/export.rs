@@ -20,6 +20,9 @@ pub struct ExportDialog {
     pub grid: [u32; 2],
     pub use_layout_grid: bool,
     pub out: String,
+    /// The folder [`Self::suggest_out`] last filled in: while `out` still holds it, the
+    /// user has not chosen one, and it follows the open file.
+    suggested: String,
     job: Option<Job>,
     pub result: Option<Result<String, String>>,
 }
@@ -47,6 +50,7 @@ impl Default for ExportDialog {
             grid: [128, 128],
             use_layout_grid: true,
             out: "bake".into(),
+            suggested: "bake".into(),
             job: None,
             result: None,
         }
@@ -75,6 +79,27 @@ impl ExportDialog {
             max_bytes: bake::DEFAULT_MAX_BYTES,
             backend: bake::Backend::Cpu,
         }
+    }
+
+    /// Fills in the output folder for the layout at `path` (none: not saved yet) unless the
+    /// user has typed or chosen one: `<its folder>/<its name>-bake`, so two layouts of one
+    /// folder never bake into (and replace) the same folder; `bake` for an unsaved layout.
+    pub fn suggest_out(&mut self, path: Option<&std::path::Path>) {
+        if self.out.trim() != self.suggested {
+            return;
+        }
+        let suggestion = match path {
+            Some(p) => {
+                let stem = p
+                    .file_stem()
+                    .map_or("layout".into(), |s| s.to_string_lossy());
+                let dir = p.parent().unwrap_or(std::path::Path::new(""));
+                dir.join(format!("{stem}-bake")).display().to_string()
+            }
+            None => "bake".into(),
+        };
+        self.out.clone_from(&suggestion);
+        self.suggested = suggestion;
     }
 
     /// Starts baking `layout` in the background.

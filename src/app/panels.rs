@@ -51,11 +51,7 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 ui.separator();
                 if ui.button("Export/Bake…").clicked() {
                     app.export.open = true;
-                    if let Some(dir) = app.path.as_ref().and_then(|p| p.parent()) {
-                        if app.export.out == "bake" {
-                            app.export.out = dir.join("bake").display().to_string();
-                        }
-                    }
+                    app.export.suggest_out(app.path.as_deref());
                 }
                 ui.separator();
                 if ui.button("Quit").clicked() {

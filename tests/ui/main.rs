@@ -629,6 +629,37 @@ fn export_is_reachable_from_the_file_menu() {
     );
 }
 
+/// The export folder the dialog suggests is the layout's own (`levels/forest.json` →
+/// `levels/forest-bake`), so baking two layouts of one folder never replaces one bake with
+/// the other; it follows the open file until the user picks a folder, which then stays.
+#[test]
+fn the_suggested_export_folder_is_the_layout_s_own() {
+    if !gpu_available() {
+        return;
+    }
+    let levels = Path::new("levels");
+    let mut h = harness_on(example("meadow.json"), Some(levels.join("meadow.json")));
+    let open_dialog = |h: &mut Harness<'_, EditorApp>| {
+        h.state_mut().export.open = false;
+        h.run_steps(2);
+        h.get_by_label("File").click();
+        h.run_steps(2);
+        h.get_by_label("Export/Bake…").click();
+        h.run_steps(2);
+        assert!(h.state().export.open);
+        h.state().export.out.clone()
+    };
+    let folder = |name: &str| levels.join(name).display().to_string();
+    assert_eq!(open_dialog(&mut h), folder("meadow-bake"));
+    // Another file opened: the suggestion follows it.
+    h.state_mut().path = Some(levels.join("forest.json"));
+    assert_eq!(open_dialog(&mut h), folder("forest-bake"));
+    // A folder the user typed stays, whatever is opened next.
+    h.state_mut().export.out = "/srv/game/wind".into();
+    h.state_mut().path = Some(levels.join("meadow.json"));
+    assert_eq!(open_dialog(&mut h), "/srv/game/wind");
+}
+
 /// Paused, with no input, the editor stops drawing: nothing requests another frame (the
 /// window title was sent every frame, and each viewport command asks for a repaint, so an
 /// idle editor used to redraw forever at 180% CPU).
