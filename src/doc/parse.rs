@@ -180,7 +180,6 @@ fn migrate(value: &mut Value, from: u32) -> Result<(), String> {
     Ok(())
 }
 
-/// serde_json appends " at line L column C"; we print the position ourselves.
 /// The byte offset of 1-based `line` and `column` (serde_json counts the column in bytes),
 /// clamped to the text and to a character boundary.
 fn offset_of(text: &str, line: usize, column: usize) -> usize {
@@ -217,7 +216,7 @@ fn path_at(text: &str, offset: usize) -> String {
                 while k < bytes.len() && bytes[k] != b'"' {
                     k += if bytes[k] == b'\\' { 2 } else { 1 };
                 }
-                if expect_key && k <= bytes.len() {
+                if expect_key {
                     if let Some(Frame::Object(key)) = stack.last_mut() {
                         let raw = &text[start..k.min(bytes.len())];
                         *key =
@@ -263,6 +262,7 @@ fn path_at(text: &str, offset: usize) -> String {
     path
 }
 
+/// serde_json appends " at line L column C"; we print the position ourselves.
 fn strip_position(msg: &str) -> String {
     match msg.rfind(" at line ") {
         Some(i) => msg[..i].to_string(),

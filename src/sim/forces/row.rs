@@ -237,6 +237,7 @@ fn fft_row(
     texel_coordinates(xs, shift, f.tile, nf, wrapped);
     let step = spacing(xs) / f.tile * nf;
     let c = FftConstants {
+        // Each run's (or face's) own texel column, filled in below.
         xf: 0.0,
         fz,
         mean,
@@ -258,11 +259,13 @@ fn fft_row(
 }
 
 /// Below this many faces per texel, [`fft_row`] samples face by face rather than by runs
-/// (measured on AVX2: face by face is 1.3–3× faster at 2–8 faces a texel, even at 15).
+/// (measured on AVX2, docs/PERFORMANCE.md: the forces 1.3–2.5× faster at 2–8 faces a texel,
+/// level with the runs at 15).
 const FFT_FACES_PER_RUN: f32 = 16.0;
 
 /// [`fft_blend`] for every face on its own: face `k`'s texel is `⌊xw[k]⌋` (`n` wraps to 0,
-/// as `%` does for a run), its corners gathered from the two texel rows `rows` (`n` each).
+/// as `%` does for a run; `c.xf` is not read), its corners gathered from the two texel rows
+/// `rows` (`n` each).
 #[inline(always)]
 fn fft_faces(xw: &[f32], rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
     let n = rows[0].len();
