@@ -242,7 +242,8 @@ fn a_splat_s_row_slice_holds_every_point_it_pushes_and_no_more() {
 /// The ambient wind along a row (what the forces pass uses) is `Ambient::wind` point by point,
 /// to the bit: every kind of layer, alone and stacked, for rows of faces from many to a
 /// texel (runs of faces) to several texels a face apart (face by face), rows crossing the FFT
-/// tile's edge and starting at negative x, both components, at several times.
+/// tile's edge and starting at negative x, both components, at several times; one scratch
+/// throughout, as a thread keeps it row after row (its cached lattice gradients included).
 #[test]
 fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
     let mut stacked = example("meadow.json");

@@ -14,6 +14,60 @@ use multiversion::multiversion;
 pub struct RowScratch {
     arg: Vec<f32>,
     noise: Vec<f32>,
+    lattice: LatticeCache,
+}
+
+/// The gradients of the last few lattice rows a thread's noise rows used. A lattice cell is
+/// many face rows tall (8 m for a directional layer's turbulence, against cells of a metre
+/// or less), so consecutive face rows read the same two lattice rows; each gradient is a
+/// sine and a cosine, which made the noise's largest cost on coarse grids.
+#[derive(Default)]
+struct LatticeCache {
+    slots: Vec<LatticeRows>,
+    /// The slot the next miss replaces (round robin).
+    next: usize,
+}
+
+/// Gradients of lattice points `ix0..ix0 + n` of rows `iy` then `iy + 1`, for `seed`: they
+/// depend on nothing else, so any layer asking for the same points may reuse them.
+struct LatticeRows {
+    key: (u32, i32, i32, usize),
+    grads: Vec<[f32; 2]>,
+}
+
+/// At most this many lattice rows pairs are kept (two layers × two components fit).
+const LATTICE_SLOTS: usize = 4;
+
+/// Rows wider than this many lattice points are not cached (a noise far finer than the
+/// grid): their gradients are made run by run, as before.
+const MAX_LATTICE_ROW: usize = 4096;
+
+impl LatticeCache {
+    /// The gradients of lattice points `ix0..ix0 + n` in rows `iy` and `iy + 1` (bottom row
+    /// first), made on a miss.
+    fn rows(&mut self, seed: u32, iy: i32, ix0: i32, n: usize) -> &[[f32; 2]] {
+        let key = (seed, iy, ix0, n);
+        let k = match self.slots.iter().position(|s| s.key == key) {
+            Some(k) => k,
+            None => {
+                let mut grads = Vec::with_capacity(2 * n);
+                for dy in 0..2 {
+                    grads.extend((0..n as i32).map(|dx| hash_angle(ix0 + dx, iy + dy, seed)));
+                }
+                let slot = LatticeRows { key, grads };
+                if self.slots.len() < LATTICE_SLOTS {
+                    self.slots.push(slot);
+                    self.slots.len() - 1
+                } else {
+                    let k = self.next;
+                    self.next = (k + 1) % LATTICE_SLOTS;
+                    self.slots[k] = slot;
+                    k
+                }
+            }
+        };
+        &self.slots[k].grads
+    }
 }
 
 impl Ambient {
@@ -33,6 +87,7 @@ impl Ambient {
         scratch.arg.resize(n, 0.0);
         scratch.noise.resize(n, 0.0);
         let (arg, noise) = (&mut scratch.arg[..n], &mut scratch.noise[..n]);
+        let lattice = &mut scratch.lattice;
         for (l, (_, fft)) in self.params.iter().zip(&self.layers) {
             let dc = l.dir[c];
             match l.kind {
@@ -40,12 +95,12 @@ impl Ambient {
                     let s = 1.0 / 8.0;
                     let seed = if c == 0 { 11 } else { 23 };
                     scaled(xs, l.shift[0], s, arg);
-                    noise_row(arg, (z - l.shift[1]) * s, seed, noise);
+                    noise_row(arg, (z - l.shift[1]) * s, seed, noise, lattice);
                     directional(out, noise, l.a, dc * l.b);
                 }
                 LAYER_NOISE => {
                     divided(xs, l.shift[0], l.a, arg);
-                    noise_row(arg, (z - l.shift[1]) / l.a, 5, noise);
+                    noise_row(arg, (z - l.shift[1]) / l.a, 5, noise, lattice);
                     noise_speed(out, noise, l.b, dc);
                 }
                 LAYER_FFT => match fft {
@@ -169,24 +224,45 @@ fn spacing(xs: &[f32]) -> f32 {
     windloom_static_simd,
     multiversion(targets = "simd", dispatcher = "static")
 )]
-fn noise_row(xs: &[f32], y: f32, seed: u32, out: &mut [f32]) {
+fn noise_row(xs: &[f32], y: f32, seed: u32, out: &mut [f32], lattice: &mut LatticeCache) {
     let yi = y.floor();
     let fy = y - yi;
     let iy = yi as i32;
     let fv = fade(fy);
-    let mut cached: Option<(i32, [f32; 2], [f32; 2])> = None;
+    // The lattice points the row spans (`xs` increase), their gradients from the cache.
+    let (first, last) = match xs {
+        [] => return,
+        [a, .., b] => (a.floor(), b.floor()),
+        [a] => (a.floor(), a.floor()),
+    };
+    let n = last - first + 2.0;
+    let cached = (n.is_finite() && n <= MAX_LATTICE_ROW as f32).then(|| {
+        (
+            first as i32,
+            lattice.rows(seed, iy, first as i32, n as usize),
+        )
+    });
+    let mut last_right: Option<(i32, [f32; 2], [f32; 2])> = None;
     runs(xs, spacing(xs), |r, xi| {
         let ix = xi as i32;
-        let left = match cached {
-            Some((c, bottom, top)) if c == ix => (bottom, top),
-            _ => (hash_angle(ix, iy, seed), hash_angle(ix, iy + 1, seed)),
+        let g = match cached {
+            Some((ix0, grads)) => {
+                let (k, w) = ((ix - ix0) as usize, grads.len() / 2);
+                [grads[k], grads[k + 1], grads[w + k], grads[w + k + 1]]
+            }
+            None => {
+                let left = match last_right {
+                    Some((c, bottom, top)) if c == ix => (bottom, top),
+                    _ => (hash_angle(ix, iy, seed), hash_angle(ix, iy + 1, seed)),
+                };
+                let right = (
+                    hash_angle(ix + 1, iy, seed),
+                    hash_angle(ix + 1, iy + 1, seed),
+                );
+                last_right = Some((ix + 1, right.0, right.1));
+                [left.0, right.0, left.1, right.1]
+            }
         };
-        let right = (
-            hash_angle(ix + 1, iy, seed),
-            hash_angle(ix + 1, iy + 1, seed),
-        );
-        cached = Some((ix + 1, right.0, right.1));
-        let g = [left.0, right.0, left.1, right.1];
         blend(&xs[r.clone()], xi, fy, fv, &g, &mut out[r]);
     });
 }
