@@ -196,45 +196,39 @@ fn offset_of(text: &str, line: usize, column: usize) -> usize {
 }
 
 /// The JSON path (`world.size[1]`) of the value being read at byte `offset` of a text that
-/// may not parse: the objects' keys and the arrays' indices open at that point, found by
-/// scanning the text before it. Empty at the top level.
+/// may not parse: the objects' keys and the arrays' indices open at that point, from
+/// jsonc-parser's tokens before it. Empty at the top level.
 fn path_at(text: &str, offset: usize) -> String {
+    use jsonc_parser::tokens::Token;
     enum Frame {
         Object(Option<String>),
         Array(usize),
     }
     let mut stack: Vec<Frame> = Vec::new();
-    let bytes = &text.as_bytes()[..offset.min(text.len())];
-    let mut k = 0;
     // In an object, a string before ':' is the key of the value that follows.
     let mut expect_key = false;
-    while k < bytes.len() {
-        match bytes[k] {
-            b'"' => {
-                let start = k + 1;
-                k += 1;
-                while k < bytes.len() && bytes[k] != b'"' {
-                    k += if bytes[k] == b'\\' { 2 } else { 1 };
+    let mut tokens = jsonc_parser::Scanner::new(text, &Default::default());
+    while let Ok(Some(token)) = tokens.scan() {
+        if tokens.token_start() >= offset {
+            break;
+        }
+        match token {
+            Token::String(key) if expect_key => {
+                if let Some(Frame::Object(k)) = stack.last_mut() {
+                    *k = Some(key.into_owned());
                 }
-                if expect_key {
-                    if let Some(Frame::Object(key)) = stack.last_mut() {
-                        let raw = &text[start..k.min(bytes.len())];
-                        *key =
-                            Some(serde_json::from_str(&format!("\"{raw}\"")).unwrap_or(raw.into()));
-                    }
-                    expect_key = false;
-                }
+                expect_key = false;
             }
-            b'{' => {
+            Token::OpenBrace => {
                 stack.push(Frame::Object(None));
                 expect_key = true;
             }
-            b'[' => stack.push(Frame::Array(0)),
-            b'}' | b']' => {
+            Token::OpenBracket => stack.push(Frame::Array(0)),
+            Token::CloseBrace | Token::CloseBracket => {
                 stack.pop();
                 expect_key = false;
             }
-            b',' => match stack.last_mut() {
+            Token::Comma => match stack.last_mut() {
                 Some(Frame::Array(i)) => *i += 1,
                 Some(Frame::Object(key)) => {
                     *key = None;
@@ -244,7 +238,6 @@ fn path_at(text: &str, offset: usize) -> String {
             },
             _ => {}
         }
-        k += 1;
     }
     let mut path = String::new();
     for f in &stack {
