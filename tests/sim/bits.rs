@@ -241,9 +241,10 @@ fn a_splat_s_row_slice_holds_every_point_it_pushes_and_no_more() {
 
 /// The ambient wind along a row (what the forces pass uses) is `Ambient::wind` point by point,
 /// to the bit: every kind of layer, alone and stacked, for rows of faces from many to a
-/// texel (runs of faces) to several texels a face apart (face by face), rows crossing the FFT
-/// tile's edge and starting at negative x, both components, at several times; one scratch
-/// throughout, as a thread keeps it row after row (its cached lattice gradients included).
+/// texel (runs of faces) to several texels or noise cells a face apart (face by face), rows
+/// crossing the FFT tile's edge and starting at negative x, both components, at several
+/// times; one scratch throughout, as a thread keeps it row after row (its cached lattice
+/// gradients included).
 #[test]
 fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
     let mut stacked = example("meadow.json");
@@ -272,8 +273,9 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
     let mut checked = 0;
     for l in &layouts {
         let mut ambient = forces::Ambient::new(l);
-        // Face spacings from 40 faces a texel (1 m texels) to 2.5 texels a face.
-        for spacing in [0.025f32, 0.2, 0.3, 0.7, 1.0, 2.5] {
+        // Face spacings from 40 faces a texel (1 m texels) to 2.5 texels a face, and 20 m
+        // (noise lattices finer than the faces: their gradients are not cached).
+        for spacing in [0.025f32, 0.2, 0.3, 0.7, 1.0, 2.5, 20.0] {
             for (x0, z) in [(0.0f32, 3.3), (-17.25, 40.1), (61.9, -2.0)] {
                 let xs: Vec<f32> = (0..300).map(|i| x0 + i as f32 * spacing).collect();
                 let mut row = vec![0.0; xs.len()];
@@ -297,7 +299,7 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
             }
         }
     }
-    assert_eq!(checked, 3 * 6 * 3 * 300 * 3 * 2);
+    assert_eq!(checked, 3 * 7 * 3 * 300 * 3 * 2);
 }
 
 /// The advection samplers read a face's neighbourhood as whole rows where the departure

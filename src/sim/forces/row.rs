@@ -38,10 +38,6 @@ struct LatticeRows {
 /// At most this many lattice rows pairs are kept (two layers × two components fit).
 const LATTICE_SLOTS: usize = 4;
 
-/// Rows wider than this many lattice points are not cached (a noise far finer than the
-/// grid): their gradients are made run by run, as before.
-const MAX_LATTICE_ROW: usize = 4096;
-
 impl LatticeCache {
     /// The gradients of lattice points `ix0..ix0 + n` in rows `iy` and `iy + 1` (bottom row
     /// first), made on a miss.
@@ -236,7 +232,9 @@ fn noise_row(xs: &[f32], y: f32, seed: u32, out: &mut [f32], lattice: &mut Latti
         [a] => (a.floor(), a.floor()),
     };
     let n = last - first + 2.0;
-    let cached = (n.is_finite() && n <= MAX_LATTICE_ROW as f32).then(|| {
+    // A lattice no finer than the faces is cached (a row of at most one gradient a face);
+    // a noise finer than the grid makes its gradients run by run instead.
+    let cached = (n.is_finite() && n <= (xs.len() + 1) as f32).then(|| {
         (
             first as i32,
             lattice.rows(seed, iy, first as i32, n as usize),
@@ -344,9 +342,9 @@ const FFT_FACES_PER_RUN: f32 = 16.0;
 /// `rows` (`n` each).
 #[inline(always)]
 fn fft_faces(xw: &[f32], rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
-    let n = rows[0].len();
-    assert!(rows[1].len() == n && (1..i32::MAX as usize).contains(&n));
-    let (r0, r1, m) = (rows[0], rows[1], n as i32);
+    let texels = rows[0].len();
+    assert!(rows[1].len() == texels && (1..i32::MAX as usize).contains(&texels));
+    let (r0, r1, m) = (rows[0], rows[1], texels as i32);
     let n = out.len().min(xw.len());
     let (xw, out) = (&xw[..n], &mut out[..n]);
     for k in 0..n {
