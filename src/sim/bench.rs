@@ -140,27 +140,60 @@ pub fn measure_bandwidth() -> f64 {
 
 /// The widest SIMD extension the solver's kernels use: the widest this CPU reports (they are
 /// picked at run time), or, in a `windloom_static_simd` build, the widest the build targets.
+/// "avx512" means `multiversion`'s AVX-512 clone, which needs Ice Lake's extensions too
+/// (VBMI2, VNNI, BITALG, GFNI, VAES…): an AVX-512 CPU without them (Skylake-X) runs the AVX2
+/// clone, and so does a build for `x86-64-v4` alone.
 pub fn cpu_simd() -> &'static str {
     // Kernels chosen at compile time: what the build targets, whatever the CPU has.
     #[cfg(all(target_arch = "x86_64", windloom_static_simd))]
     {
-        if cfg!(target_feature = "avx512f") {
+        if cfg!(all(
+            target_feature = "avx512f",
+            target_feature = "avx512bw",
+            target_feature = "avx512cd",
+            target_feature = "avx512dq",
+            target_feature = "avx512vl",
+            target_feature = "avx512bitalg",
+            target_feature = "avx512ifma",
+            target_feature = "avx512vbmi",
+            target_feature = "avx512vbmi2",
+            target_feature = "avx512vnni",
+            target_feature = "avx512vpopcntdq",
+            target_feature = "gfni",
+            target_feature = "vaes",
+            target_feature = "vpclmulqdq",
+        )) {
             return "avx512 (static)";
         }
-        if cfg!(target_feature = "avx2") {
+        if cfg!(all(target_feature = "avx2", target_feature = "fma")) {
             return "avx2 (static)";
         }
         "sse2 (static)"
     }
     #[cfg(all(target_arch = "x86_64", not(windloom_static_simd)))]
     {
-        if std::arch::is_x86_feature_detected!("avx512f") {
+        use std::arch::is_x86_feature_detected as has;
+        let avx512 = has!("avx512f")
+            && has!("avx512bw")
+            && has!("avx512cd")
+            && has!("avx512dq")
+            && has!("avx512vl")
+            && has!("avx512bitalg")
+            && has!("avx512ifma")
+            && has!("avx512vbmi")
+            && has!("avx512vbmi2")
+            && has!("avx512vnni")
+            && has!("avx512vpopcntdq")
+            && has!("gfni")
+            && has!("vaes")
+            && has!("vpclmulqdq");
+        if avx512 {
             return "avx512";
         }
-        if std::arch::is_x86_feature_detected!("avx2") {
+        if has!("avx2") && has!("fma") {
             return "avx2";
         }
-        if std::arch::is_x86_feature_detected!("sse4.1") {
+        if has!("sse4.1") {
             return "sse4.1";
         }
         "sse2"
