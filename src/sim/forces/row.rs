@@ -333,9 +333,10 @@ fn fft_row(
 }
 
 /// Below this many faces per texel, [`fft_row`] samples face by face rather than by runs
-/// (measured on AVX2, docs/PERFORMANCE.md: the forces 1.3–2.5× faster at 2–8 faces a texel,
-/// level with the runs at 15).
-const FFT_FACES_PER_RUN: f32 = 16.0;
+/// (docs/PERFORMANCE.md: on AVX2 the forces 1.3–2.5× faster at 2–8 faces a texel; on a Zen 5
+/// host both clones 5–8 % faster face by face at 13 faces a texel and 15 % slower at 15.6,
+/// where the AVX-512 clone's gathers cost more than finding the runs).
+const FFT_FACES_PER_RUN: f32 = 14.0;
 
 /// [`fft_blend`] for every face on its own: face `k`'s texel is `⌊xw[k]⌋` (`n` wraps to 0,
 /// as `%` does for a run; `c.xf` is not read), its corners gathered from the two texel rows
