@@ -149,9 +149,13 @@ pub(super) trait Field {
     /// cell's `(i1, j1)` is `(i0 + 1, j0 + 1)`: all of a clamped field; one period of a
     /// periodic one, whose last cell wraps to the first.
     fn window(&self) -> (&[f32], usize, i32, i32);
+    /// Whether a cell found by [`Self::cell`] can reach past the window (a periodic field's
+    /// last cell wraps); a clamped field's cells never do, so the test is left out.
+    const WRAPS: bool;
 }
 
 impl Field for Clamped<'_> {
+    const WRAPS: bool = false;
     #[inline(always)]
     fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
         Clamped::cell(self, x, z)
@@ -167,6 +171,7 @@ impl Field for Clamped<'_> {
 }
 
 impl Field for Wrapped<'_> {
+    const WRAPS: bool = true;
     #[inline(always)]
     fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
         let (i0, _, fx) = wrap(x, self.px, self.ix);
@@ -244,7 +249,8 @@ pub(super) fn sample_row<F: Field>(
     let (xi, zi) = (&xs[1..][..m], &zs[1..][..m]);
     let local = |k: usize, i0: i32, j0: i32| {
         let (dx, dz) = (i0 - k as i32, j0 - j as i32);
-        ((dx + 1) as u32 <= 1) & ((dz + 1) as u32 <= 1) & (i0 + 1 < cols) & (j0 + 1 < rows)
+        let inside = !F::WRAPS || ((i0 + 1 < cols) & (j0 + 1 < rows));
+        ((dx + 1) as u32 <= 1) & ((dz + 1) as u32 <= 1) & inside
     };
     let mut far = false;
     {
