@@ -308,7 +308,7 @@ pub(super) fn splat_faces(
         let (vx, vz) = if is_v { (avg, own[q]) } else { (own[q], avg) };
         let x = p.x0 + ((first + q as i32) as f32 + p.ox) * p.hx;
         let d = dc * splat.impulse_magnitude([x, p.z], vx, vz, p.k, p.dt);
-        out[q] = if free[q] != 0 { out[q] + d } else { out[q] };
+        out[q] = bit_select(free[q] != 0, out[q] + d, out[q]);
     }
 }
 
@@ -324,7 +324,7 @@ fn pull(out: &mut [f32], target: &[f32], own: &[f32], free: &[u8], coupling: f32
     let (target, own, free) = (&target[..n], &own[..n], &free[..n]);
     for q in 0..n {
         let d = (target[q] - own[q]) * coupling;
-        out[q] = if free[q] != 0 { out[q] + d } else { out[q] };
+        out[q] = bit_select(free[q] != 0, out[q] + d, out[q]);
     }
 }
 

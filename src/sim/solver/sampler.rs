@@ -188,14 +188,6 @@ impl Field for Wrapped<'_> {
     }
 }
 
-/// `a` where `c` holds, else `b`, as bit masks. A plain `if` between two loaded values lets
-/// LLVM load from a selected address instead, which on AVX2 is a scalar load per lane.
-#[inline(always)]
-fn pick(c: bool, a: f32, b: f32) -> f32 {
-    let m = (c as u32).wrapping_neg();
-    f32::from_bits((a.to_bits() & m) | (b.to_bits() & !m))
-}
-
 /// The value of every face `k` of row `j` of a field sampled at departure points
 /// `(xs[k] − ox, zs[k] − oz)`: `out[k] = value(k, out[k], a, b, c, d, fx, fz)`, with the
 /// four samples around the point and its fractions (`reads_old`: `value` uses `out[k]`).
@@ -262,22 +254,22 @@ pub(super) fn sample_row<F: Field>(
             let (left, down) = (i0 as usize != q + 1, j0 as usize != j);
             // The point's lower and upper rows, then its column and the next.
             let (t0, t1, t2) = (
-                pick(down, bl[q], hl[q]),
-                pick(down, bc[q], hc[q]),
-                pick(down, br[q], hr[q]),
+                bit_select(down, bl[q], hl[q]),
+                bit_select(down, bc[q], hc[q]),
+                bit_select(down, br[q], hr[q]),
             );
             let (u0, u1, u2) = (
-                pick(down, hl[q], al[q]),
-                pick(down, hc[q], ac[q]),
-                pick(down, hr[q], ar[q]),
+                bit_select(down, hl[q], al[q]),
+                bit_select(down, hc[q], ac[q]),
+                bit_select(down, hr[q], ar[q]),
             );
-            let (a, b) = (pick(left, t0, t1), pick(left, t1, t2));
-            let (c, d) = (pick(left, u0, u1), pick(left, u1, u2));
+            let (a, b) = (bit_select(left, t0, t1), bit_select(left, t1, t2));
+            let (c, d) = (bit_select(left, u0, u1), bit_select(left, u1, u2));
             // A far face keeps its value for the point-by-point pass below where `value`
             // reads it (MacCormack's correction).
             let v = value(q + 1, inner[q], a, b, c, d, fx, fz);
             inner[q] = if reads_old {
-                pick(near, v, inner[q])
+                bit_select(near, v, inner[q])
             } else {
                 v
             };
@@ -356,7 +348,7 @@ macro_rules! row_samplers {
         ) {
             let free = &free[..out.len()];
             sample_row(f, o, j, xs, zs, out, false, |k, _, a, b, c, d, fx, fz| {
-                pick(free[k] != 0, bilerp(a, b, c, d, fx, fz) * keep, 0.0)
+                bit_select(free[k] != 0, bilerp(a, b, c, d, fx, fz) * keep, 0.0)
             });
         }
 
@@ -382,7 +374,7 @@ macro_rules! row_samplers {
             let (free, fwd, orig) = (&free[..n], &fwd[..n], &orig[..n]);
             sample_row(f, o, j, xs, zs, back, true, |k, back, a, b, c, d, _, _| {
                 let x = limited(a, b, c, d, fwd[k], orig[k], back);
-                pick(free[k] != 0, x * keep, 0.0)
+                bit_select(free[k] != 0, x * keep, 0.0)
             });
         }
     };

@@ -284,7 +284,7 @@ fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
     // Computed everywhere, kept where free: branch-free, so it vectorises.
     for k in 0..nx - 1 {
         let x = r[k];
-        r[k] = if fr[k] != 0 { add(x, a[k], b[k]) } else { x };
+        r[k] = bit_select(fr[k] != 0, add(x, a[k], b[k]), x);
     }
 }
 
@@ -302,7 +302,7 @@ fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32) {
     // Computed everywhere, kept where free: branch-free, so it vectorises.
     for i in 0..n {
         let x = row[i];
-        row[i] = if free[i] != 0 { add(x, a[i], b[i]) } else { x };
+        row[i] = bit_select(free[i] != 0, add(x, a[i], b[i]), x);
     }
 }
 
@@ -325,11 +325,7 @@ pub(super) fn divergence_row(
     let n = row.len();
     let (ul, urr, vb, vt, s) = (&ur[..n], &ur[1..=n], &vb[..n], &vt[..n], &s[..n]);
     for i in 0..n {
-        row[i] = if s[i] != 0 {
-            0.0
-        } else {
-            (urr[i] - ul[i]) / hx + (vt[i] - vb[i]) / hz
-        };
+        row[i] = bit_select(s[i] != 0, 0.0, (urr[i] - ul[i]) / hx + (vt[i] - vb[i]) / hz);
     }
 }
 
