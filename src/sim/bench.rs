@@ -138,74 +138,43 @@ pub fn measure_bandwidth() -> f64 {
     (2 * n * 4) as f64 / best / 1e9
 }
 
-/// The widest SIMD extension the solver's kernels use: the widest this CPU reports (they are
-/// picked at run time), or, in a `windloom_static_simd` build, the widest the build targets.
-/// "avx512" means `multiversion`'s AVX-512 clone, which needs Ice Lake's extensions too
-/// (VBMI2, VNNI, BITALG, GFNI, VAES…): an AVX-512 CPU without them (Skylake-X) runs the AVX2
-/// clone, and so does a build for `x86-64-v4` alone.
+/// The widest SIMD extension the solver's kernels use: the one `multiversion` picked for its
+/// clones on this CPU (at run time), or, in a `windloom_static_simd` build, the one the
+/// build targets. Asked of a function compiled the way the kernels are, so it follows
+/// `multiversion`'s own rules: its AVX-512 clone needs Ice Lake's extensions too (VBMI2,
+/// VNNI, BITALG, GFNI, VAES…), and an AVX-512 CPU without them (Skylake-X), or a build for
+/// `x86-64-v4` alone, runs the AVX2 clones.
 pub fn cpu_simd() -> &'static str {
-    // Kernels chosen at compile time: what the build targets, whatever the CPU has.
-    #[cfg(all(target_arch = "x86_64", windloom_static_simd))]
-    {
-        if cfg!(all(
-            target_feature = "avx512f",
-            target_feature = "avx512bw",
-            target_feature = "avx512cd",
-            target_feature = "avx512dq",
-            target_feature = "avx512vl",
-            target_feature = "avx512bitalg",
-            target_feature = "avx512ifma",
-            target_feature = "avx512vbmi",
-            target_feature = "avx512vbmi2",
-            target_feature = "avx512vnni",
-            target_feature = "avx512vpopcntdq",
-            target_feature = "gfni",
-            target_feature = "vaes",
-            target_feature = "vpclmulqdq",
-        )) {
-            return "avx512 (static)";
-        }
-        if cfg!(all(target_feature = "avx2", target_feature = "fma")) {
-            return "avx2 (static)";
-        }
-        "sse2 (static)"
+    // A `&'static str` either way: the static build's names carry a suffix.
+    macro_rules! name {
+        ($s:literal) => {
+            if cfg!(windloom_static_simd) {
+                concat!($s, " (static)")
+            } else {
+                $s
+            }
+        };
     }
-    #[cfg(all(target_arch = "x86_64", not(windloom_static_simd)))]
-    {
-        use std::arch::is_x86_feature_detected as has;
-        let avx512 = has!("avx512f")
-            && has!("avx512bw")
-            && has!("avx512cd")
-            && has!("avx512dq")
-            && has!("avx512vl")
-            && has!("avx512bitalg")
-            && has!("avx512ifma")
-            && has!("avx512vbmi")
-            && has!("avx512vbmi2")
-            && has!("avx512vnni")
-            && has!("avx512vpopcntdq")
-            && has!("gfni")
-            && has!("vaes")
-            && has!("vpclmulqdq");
-        if avx512 {
-            return "avx512";
+    #[cfg_attr(
+        not(windloom_static_simd),
+        multiversion::multiversion(targets = "simd")
+    )]
+    #[cfg_attr(
+        windloom_static_simd,
+        multiversion::multiversion(targets = "simd", dispatcher = "static")
+    )]
+    fn selected() -> &'static str {
+        // The first arm the clone's target matches (its features, detected or built in).
+        multiversion::target::match_target! {
+            "x86_64+avx512f" => name!("avx512"),
+            "x86_64+avx2" => name!("avx2"),
+            "x86_64+sse4.1" => name!("sse4.1"),
+            "x86_64" => name!("sse2"),
+            "aarch64" => "neon",
+            _ => "none",
         }
-        if has!("avx2") && has!("fma") {
-            return "avx2";
-        }
-        if has!("sse4.1") {
-            return "sse4.1";
-        }
-        "sse2"
     }
-    #[cfg(target_arch = "aarch64")]
-    {
-        "neon"
-    }
-    #[cfg(not(any(target_arch = "x86_64", target_arch = "aarch64")))]
-    {
-        "none"
-    }
+    selected()
 }
 
 pub fn median(v: &mut [f64]) -> f64 {
