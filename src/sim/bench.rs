@@ -44,6 +44,9 @@ pub struct BenchReport {
     /// the GPU still runs: steps 2–4 as three passes, MacCormack as three sweeps): the
     /// reference the fused passes are measured against; and `median_ms` over that bound.
     pub unfused_bytes_per_step: u64,
+    /// Of `passes_bytes.forces`, the splat gains the CPU step keeps and reads back each step
+    /// (`solver/gains.rs`); the unfused count has none (its forces compute them).
+    pub gain_bytes_per_step: u64,
     pub unfused_bound_ms: f64,
     pub ratio_to_unfused_bound: f64,
     /// RMS divergence over fluid cells before the pressure solve and after the gradient
@@ -64,7 +67,8 @@ pub fn solve_words(p: &crate::doc::SimParams) -> String {
 
 /// Bytes each pass must read and write for one step (see docs/PERFORMANCE.md): with `fused`,
 /// as the CPU step runs them (steps 2–4 in one sweep when it confines vorticity, MacCormack's
-/// backward step and correction in one), else as separate passes (the GPU's).
+/// backward step and correction in one, the splat gains read back from memory), else as
+/// separate passes (the GPU's).
 pub fn pass_bytes(s: &Solver, force_faces: usize, fused: bool) -> Vec<(&'static str, u64)> {
     let c = (s.nx * s.ny) as u64;
     let f = ((s.nx + 1) * s.ny + s.nx * (s.ny + 1)) as u64;
@@ -93,7 +97,15 @@ pub fn pass_bytes(s: &Solver, force_faces: usize, fused: bool) -> Vec<(&'static 
             ("divergence", 4 * f + 5 * c),
         ]
     };
-    let mut passes = vec![("forces", 25 * force_faces as u64)];
+    // The faces the forces reach (velocities, the other component's four, free mask,
+    // increment written and added); the CPU step also reads back the splat gains it keeps
+    // (the separate passes, the GPU's, compute them).
+    let gains = if fused {
+        4 * s.force_gain_floats as u64
+    } else {
+        0
+    };
+    let mut passes = vec![("forces", 25 * force_faces as u64 + gains)];
     passes.extend(steps_2_4);
     passes.extend([
         ("pressure", pressure_bytes(s, k)),
@@ -193,6 +205,7 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
     let mut per_pass: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     let mut bytes: BTreeMap<&'static str, u64> = BTreeMap::new();
     let mut unfused_bytes = 0;
+    let mut gain_bytes = 0;
     for _ in 0..steps.max(1) {
         s.timings = Default::default();
         let t = Instant::now();
@@ -207,6 +220,7 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         for (name, b) in passes {
             *bytes.entry(name).or_default() += b * u64::from(s.params.substeps);
         }
+        gain_bytes += 4 * s.force_gain_floats as u64 * u64::from(s.params.substeps);
         unfused_bytes += pass_bytes(&s, s.force_faces, false)
             .iter()
             .map(|(_, b)| b)
@@ -248,6 +262,7 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         bound_ms,
         ratio_to_bound: median_ms / bound_ms,
         unfused_bytes_per_step,
+        gain_bytes_per_step: gain_bytes / n,
         unfused_bound_ms,
         ratio_to_unfused_bound: median_ms / unfused_bound_ms,
         divergence_before,

@@ -66,6 +66,14 @@ impl ArrowSplat {
     /// level: the same numbers (a point beyond the cutoff gets `m = 0`, which adds nothing).
     #[inline(always)]
     pub fn impulse_magnitude(&self, p: [f32; 2], vx: f32, vz: f32, k: f32, dt: f32) -> f32 {
+        self.gain(p, k, dt) * self.deficit(vx, vz)
+    }
+
+    /// The part of [`Self::impulse_magnitude`] that depends only on where `p` is (and on `k`
+    /// and `dt`): `1 − e^(−k·g·dt)`, 0 beyond the cutoff. Branch-free, so loops over faces
+    /// vectorise; the CPU solver keeps it per face while a splat stays the same.
+    #[inline(always)]
+    pub fn gain(&self, p: [f32; 2], k: f32, dt: f32) -> f32 {
         let d2 = segment_dist2(p, self.a, self.b);
         let r2 = self.radius * self.radius;
         let inv_r2 = 1.0 / r2;
@@ -73,8 +81,14 @@ impl ArrowSplat {
         let g = exp_neg(-d2 * inv_r2);
         let g = if beyond { 0.0 } else { g };
         // g = 0 gives 1 − e⁰ = 0 exactly: the zero impulse `impulse_weighted` returns early.
-        let deficit = (self.strength - (vx * self.dir[0] + vz * self.dir[1])).max(0.0);
-        (1.0 - exp_neg(-k * g * dt)) * deficit
+        1.0 - exp_neg(-k * g * dt)
+    }
+
+    /// How far the wind `(vx, vz)` falls short of `strength` along the arrow (0 when it is
+    /// at or past it): the other factor of [`Self::impulse_magnitude`].
+    #[inline(always)]
+    pub fn deficit(&self, vx: f32, vz: f32) -> f32 {
+        (self.strength - (vx * self.dir[0] + vz * self.dir[1])).max(0.0)
     }
 
     /// The world x-interval `(min, max)` where the line at world `z` crosses the region the

@@ -63,10 +63,14 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
     let (c, f) = (64 * 64, 2 * 65 * 64);
     let substeps = example("obstacles.json").sim.substeps.max(1) as u64;
     let unfused = j["unfused_bytes_per_step"].as_u64().unwrap();
+    // The fused count also reads back the splat gains it keeps (a float per splat face),
+    // which the unfused forces compute.
+    let gains = j["gain_bytes_per_step"].as_u64().unwrap();
+    assert!(gains > 0 && gains % 4 == 0, "{gains} bytes of gains");
     assert_eq!(
-        unfused - bytes,
+        unfused + gains - bytes,
         (8 * f + 33 * c) * substeps,
-        "unfused {unfused}, fused {bytes}"
+        "unfused {unfused}, fused {bytes}, gains {gains}"
     );
     // Pressure: 8 bytes/cell warm start + 13 bytes/cell per iteration.
     assert_eq!(j["passes_bytes"]["pressure"], 64 * 64 * (8 + 13 * 4));

@@ -98,6 +98,47 @@ fn fast_passes_match_the_reference_bit_for_bit() {
     }
 }
 
+/// The splat gains the forces pass keeps across steps give the bits of the reference, which
+/// computes every push afresh: with room for every splat, for none (`max_gain_bytes =
+/// Some(0)`: computed each step) and for some only (the rest computed each step, the least
+/// recently used dropped), while pulses switch the arrows on and off and an edit moves a
+/// point (new gains for the arrows it ends and starts).
+#[test]
+fn kept_splat_gains_give_the_bits_of_computing_them() {
+    let mut l = example("branching.json");
+    l.world.grid = [90, 70];
+    l.trees[0].propagation_speed = 400.0;
+    l.trees[0].emission = doc::Emission::Pulsed {
+        period: 0.2,
+        duty: 0.5,
+    };
+    let mut moved = l.clone();
+    moved.trees[0].root.children[0].pos[1] += 7.0;
+    let run = |s: &mut Solver, step: fn(&mut Solver)| {
+        for k in 0..40 {
+            if k == 25 {
+                s.set_layout(&moved);
+            }
+            step(s);
+        }
+        s.state_bytes()
+    };
+    let want = run(&mut Solver::new(&l), Solver::step_reference);
+    assert!(want.iter().any(|&b| b != 0), "the field moved");
+    for budget in [None, Some(0), Some(12_000)] {
+        let got = on_threads(2, || {
+            let mut s = Solver::new(&l);
+            s.max_gain_bytes = budget;
+            run(&mut s, Solver::step)
+        });
+        let first = floats(&want).zip(floats(&got)).position(|(a, b)| a != b);
+        assert!(
+            first.is_none(),
+            "gains kept in {budget:?} bytes: first differing value {first:?}"
+        );
+    }
+}
+
 /// Steps 2–4 fused into one banded sweep give the bits of the curl, confinement and
 /// divergence passes run one after another: every boundary, the smallest and odd grids,
 /// obstacles, non-square cells, and 1–3 threads (which move the band edges).

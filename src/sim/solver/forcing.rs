@@ -1,6 +1,7 @@
 //! Step 1, the forces: AGC arrow splats and the pull toward the ambient wind, written only
 //! to the faces each row's splats reach, in vectorised runs.
 
+use super::gains::splat_gains;
 use super::*;
 use crate::sim::forces::{RowScratch, SPLAT_CUTOFF_RADII};
 
@@ -22,7 +23,7 @@ impl Solver {
         } else {
             1.0 - (-self.params.ambient_coupling * dt).exp()
         };
-        let f = Forcing {
+        let mut f = Forcing {
             g: self.geometry(),
             origin: self.origin,
             splats: &splats,
@@ -31,11 +32,24 @@ impl Solver {
             coupling,
             response: self.params.arrow_response,
             dt,
+            gains: Vec::new(),
         };
         if splats.is_empty() && coupling == 0.0 {
             self.force_faces = 0;
+            self.force_gain_floats = 0;
             return;
         }
+        // The gains get what the validation's memory budget leaves (about a float per face).
+        let room = self
+            .memory_budget_jacobi()
+            .saturating_sub(self.base_memory_bytes());
+        let room = self.max_gain_bytes.map_or(room, |m| room.min(m as u64));
+        let kept = self.gain_cache.refresh(&f, room as usize / 4);
+        f.gains = kept
+            .iter()
+            .map(|k| k.map(|k| self.gain_cache.get(k)))
+            .collect();
+        self.force_gain_floats = f.gains.iter().flatten().map(|g| g.floats()).sum();
         let rows_u = increments(&f, &self.u, &self.v, &mut self.u_tmp, &self.u_free, false);
         let rows_v = increments(&f, &self.u, &self.v, &mut self.v_tmp, &self.v_free, true);
         self.force_faces = add_rows(&mut self.u, &self.u_tmp, &rows_u, self.nx + 1)
@@ -59,6 +73,8 @@ pub(super) struct Forcing<'a> {
     pub(super) coupling: f32,
     pub(super) response: f32,
     pub(super) dt: f32,
+    /// Per splat, its gains kept across steps ([`GainCache`]); `None`: computed per row.
+    pub(super) gains: Vec<Option<&'a SplatGains>>,
 }
 
 impl Forcing<'_> {
@@ -148,8 +164,8 @@ impl Forcing<'_> {
             .enumerate()
             .with_min_len(rows_per_job(w))
             .map_init(
-                || (RowScratch::default(), Vec::new()),
-                |(scratch, target), (j, row)| {
+                || (RowScratch::default(), Vec::new(), Vec::new()),
+                |(scratch, target, gains), (j, row)| {
                     let reach = self.row_reach(j, w, is_v);
                     if reach.is_empty() {
                         return reach;
@@ -159,12 +175,13 @@ impl Forcing<'_> {
                     let free = &free[j * w..][..w];
                     // Each splat only visits the faces inside its x-extent; per face the
                     // splats still add up in the same order.
-                    for (s, &b) in self.splats.iter().zip(&self.bounds) {
+                    for (k, (s, &b)) in self.splats.iter().zip(&self.bounds).enumerate() {
                         if z_world < b.0[1] || z_world > b.1[1] {
                             continue;
                         }
                         if let Some(span) = self.splat_columns(s, b, z_world, w, is_v) {
-                            self.splat_span(s, u, v, j, is_v, span, free, row);
+                            let kept = self.gains.get(k).copied().flatten();
+                            self.splat_span(s, kept, u, v, j, is_v, span, free, row, gains);
                         }
                     }
                     if self.coupling > 0.0 {
@@ -184,13 +201,49 @@ impl Forcing<'_> {
             .collect()
     }
 
+    /// The part `(a, b)` of a splat's faces `span` (u faces, or v faces with `is_v`) whose
+    /// velocity stencil needs no wrap or clamp: all v faces, u faces 1..nx − 1.
+    pub(super) fn interior_run(
+        &self,
+        span: &RangeInclusive<usize>,
+        is_v: bool,
+    ) -> Option<(usize, usize)> {
+        let nx = self.g.nx;
+        let (lo, hi) = if is_v { (0, nx - 1) } else { (1, nx - 1) };
+        let (a, b) = (*span.start().max(&lo), *span.end().min(&hi));
+        (a <= b).then_some((a, b))
+    }
+
+    /// Splat `s` over the run of row `j` (u faces, or v faces with `is_v`) that starts at
+    /// face `first`.
+    pub(super) fn span_of<'s>(
+        &self,
+        s: &'s ArrowSplat,
+        j: usize,
+        is_v: bool,
+        first: usize,
+    ) -> SplatSpan<'s> {
+        SplatSpan {
+            s,
+            k: self.response,
+            dt: self.dt,
+            first,
+            x0: self.origin[0],
+            ox: if is_v { 0.5 } else { 0.0 },
+            hx: self.g.hx,
+            z: self.row_z(j, is_v),
+        }
+    }
+
     /// Adds one splat's push to the free faces `span` of row `j`: the faces whose velocity
-    /// stencil wraps or clamps one at a time, the rest in one branch-free loop (weights,
-    /// face velocities and impulses all vectorise).
+    /// stencil wraps or clamps one at a time, the rest in one branch-free loop (face
+    /// velocities and impulses vectorise) with the gains `kept` for the splat, or, when it
+    /// has none kept, computed into `scratch` first.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn splat_span(
         &self,
         s: &ArrowSplat,
+        kept: Option<&SplatGains>,
         u: &[f32],
         v: &[f32],
         j: usize,
@@ -198,6 +251,7 @@ impl Forcing<'_> {
         span: std::ops::RangeInclusive<usize>,
         free: &[u8],
         row: &mut [f32],
+        scratch: &mut Vec<f32>,
     ) {
         let g = &self.g;
         let nx = g.nx;
@@ -227,21 +281,22 @@ impl Forcing<'_> {
                 row[i] += push(i, face_velocity(g, u, v, i, j, is_v));
             }
         }
-        let (a, b) = (*span.start().max(&lo), *span.end().min(&hi));
-        if a > b {
+        let Some((a, b)) = self.interior_run(&span, is_v) else {
             return;
-        }
+        };
         let n = b - a + 1;
         let (out, fr) = (&mut row[a..=b], &free[a..=b]);
-        let span = SplatSpan {
-            s,
-            k,
-            dt,
-            first: a,
-            x0: origin_x,
-            ox,
-            hx,
-            z: z_world,
+        let gain = match kept {
+            Some(kept) => {
+                let (first, gain) = kept.row(is_v, j);
+                assert_eq!((first, gain.len()), (a, n), "the kept run is this run");
+                gain
+            }
+            None => {
+                scratch.resize(n, 0.0);
+                splat_gains(&self.span_of(s, j, is_v, a), scratch);
+                &scratch[..]
+            }
         };
         if is_v {
             let w = nx + 1;
@@ -249,17 +304,18 @@ impl Forcing<'_> {
             let own = &v[j * nx + a..][..n];
             let (ub0, ub1) = (&u[jb * w + a..][..n], &u[jb * w + a + 1..][..n]);
             let (ut0, ut1) = (&u[jt * w + a..][..n], &u[jt * w + a + 1..][..n]);
-            splat_faces(&span, true, own, [ub0, ub1, ut0, ut1], fr, out);
+            splat_faces(s, true, gain, own, [ub0, ub1, ut0, ut1], fr, out);
         } else {
             let own = &u[j * (nx + 1) + a..][..n];
             let (vb0, vb1) = (&v[j * nx + a - 1..][..n], &v[j * nx + a..][..n]);
             let (vt0, vt1) = (&v[(j + 1) * nx + a - 1..][..n], &v[(j + 1) * nx + a..][..n]);
-            splat_faces(&span, false, own, [vb0, vb1, vt0, vt1], fr, out);
+            splat_faces(s, false, gain, own, [vb0, vb1, vt0, vt1], fr, out);
         }
     }
 }
 
-/// One splat over a run of faces of one row: what [`splat_faces`] needs besides the slices.
+/// One splat over a run of faces of one row: where the faces are, for their gains
+/// ([`super::gains::splat_gains`]).
 pub(super) struct SplatSpan<'a> {
     pub(super) s: &'a ArrowSplat,
     pub(super) k: f32,
@@ -273,41 +329,40 @@ pub(super) struct SplatSpan<'a> {
     pub(super) z: f32,
 }
 
-/// Adds the splat's push to the free faces of a run whose velocity stencil needs no wrap or
-/// clamp: `own` is the faces' own component, `other` the four faces of the other component
-/// averaged onto each (v faces with `is_v`). Compiled for several SIMD levels, picked at run
-/// time: the weights, face velocities and impulses vectorise.
+/// Adds splat `splat`'s push `dir · gain · deficit` to the free faces of a run whose
+/// velocity stencil needs no wrap or clamp: `gain` holds the faces' gains
+/// ([`ArrowSplat::gain`]), `own` is the faces' own component, `other` the four faces of the
+/// other component averaged onto each (v faces with `is_v`). Compiled for several SIMD
+/// levels, picked at run time: the face velocities and impulses vectorise.
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
     multiversion(targets = "simd", dispatcher = "static")
 )]
 pub(super) fn splat_faces(
-    p: &SplatSpan,
+    splat: &ArrowSplat,
     is_v: bool,
+    gain: &[f32],
     own: &[f32],
     other: [&[f32]; 4],
     free: &[u8],
     out: &mut [f32],
 ) {
     let n = out.len();
-    let (own, free) = (&own[..n], &free[..n]);
+    let (gain, own, free) = (&gain[..n], &own[..n], &free[..n]);
     // Plain slices and a copy of the splat: with the slices behind a non-inlined
     // `array::map` and the splat behind a second reference, AVX2's cost model kept the loop
     // scalar (only AVX-512 vectorised it).
     let [o0, o1, o2, o3] = other;
     let (o0, o1, o2, o3) = (&o0[..n], &o1[..n], &o2[..n], &o3[..n]);
-    let splat = *p.s;
+    let splat = *splat;
     // The pushed component's direction, chosen once rather than a `[x, z][c]` per face.
     let dc = if is_v { splat.dir[1] } else { splat.dir[0] };
-    // Face indices as i32 (a row has at most 16,385 faces): AVX2 converts i32 lanes to f32 in
-    // one instruction but has no conversion from 64-bit integers.
-    let first = p.first as i32;
     for q in 0..n {
         let avg = 0.25 * (o0[q] + o1[q] + o2[q] + o3[q]);
         let (vx, vz) = if is_v { (avg, own[q]) } else { (own[q], avg) };
-        let x = p.x0 + ((first + q as i32) as f32 + p.ox) * p.hx;
-        let d = dc * splat.impulse_magnitude([x, p.z], vx, vz, p.k, p.dt);
+        // `impulse_magnitude`'s product, the gain read rather than computed.
+        let d = dc * (gain[q] * splat.deficit(vx, vz));
         out[q] = bit_select(free[q] != 0, out[q] + d, out[q]);
     }
 }

@@ -19,6 +19,7 @@ use std::time::Instant;
 
 mod advection;
 mod forcing;
+mod gains;
 pub(crate) mod multigrid;
 mod pressure;
 mod reference;
@@ -26,6 +27,7 @@ mod sampler;
 mod vorticity;
 
 use advection::*;
+use gains::{GainCache, SplatGains};
 pub(crate) use multigrid::Multigrid;
 use pressure::*;
 use sampler::*;
@@ -128,6 +130,14 @@ pub struct Solver {
     pub timings: PassTimes,
     /// Faces the last forces pass visited (rows a splat or ambient layer reaches).
     pub force_faces: usize,
+    /// Kept splat gains the last forces pass read (floats; see `max_gain_bytes`).
+    pub force_gain_floats: usize,
+    /// The splats' per-face gains, kept across steps (see `gains.rs`).
+    gain_cache: GainCache,
+    /// At most this many bytes of splat gains are kept across steps (`None`: what the
+    /// validation's memory budget leaves, about a float per face; `Some(0)`: every step
+    /// computes them). The results are the same bits either way.
+    pub max_gain_bytes: Option<usize>,
     /// When set, each substep measures what its projection did: the RMS divergence over
     /// fluid cells before the pressure solve and after the gradient subtraction, kept in
     /// [`Self::projection`] (one extra divergence pass; the bench turns it on for one step).
@@ -255,12 +265,21 @@ impl Solver {
             measure_projection: false,
             projection: None,
             force_faces: 0,
+            force_gain_floats: 0,
+            gain_cache: GainCache::default(),
+            max_gain_bytes: None,
             multigrid: None,
         }
     }
 
     /// Bytes of grid memory this solver holds (checked against the validation budget).
     pub fn memory_bytes(&self) -> u64 {
+        let mg = self.multigrid.as_ref().map_or(0, Multigrid::bytes);
+        self.base_memory_bytes() + (mg + self.gain_cache.bytes()) as u64
+    }
+
+    /// [`Self::memory_bytes`] but for the multigrid hierarchy and the kept splat gains.
+    fn base_memory_bytes(&self) -> u64 {
         let f32s = self.u.len()
             + self.v.len()
             + self.p.len()
@@ -273,8 +292,13 @@ impl Solver {
             + self.p_tmp.len();
         let f32s = f32s + self.inv_w.len();
         let bytes = self.solid.len() + self.u_free.len() + self.v_free.len() + self.flags.len();
-        let mg = self.multigrid.as_ref().map_or(0, Multigrid::bytes);
-        (f32s * 4 + bytes + mg) as u64
+        (f32s * 4 + bytes) as u64
+    }
+
+    /// The validation budget less the multigrid hierarchy's share: what the base arrays
+    /// and the kept splat gains may use together.
+    fn memory_budget_jacobi(&self) -> u64 {
+        grid_memory([self.nx as u32, self.ny as u32], PressureSolve::Jacobi)
     }
 
     /// Upper bound used by validation for the same grid and pressure solve.
