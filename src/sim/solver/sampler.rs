@@ -251,7 +251,9 @@ pub(super) fn sample_row<F: Field>(
             let (i0, j0, fx, fz) = f.cell(xi[q] - ox, zi[q] - oz);
             let near = local(q + 1, i0, j0);
             far |= !near;
-            let (left, down) = (i0 as usize != q + 1, j0 as usize != j);
+            // Compared as i32 (the window's indices fit: `Clamped::new`, `Wrapped::new`):
+            // as usize, AVX2 widened every lane to 64 bits and packed the masks back.
+            let (left, down) = (i0 != (q + 1) as i32, j0 != j as i32);
             // The point's lower and upper rows, then its column and the next.
             let (t0, t1, t2) = (
                 bit_select(down, bl[q], hl[q]),
