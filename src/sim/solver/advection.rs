@@ -105,7 +105,8 @@ pub(super) fn axis(x: f32, n: usize, period: usize, periodic: bool) -> (usize, u
         let (i0, i1, f) = wrap(x, period as f32, period as i32);
         (i0 as usize, i1 as usize, f)
     } else {
-        let x = x.clamp(0.0, (n - 1) as f32);
+        // `max` first: NaN becomes 0, as in the vectorised clamped sampler.
+        let x = x.max(0.0).min((n - 1) as f32);
         let i0 = (x.floor() as usize).min(n.saturating_sub(2));
         let f = x - i0 as f32;
         (i0, (i0 + 1).min(n - 1), f)

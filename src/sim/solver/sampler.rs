@@ -34,13 +34,17 @@ impl<'a> Clamped<'a> {
     }
 
     /// `(i0, j0, fx, fz)`: the point clamped to the field, its lower-left sample and the
-    /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (NaN gives 0).
+    /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (a NaN coordinate is 0).
     #[inline(always)]
     pub(super) fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        let x = x.clamp(0.0, self.xmax);
-        let z = z.clamp(0.0, self.zmax);
-        let i0 = index(x, self.xmax).min(self.imax);
-        let j0 = index(z, self.zmax).min(self.jmax);
+        // One clamp that also sends NaN to 0 (`max` first), which `index` then need not
+        // repeat: a `clamp` (NaN kept) and `index`'s own made four min/max a face.
+        let x = x.max(0.0).min(self.xmax);
+        let z = z.max(0.0).min(self.zmax);
+        // SAFETY: x, z are finite and in [0, 2³¹) (`new`: the field has fewer than 2³¹
+        // samples), so their truncations fit an i32.
+        let (i0, j0) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
+        let (i0, j0) = (i0.min(self.imax), j0.min(self.jmax));
         (i0, j0, x - i0 as f32, z - j0 as f32)
     }
 
@@ -136,55 +140,55 @@ impl Wrapped<'_> {
     }
 }
 
-/// What the samplers' row driver needs of a field: the cell a point falls in, the four
-/// samples around a point, and where those samples are plain neighbours in memory.
+/// What the samplers' row driver needs of a field: the cell a point falls in when that is
+/// simple, the four samples around any point, and the row stride.
 pub(super) trait Field {
-    /// `(i0, j0, fx, fz)`: the lower-left sample of the point and the fractions, as
-    /// [`Self::corners`] finds them.
-    fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32);
+    /// `(i0, j0, fx, fz, plain)`: the lower-left sample of the point and the fractions, as
+    /// [`Self::corners`] finds them wherever `plain` holds: always for a clamped field; for
+    /// a periodic one, where the point lies inside the period's first `px − 1 × pz − 1`
+    /// cells without wrapping (elsewhere, or for NaN, `plain` is false and the rest is
+    /// meaningless). Cheaper than the wrap, which divides.
+    fn plain_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32, bool);
     /// `(a, b, c, d, fx, fz)`: the samples at `(i0, j0)`, `(i1, j0)`, `(i0, j1)`, `(i1, j1)`
     /// and the fractions.
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32);
-    /// `(src, w, cols, rows)`: the samples, their row stride, and the extent in which a
-    /// cell's `(i1, j1)` is `(i0 + 1, j0 + 1)`: all of a clamped field; one period of a
-    /// periodic one, whose last cell wraps to the first.
-    fn window(&self) -> (&[f32], usize, i32, i32);
-    /// Whether a cell found by [`Self::cell`] can reach past the window (a periodic field's
-    /// last cell wraps); a clamped field's cells never do, so the test is left out.
-    const WRAPS: bool;
+    /// `(src, w, rows)`: the samples, their row stride and their rows.
+    fn window(&self) -> (&[f32], usize, i32);
 }
 
 impl Field for Clamped<'_> {
-    const WRAPS: bool = false;
     #[inline(always)]
-    fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        Clamped::cell(self, x, z)
+    fn plain_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32, bool) {
+        let (i0, j0, fx, fz) = Clamped::cell(self, x, z);
+        (i0, j0, fx, fz, true)
     }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
         Clamped::corners(self, x, z)
     }
     #[inline(always)]
-    fn window(&self) -> (&[f32], usize, i32, i32) {
-        (self.src, self.w, self.imax + 2, self.jmax + 2)
+    fn window(&self) -> (&[f32], usize, i32) {
+        (self.src, self.w, self.jmax + 2)
     }
 }
 
 impl Field for Wrapped<'_> {
-    const WRAPS: bool = true;
     #[inline(always)]
-    fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        let (i0, _, fx) = wrap(x, self.px, self.ix);
-        let (j0, _, fz) = wrap(z, self.pz, self.iz);
-        (i0, j0, fx, fz)
+    fn plain_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32, bool) {
+        // For 0 ≤ t < p − 1, `wrap_coordinate(t) = t − p·⌊t/p⌋` is `t` itself (⌊t/p⌋ = 0),
+        // so where `plain` holds these are `wrap`'s numbers, but for −0.0, which the wrap
+        // turns into +0.0 (a zero fraction of either sign gives the same sample).
+        let (i0, j0) = (index(x, self.px), index(z, self.pz));
+        let plain = (x >= 0.0) & (z >= 0.0) & (i0 + 1 < self.ix) & (j0 + 1 < self.iz);
+        (i0, j0, x - i0 as f32, z - j0 as f32, plain)
     }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
         Wrapped::corners(self, x, z)
     }
     #[inline(always)]
-    fn window(&self) -> (&[f32], usize, i32, i32) {
-        (self.src, self.w, self.ix, self.iz)
+    fn window(&self) -> (&[f32], usize, i32) {
+        (self.src, self.w, self.iz)
     }
 }
 
@@ -214,7 +218,7 @@ pub(super) fn sample_row<F: Field>(
 ) {
     let n = out.len();
     let (xs, zs) = (&xs[..n], &zs[..n]);
-    let (src, w, cols, rows) = f.window();
+    let (src, w, rows) = f.window();
     let by_point = |k: usize, out: &mut [f32]| {
         let (a, b, c, d, fx, fz) = f.corners(xs[k] - ox, zs[k] - oz);
         out[k] = value(k, out[k], a, b, c, d, fx, fz);
@@ -239,18 +243,24 @@ pub(super) fn sample_row<F: Field>(
     let ((bl, bc, br), (hl, hc, hr)) = (three(below, m), three(here, m));
     let (al, ac, ar) = three(above, m);
     let (xi, zi) = (&xs[1..][..m], &zs[1..][..m]);
-    let local = |k: usize, i0: i32, j0: i32| {
+    // How far face `k`'s departure point lies from the face: at most 1 when its cell is one
+    // of `(k − 1 or k, j − 1 or j)` found without a wrap ([`Field::plain_cell`]), more when
+    // it is not (then the face is sampled point by point).
+    let spread = |k: usize, x: f32, z: f32| {
+        let (i0, j0, fx, fz, plain) = f.plain_cell(x - ox, z - oz);
         let (dx, dz) = (i0 - k as i32, j0 - j as i32);
-        let inside = !F::WRAPS || ((i0 + 1 < cols) & (j0 + 1 < rows));
-        ((dx + 1) as u32 <= 1) & ((dz + 1) as u32 <= 1) & inside
+        let s = ((dx + 1) as u32) | ((dz + 1) as u32) | (u32::from(!plain) << 1);
+        (s, i0, j0, fx, fz)
     };
-    let mut far = false;
+    // The largest spread in the row: a max per lane, where or-ing the lanes' booleans made
+    // AVX2 pack them to bytes every eight faces.
+    let mut worst = 0u32;
     {
         let inner = &mut out[1..][..m];
         for q in 0..m {
-            let (i0, j0, fx, fz) = f.cell(xi[q] - ox, zi[q] - oz);
-            let near = local(q + 1, i0, j0);
-            far |= !near;
+            let (s, i0, j0, fx, fz) = spread(q + 1, xi[q], zi[q]);
+            worst = worst.max(s);
+            let near = s <= 1;
             // Compared as i32 (the window's indices fit: `Clamped::new`, `Wrapped::new`):
             // as usize, AVX2 widened every lane to 64 bits and packed the masks back.
             let (left, down) = (i0 != (q + 1) as i32, j0 != j as i32);
@@ -279,7 +289,7 @@ pub(super) fn sample_row<F: Field>(
     }
     by_point(0, out);
     by_point(n - 1, out);
-    if far {
+    if worst > 1 {
         // Found again in blocks of faces: a branch-free vector test per block, and the
         // faces of a block that holds a far one sampled point by point.
         const BLOCK: usize = 16;
@@ -287,13 +297,11 @@ pub(super) fn sample_row<F: Field>(
             let end = (start + BLOCK).min(m + 1);
             let mut any = false;
             for k in start..end {
-                let (i0, j0, _, _) = f.cell(xs[k] - ox, zs[k] - oz);
-                any |= !local(k, i0, j0);
+                any |= spread(k, xs[k], zs[k]).0 > 1;
             }
             if any {
                 for k in start..end {
-                    let (i0, j0, _, _) = f.cell(xs[k] - ox, zs[k] - oz);
-                    if !local(k, i0, j0) {
+                    if spread(k, xs[k], zs[k]).0 > 1 {
                         by_point(k, out);
                     }
                 }
