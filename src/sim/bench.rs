@@ -65,6 +65,11 @@ pub fn solve_words(p: &crate::doc::SimParams) -> String {
     }
 }
 
+/// Bytes of kept splat gains the last forces pass read back (`solver/gains.rs`).
+fn gain_bytes(s: &Solver) -> u64 {
+    4 * s.force_gain_floats as u64
+}
+
 /// Bytes each pass must read and write for one step (see docs/PERFORMANCE.md): with `fused`,
 /// as the CPU step runs them (steps 2–4 in one sweep when it confines vorticity, MacCormack's
 /// backward step and correction in one, the splat gains read back from memory), else as
@@ -100,11 +105,7 @@ pub fn pass_bytes(s: &Solver, force_faces: usize, fused: bool) -> Vec<(&'static 
     // The faces the forces reach (velocities, the other component's four, free mask,
     // increment written and added); the CPU step also reads back the splat gains it keeps
     // (the separate passes, the GPU's, compute them).
-    let gains = if fused {
-        4 * s.force_gain_floats as u64
-    } else {
-        0
-    };
+    let gains = if fused { gain_bytes(s) } else { 0 };
     let mut passes = vec![("forces", 25 * force_faces as u64 + gains)];
     passes.extend(steps_2_4);
     passes.extend([
@@ -205,7 +206,7 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
     let mut per_pass: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
     let mut bytes: BTreeMap<&'static str, u64> = BTreeMap::new();
     let mut unfused_bytes = 0;
-    let mut gain_bytes = 0;
+    let mut gain_bytes_total = 0;
     for _ in 0..steps.max(1) {
         s.timings = Default::default();
         let t = Instant::now();
@@ -220,7 +221,7 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         for (name, b) in passes {
             *bytes.entry(name).or_default() += b * u64::from(s.params.substeps);
         }
-        gain_bytes += 4 * s.force_gain_floats as u64 * u64::from(s.params.substeps);
+        gain_bytes_total += gain_bytes(&s) * u64::from(s.params.substeps);
         unfused_bytes += pass_bytes(&s, s.force_faces, false)
             .iter()
             .map(|(_, b)| b)
@@ -262,7 +263,7 @@ pub fn run_cpu(layout: &Layout, name: &str, warmup: usize, steps: usize) -> Benc
         bound_ms,
         ratio_to_bound: median_ms / bound_ms,
         unfused_bytes_per_step,
-        gain_bytes_per_step: gain_bytes / n,
+        gain_bytes_per_step: gain_bytes_total / n,
         unfused_bound_ms,
         ratio_to_unfused_bound: median_ms / unfused_bound_ms,
         divergence_before,

@@ -114,6 +114,23 @@ impl Forcing<'_> {
         (first <= last).then_some(first..=last)
     }
 
+    /// The faces of a row at world `z` (of `w` faces, v faces with `is_v`) that splat `s`
+    /// (bounds `b`) pushes: none when the row misses its bounding box, else
+    /// [`Self::splat_columns`]. What the forces pass visits and what the kept gains cover.
+    pub(super) fn splat_row(
+        &self,
+        s: &ArrowSplat,
+        b: ([f32; 2], [f32; 2]),
+        z: f32,
+        w: usize,
+        is_v: bool,
+    ) -> Option<RangeInclusive<usize>> {
+        if z < b.0[1] || z > b.1[1] {
+            return None;
+        }
+        self.splat_columns(s, b, z, w, is_v)
+    }
+
     /// The faces of row `j` that the forces write: the hull of the active splats' columns, or
     /// the whole row when ambient layers pull on it. Empty when nothing reaches the row.
     pub(super) fn row_reach(&self, j: usize, w: usize, is_v: bool) -> Range<usize> {
@@ -165,7 +182,7 @@ impl Forcing<'_> {
             .with_min_len(rows_per_job(w))
             .map_init(
                 || (RowScratch::default(), Vec::new(), Vec::new()),
-                |(scratch, target, gains), (j, row)| {
+                |(scratch, target, gain_scratch), (j, row)| {
                     let reach = self.row_reach(j, w, is_v);
                     if reach.is_empty() {
                         return reach;
@@ -176,12 +193,9 @@ impl Forcing<'_> {
                     // Each splat only visits the faces inside its x-extent; per face the
                     // splats still add up in the same order.
                     for (k, (s, &b)) in self.splats.iter().zip(&self.bounds).enumerate() {
-                        if z_world < b.0[1] || z_world > b.1[1] {
-                            continue;
-                        }
-                        if let Some(span) = self.splat_columns(s, b, z_world, w, is_v) {
+                        if let Some(span) = self.splat_row(s, b, z_world, w, is_v) {
                             let kept = self.gains.get(k).copied().flatten();
-                            self.splat_span(s, kept, u, v, j, is_v, span, free, row, gains);
+                            self.splat_span(s, kept, u, v, j, is_v, span, free, row, gain_scratch);
                         }
                     }
                     if self.coupling > 0.0 {
@@ -201,15 +215,21 @@ impl Forcing<'_> {
             .collect()
     }
 
-    /// The part `(a, b)` of a splat's faces `span` (u faces, or v faces with `is_v`) whose
-    /// velocity stencil needs no wrap or clamp: all v faces, u faces 1..nx − 1.
+    /// The faces of a row (u faces, or v faces with `is_v`) whose velocity stencil needs no
+    /// wrap or clamp: all v faces, u faces 1..nx − 1.
+    fn interior(&self, is_v: bool) -> (usize, usize) {
+        let nx = self.g.nx;
+        if is_v { (0, nx - 1) } else { (1, nx - 1) }
+    }
+
+    /// The part `(a, b)` of a splat's faces `span` (u faces, or v faces with `is_v`) inside
+    /// [`Self::interior`].
     pub(super) fn interior_run(
         &self,
         span: &RangeInclusive<usize>,
         is_v: bool,
     ) -> Option<(usize, usize)> {
-        let nx = self.g.nx;
-        let (lo, hi) = if is_v { (0, nx - 1) } else { (1, nx - 1) };
+        let (lo, hi) = self.interior(is_v);
         let (a, b) = (*span.start().max(&lo), *span.end().min(&hi));
         (a <= b).then_some((a, b))
     }
@@ -256,8 +276,8 @@ impl Forcing<'_> {
         let g = &self.g;
         let nx = g.nx;
         let c = usize::from(is_v);
-        let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
-        let z_world = self.origin[1] + (j as f32 + oz) * g.hz;
+        let ox = if is_v { 0.5 } else { 0.0 };
+        let z_world = self.row_z(j, is_v);
         let (origin_x, hx, k, dt) = (self.origin[0], g.hx, self.response, self.dt);
         #[inline(always)]
         #[allow(clippy::too_many_arguments)]
@@ -274,8 +294,7 @@ impl Forcing<'_> {
         }
         let x_of = |i: usize| origin_x + (i as f32 + ox) * hx;
         let push = |i: usize, vel: [f32; 2]| impulse(s, x_of(i), z_world, vel, k, dt, c);
-        // Faces whose stencil needs no wrap or clamp: all v faces, u faces 1..nx-1.
-        let (lo, hi) = if is_v { (0, nx - 1) } else { (1, nx - 1) };
+        let (lo, hi) = self.interior(is_v);
         for i in span.clone().filter(|i| !(lo..=hi).contains(i)) {
             if free[i] != 0 {
                 row[i] += push(i, face_velocity(g, u, v, i, j, is_v));

@@ -129,9 +129,8 @@ fn runs(
     (0..rows)
         .map(|j| {
             let z = f.row_z(j, is_v);
-            let run = (z >= b.0[1] && z <= b.1[1])
-                .then(|| f.splat_columns(s, b, z, w, is_v))
-                .flatten()
+            let run = f
+                .splat_row(s, b, z, w, is_v)
                 .and_then(|span| f.interior_run(&span, is_v));
             let (first, n) = run.map_or((0, 0), |(a, b)| (a, b - a + 1));
             off += n;
