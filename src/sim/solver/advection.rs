@@ -2,6 +2,7 @@
 //! semi-Lagrangian and limited MacCormack drivers.
 
 use super::*;
+use crate::sim::forces::clamp_to;
 
 impl Solver {
     /// Step 7: advection (semi-Lagrangian or limited MacCormack) with dissipation
@@ -105,8 +106,8 @@ pub(super) fn axis(x: f32, n: usize, period: usize, periodic: bool) -> (usize, u
         let (i0, i1, f) = wrap(x, period as f32, period as i32);
         (i0 as usize, i1 as usize, f)
     } else {
-        // `max` first: NaN becomes 0, as in the vectorised clamped sampler.
-        let x = x.max(0.0).min((n - 1) as f32);
+        // NaN becomes 0, as in the vectorised clamped sampler.
+        let x = clamp_to(x, (n - 1) as f32);
         let i0 = (x.floor() as usize).min(n.saturating_sub(2));
         let f = x - i0 as f32;
         (i0, (i0 + 1).min(n - 1), f)
@@ -265,30 +266,40 @@ pub(super) fn advect_faces(
             || (vec![0.0; w], vec![0.0; w]),
             |(xs, zs), (j, row)| {
                 departures_row(g, u, v, j, is_v, dt, xs, zs);
-                let (w, h) = if is_v {
-                    (g.nx, g.ny + 1)
-                } else {
-                    (g.nx + 1, g.ny)
-                };
-                let (ox, oz) = if is_v { (0.5, 0.0) } else { (0.0, 0.5) };
                 let free = &free[j * w..][..w];
-                if g.periodic {
-                    let f = Wrapped::new(src, w, h, g.nx, g.ny);
-                    sample_wrapped(&f, [ox, oz], j, xs, zs, free, keep, row);
+                if is_v {
+                    sample_row_of::<true>(g, src, j, xs, zs, free, keep, row);
                 } else {
-                    sample_clamped(
-                        &Clamped::new(src, w, h),
-                        [ox, oz],
-                        j,
-                        xs,
-                        zs,
-                        free,
-                        keep,
-                        row,
-                    );
+                    sample_row_of::<false>(g, src, j, xs, zs, free, keep, row);
                 }
             },
         );
+}
+
+/// Row `j` of `src` (v faces with `V`) sampled at the departure points `xs`, `zs`, times
+/// `keep`, through the clamped or the periodic sampler.
+#[allow(clippy::too_many_arguments)]
+fn sample_row_of<const V: bool>(
+    g: &Geometry,
+    src: &[f32],
+    j: usize,
+    xs: &[f32],
+    zs: &[f32],
+    free: &[u8],
+    keep: f32,
+    row: &mut [f32],
+) {
+    let (w, h) = if V {
+        (g.nx, g.ny + 1)
+    } else {
+        (g.nx + 1, g.ny)
+    };
+    if g.periodic {
+        let f = Wrapped::new(src, w, h, g.nx, g.ny);
+        sample_wrapped::<V>(&f, j, xs, zs, free, keep, row);
+    } else {
+        sample_clamped::<V>(&Clamped::new(src, w, h), j, xs, zs, free, keep, row);
+    }
 }
 
 /// MacCormack's backward step and correction of one face field in one sweep, row by row:
@@ -310,32 +321,54 @@ pub(super) fn maccormack(
     is_v: bool,
 ) {
     let w = if is_v { g.nx } else { g.nx + 1 };
-    let orig = if is_v { v } else { u };
-    let h = if is_v { g.ny + 1 } else { g.ny };
-    let o = if is_v { [0.5, 0.0] } else { [0.0, 0.5] };
     dst.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
         .for_each_init(
             || (vec![0.0; w], vec![0.0; w]),
             |(xs, zs), (j, row)| {
-                let k = j * w;
-                let (free, fwd_row, orig_row) = (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
-                departures_row(g, u, v, j, is_v, -dt, xs, zs);
-                if g.periodic {
-                    let f = Wrapped::new(fwd, w, h, g.nx, g.ny);
-                    sample_wrapped(&f, o, j, xs, zs, free, 1.0, row);
+                if is_v {
+                    maccormack_row::<true>(g, u, v, fwd, j, dt, keep, free, xs, zs, row);
                 } else {
-                    sample_clamped(&Clamped::new(fwd, w, h), o, j, xs, zs, free, 1.0, row);
-                }
-                departures_row(g, u, v, j, is_v, dt, xs, zs);
-                if g.periodic {
-                    let f = Wrapped::new(orig, w, h, g.nx, g.ny);
-                    correct_wrapped(&f, o, j, xs, zs, free, fwd_row, orig_row, keep, row);
-                } else {
-                    let f = Clamped::new(orig, w, h);
-                    correct_clamped(&f, o, j, xs, zs, free, fwd_row, orig_row, keep, row);
+                    maccormack_row::<false>(g, u, v, fwd, j, dt, keep, free, xs, zs, row);
                 }
             },
         );
+}
+
+/// Row `j` of [`maccormack`] (v faces with `V`): the points the faces reach in `dt`, where
+/// φ̌ = A⁻¹(φ̂) samples the forward result `fwd` into `row`, then the departure points and
+/// the correction around them. `xs`, `zs`: room for a row's points.
+#[allow(clippy::too_many_arguments)]
+fn maccormack_row<const V: bool>(
+    g: &Geometry,
+    u: &[f32],
+    v: &[f32],
+    fwd: &[f32],
+    j: usize,
+    dt: f32,
+    keep: f32,
+    free: &[u8],
+    xs: &mut [f32],
+    zs: &mut [f32],
+    row: &mut [f32],
+) {
+    let (w, h) = if V {
+        (g.nx, g.ny + 1)
+    } else {
+        (g.nx + 1, g.ny)
+    };
+    let orig = if V { v } else { u };
+    let k = j * w;
+    let (free, fwd_row, orig_row) = (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
+    departures_row(g, u, v, j, V, -dt, xs, zs);
+    sample_row_of::<V>(g, fwd, j, xs, zs, free, 1.0, row);
+    departures_row(g, u, v, j, V, dt, xs, zs);
+    if g.periodic {
+        let f = Wrapped::new(orig, w, h, g.nx, g.ny);
+        correct_wrapped::<V>(&f, j, xs, zs, free, fwd_row, orig_row, keep, row);
+    } else {
+        let f = Clamped::new(orig, w, h);
+        correct_clamped::<V>(&f, j, xs, zs, free, fwd_row, orig_row, keep, row);
+    }
 }

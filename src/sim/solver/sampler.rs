@@ -4,7 +4,7 @@
 //! `unsafe` blocks, kept here beside the checks that make them sound.
 
 use super::*;
-use crate::sim::forces::index;
+use crate::sim::forces::{clamp_to, index};
 
 /// The four samples around a departure point of a `w × h` field on a non-periodic grid and
 /// the bilinear weights: the point (sample coordinates `x`, `z`) is clamped to the field, as
@@ -37,10 +37,9 @@ impl<'a> Clamped<'a> {
     /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (a NaN coordinate is 0).
     #[inline(always)]
     pub(super) fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        // One clamp that also sends NaN to 0 (`max` first), which `index` then need not
-        // repeat: a `clamp` (NaN kept) and `index`'s own made four min/max a face.
-        let x = x.max(0.0).min(self.xmax);
-        let z = z.max(0.0).min(self.zmax);
+        // One clamp that also sends NaN to 0, which `index` then need not repeat: a `clamp`
+        // (NaN kept) and `index`'s own made four min/max a face.
+        let (x, z) = (clamp_to(x, self.xmax), clamp_to(z, self.zmax));
         // SAFETY: x, z are finite and in [0, 2³¹) (`new`: the field has fewer than 2³¹
         // samples), so their truncations fit an i32.
         let (i0, j0) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
@@ -159,8 +158,15 @@ pub(super) trait Field {
 impl Field for Clamped<'_> {
     #[inline(always)]
     fn plain_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32, bool) {
-        let (i0, j0, fx, fz) = Clamped::cell(self, x, z);
-        (i0, j0, fx, fz, true)
+        // `cell` without its index clamp: it only moves a point on the field's last column
+        // or row (x = w − 1, z = h − 1) into the cell below, and such a point lies more
+        // than a cell from every interior face the row loop asks about, so that face is
+        // sampled point by point whichever cell this gives. Two fewer operations and
+        // constants in the loop, which AVX2's sixteen registers feel.
+        let (x, z) = (clamp_to(x, self.xmax), clamp_to(z, self.zmax));
+        // SAFETY: as in `cell`: x, z are finite and in [0, 2³¹).
+        let (i0, j0) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
+        (i0, j0, x - i0 as f32, z - j0 as f32, true)
     }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
@@ -196,13 +202,14 @@ impl Field for Wrapped<'_> {
 /// `(xs[k] − ox, zs[k] − oz)`: `out[k] = value(k, out[k], a, b, c, d, fx, fz)`, with the
 /// four samples around the point and its fractions (`reads_old`: `value` uses `out[k]`).
 ///
-/// A face's departure point is within one cell of the face itself almost everywhere (99.9%
-/// of the faces of every example at 1000², all of them at the editor's grids): its cell is
-/// `(k − 1 or k, j − 1 or j)`. Then the four samples are among the 3 × 3 around the face,
+/// A face's departure point is within one cell of the face itself almost everywhere (all but
+/// 1–1.5% of the faces on the examples with strong arrows at 1000², all of them at the
+/// editor's grids): its cell is `(k − 1 or k, j − 1 or j)`. Then the four samples are among the 3 × 3 around the face,
 /// which the row's interior reads as nine plain vector loads and picks from per face, where
 /// fetching them point by point costs four scalar loads per face (AVX2 compilers emit no
 /// gathers). The row's two end faces, the faces whose point lies farther (or across a
-/// period's seam) and the field's first and last rows are sampled point by point. Both give
+/// period's seam), found in a second vector pass over the rows that have any, and the
+/// field's first and last rows are sampled point by point. Both give
 /// the same values.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
@@ -215,6 +222,7 @@ pub(super) fn sample_row<F: Field>(
     out: &mut [f32],
     reads_old: bool,
     value: impl Fn(usize, f32, f32, f32, f32, f32, f32, f32) -> f32,
+    interior: impl Fn(usize, f32, f32, f32, f32, f32, f32, f32) -> f32,
 ) {
     let n = out.len();
     let (xs, zs) = (&xs[..n], &zs[..n]);
@@ -243,14 +251,17 @@ pub(super) fn sample_row<F: Field>(
     let ((bl, bc, br), (hl, hc, hr)) = (three(below, m), three(here, m));
     let (al, ac, ar) = three(above, m);
     let (xi, zi) = (&xs[1..][..m], &zs[1..][..m]);
-    // How far face `k`'s departure point lies from the face: at most 1 when its cell is one
-    // of `(k − 1 or k, j − 1 or j)` found without a wrap ([`Field::plain_cell`]), more when
-    // it is not (then the face is sampled point by point).
-    let spread = |k: usize, x: f32, z: f32| {
+    // How far the departure point of face `k = q + 1` lies from the face: its cell's offset
+    // `(dx, dz)` from `(k − 1, j − 1)`, each 0 or 1 when the cell is one of
+    // `(k − 1 or k, j − 1 or j)` found without a wrap ([`Field::plain_cell`]); the spread,
+    // their bits or-ed, is at most 1 then and more when it is not (then the face is sampled
+    // point by point). Offsets from the lower corner, so the spread needs no `+ 1`.
+    let j_below = j as i32 - 1;
+    let spread = |q: usize, x: f32, z: f32| {
         let (i0, j0, fx, fz, plain) = f.plain_cell(x - ox, z - oz);
-        let (dx, dz) = (i0 - k as i32, j0 - j as i32);
-        let s = ((dx + 1) as u32) | ((dz + 1) as u32) | (u32::from(!plain) << 1);
-        (s, i0, j0, fx, fz)
+        let (dx, dz) = (i0 - q as i32, j0 - j_below);
+        let s = (dx as u32) | (dz as u32) | (u32::from(!plain) << 1);
+        (s, dx, dz, fx, fz)
     };
     // The largest spread in the row: a max per lane, where or-ing the lanes' booleans made
     // AVX2 pack them to bytes every eight faces.
@@ -258,12 +269,12 @@ pub(super) fn sample_row<F: Field>(
     {
         let inner = &mut out[1..][..m];
         for q in 0..m {
-            let (s, i0, j0, fx, fz) = spread(q + 1, xi[q], zi[q]);
+            let (s, dx, dz, fx, fz) = spread(q, xi[q], zi[q]);
             worst = worst.max(s);
             let near = s <= 1;
             // Compared as i32 (the window's indices fit: `Clamped::new`, `Wrapped::new`):
             // as usize, AVX2 widened every lane to 64 bits and packed the masks back.
-            let (left, down) = (i0 != (q + 1) as i32, j0 != j as i32);
+            let (left, down) = (dx == 0, dz == 0);
             // The point's lower and upper rows, then its column and the next.
             let (t0, t1, t2) = (
                 bit_select(down, bl[q], hl[q]),
@@ -279,7 +290,7 @@ pub(super) fn sample_row<F: Field>(
             let (c, d) = (bit_select(left, u0, u1), bit_select(left, u1, u2));
             // A far face keeps its value for the point-by-point pass below where `value`
             // reads it (MacCormack's correction).
-            let v = value(q + 1, inner[q], a, b, c, d, fx, fz);
+            let v = interior(q + 1, inner[q], a, b, c, d, fx, fz);
             inner[q] = if reads_old {
                 bit_select(near, v, inner[q])
             } else {
@@ -290,24 +301,27 @@ pub(super) fn sample_row<F: Field>(
     by_point(0, out);
     by_point(n - 1, out);
     if worst > 1 {
-        // Found again in blocks of faces: a branch-free vector test per block, and the
-        // faces of a block that holds a far one sampled point by point.
-        const BLOCK: usize = 16;
-        for start in (1..=m).step_by(BLOCK) {
-            let end = (start + BLOCK).min(m + 1);
-            let mut any = false;
-            for k in start..end {
-                any |= spread(k, xs[k], zs[k]).0 > 1;
-            }
-            if any {
-                for k in start..end {
-                    if spread(k, xs[k], zs[k]).0 > 1 {
-                        by_point(k, out);
-                    }
-                }
-            }
+        // The far faces (1–1.5% of the faces where arrows are strong, in runs along the
+        // jets) sampled point by point in a second vector pass over the row, which beat
+        // finding them in blocks and sampling each one in scalar code.
+        let inner = &mut out[1..][..m];
+        for q in 0..m {
+            let (x, z) = (xi[q], zi[q]);
+            let far = spread(q, x, z).0 > 1;
+            let (a, b, c, d, fx, fz) = f.corners(x - ox, z - oz);
+            let v = interior(q + 1, inner[q], a, b, c, d, fx, fz);
+            inner[q] = bit_select(far, v, inner[q]);
         }
     }
+}
+
+/// Whether every face of a row but its two ends is free (no obstacle, no wall: every row of
+/// a layout without obstacles), so [`sample_row`]'s interior loops can leave out the mask.
+/// A byte minimum as a fold, which vectorises (`all` stops at each byte).
+#[inline(always)]
+fn interior_free(free: &[u8]) -> bool {
+    let n = free.len();
+    n < 3 || free[1..n - 1].iter().fold(u8::MAX, |a, &b| a.min(b)) != 0
 }
 
 /// The bilinear blend of four samples, as the reference writes it.
@@ -331,8 +345,9 @@ fn limited(a: f32, b: f32, c: f32, d: f32, fwd: f32, orig: f32, back: f32) -> f3
 }
 
 /// The row loops of one sampler type `$ty`, through [`sample_row`]: `$sample`
-/// (semi-Lagrangian: the bilinear sample at each departure point of row `j`, offset by `-o`
-/// into sample coordinates, times `keep`; 0 on faces that are not free) and `$correct`
+/// (semi-Lagrangian: the bilinear sample at each departure point of row `j` of u faces, or
+/// of v faces with `V`, offset by [`offset`] into sample coordinates, times `keep`; 0 on
+/// faces that are not free) and `$correct`
 /// (MacCormack: `back` holds φ̌ on entry and `(φ̂ + (φ − φ̌)/2)` clamped to the range of the
 /// four samples of φ around the departure point, times `keep`, on exit). Compiled for several
 /// SIMD levels, picked at run time; the same bits as the reference's sampler. A macro rather
@@ -346,9 +361,8 @@ macro_rules! row_samplers {
             windloom_static_simd,
             multiversion(targets = "simd", dispatcher = "static")
         )]
-        pub(super) fn $sample(
+        pub(super) fn $sample<const V: bool>(
             f: &$ty,
-            o: [f32; 2],
             j: usize,
             xs: &[f32],
             zs: &[f32],
@@ -357,9 +371,16 @@ macro_rules! row_samplers {
             out: &mut [f32],
         ) {
             let free = &free[..out.len()];
-            sample_row(f, o, j, xs, zs, out, false, |k, _, a, b, c, d, fx, fz| {
+            let value = |k: usize, _, a, b, c, d, fx, fz| {
                 bit_select(free[k] != 0, bilerp(a, b, c, d, fx, fz) * keep, 0.0)
-            });
+            };
+            let (o, open) = (offset(V), interior_free(free));
+            if open {
+                let open = |_, _, a, b, c, d, fx, fz| bilerp(a, b, c, d, fx, fz) * keep;
+                sample_row(f, o, j, xs, zs, out, false, value, open);
+            } else {
+                sample_row(f, o, j, xs, zs, out, false, value, value);
+            }
         }
 
         #[allow(clippy::too_many_arguments)]
@@ -368,9 +389,8 @@ macro_rules! row_samplers {
             windloom_static_simd,
             multiversion(targets = "simd", dispatcher = "static")
         )]
-        pub(super) fn $correct(
+        pub(super) fn $correct<const V: bool>(
             f: &$ty,
-            o: [f32; 2],
             j: usize,
             xs: &[f32],
             zs: &[f32],
@@ -382,12 +402,28 @@ macro_rules! row_samplers {
         ) {
             let n = back.len();
             let (free, fwd, orig) = (&free[..n], &fwd[..n], &orig[..n]);
-            sample_row(f, o, j, xs, zs, back, true, |k, back, a, b, c, d, _, _| {
+            let value = |k: usize, back, a, b, c, d, _, _| {
                 let x = limited(a, b, c, d, fwd[k], orig[k], back);
                 bit_select(free[k] != 0, x * keep, 0.0)
-            });
+            };
+            let (o, open) = (offset(V), interior_free(free));
+            if open {
+                let open = |k: usize, back, a, b, c, d, _, _| {
+                    limited(a, b, c, d, fwd[k], orig[k], back) * keep
+                };
+                sample_row(f, o, j, xs, zs, back, true, value, open);
+            } else {
+                sample_row(f, o, j, xs, zs, back, true, value, value);
+            }
         }
     };
+}
+
+/// Where a face's samples sit from its grid point, in cells: v faces (`v`) half a cell along
+/// x, u faces half a cell along z. A constant in each sampler, so its zero folds away.
+#[inline(always)]
+pub(super) const fn offset(v: bool) -> [f32; 2] {
+    if v { [0.5, 0.0] } else { [0.0, 0.5] }
 }
 
 row_samplers!(Clamped, sample_clamped, correct_clamped);
