@@ -202,15 +202,17 @@ impl Field for Wrapped<'_> {
 /// `(xs[k] − ox, zs[k] − oz)`: `out[k] = value(k, out[k], a, b, c, d, fx, fz)`, with the
 /// four samples around the point and its fractions (`reads_old`: `value` uses `out[k]`).
 ///
-/// A face's departure point is within one cell of the face itself almost everywhere (all but
-/// 1–1.5% of the faces on the examples with strong arrows at 1000², all of them at the
-/// editor's grids): its cell is `(k − 1 or k, j − 1 or j)`. Then the four samples are among the 3 × 3 around the face,
-/// which the row's interior reads as nine plain vector loads and picks from per face, where
-/// fetching them point by point costs four scalar loads per face (AVX2 compilers emit no
-/// gathers). The row's two end faces, the faces whose point lies farther (or across a
-/// period's seam), found in a second vector pass over the rows that have any, and the
-/// field's first and last rows are sampled point by point. Both give
-/// the same values.
+/// A face's departure point is within one cell of the face itself almost everywhere (all
+/// but 0.9–1.4% of the faces on the examples with strong arrows at 1000², all of them at
+/// the editor's grids): its cell is `(k − 1 or k, j − 1 or j)`. Then the four samples are
+/// among the 3 × 3 around the face, which the row's interior reads as nine plain vector
+/// loads and picks from per face, where fetching them point by point costs four scalar
+/// loads per face (AVX2 compilers emit no gathers). The row's two end faces, the faces
+/// whose point lies farther (or across a period's seam), found in a second vector pass over
+/// the rows that have any, and the field's first and last rows are sampled point by point.
+/// Both give the same values. `interior` is `value` for the faces the row loops sample (all
+/// but the two ends): the same function, or one without the free mask where the caller
+/// knows those faces are all free.
 #[inline(always)]
 #[allow(clippy::too_many_arguments)]
 pub(super) fn sample_row<F: Field>(
@@ -301,7 +303,7 @@ pub(super) fn sample_row<F: Field>(
     by_point(0, out);
     by_point(n - 1, out);
     if worst > 1 {
-        // The far faces (1–1.5% of the faces where arrows are strong, in runs along the
+        // The far faces (0.9–1.4% of the faces where arrows are strong, in runs along the
         // jets) sampled point by point in a second vector pass over the row, which beat
         // finding them in blocks and sampling each one in scalar code.
         let inner = &mut out[1..][..m];
