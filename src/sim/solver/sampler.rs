@@ -139,15 +139,19 @@ impl Wrapped<'_> {
     }
 }
 
-/// What the samplers' row driver needs of a field: the cell a point falls in when that is
-/// simple, the four samples around any point, and the row stride.
+/// What the samplers' row driver needs of a field: the cell a point near a face falls in,
+/// the four samples around any point, and the row stride.
 pub(super) trait Field {
-    /// `(i0, j0, fx, fz, plain)`: the lower-left sample of the point and the fractions, as
-    /// [`Self::corners`] finds them wherever `plain` holds: always for a clamped field; for
-    /// a periodic one, where the point lies inside the period's first `px − 1 × pz − 1`
-    /// cells without wrapping (elsewhere, or for NaN, `plain` is false and the rest is
-    /// meaningless). Cheaper than the wrap, which divides.
-    fn plain_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32, bool);
+    /// Faces at each end of a row's interior, and rows at the field's bottom, that the row
+    /// loop leaves to the point-by-point path besides the row's ends and the edge rows (see
+    /// [`Self::row_cell`]).
+    const RIM: usize;
+    /// `(i0, j0, fx, fz)`: the lower-left sample of the point and the fractions, as
+    /// [`Self::corners`] finds them wherever the point lies within a cell of a face the row
+    /// loop samples (in cell `(k − 1 or k, j − 1 or j)` of face `(k, j)`); elsewhere a cell
+    /// more than a cell from the face, so the loop sends it point by point. Cheaper than
+    /// `corners`: no index clamp, no wrap (which divides).
+    fn row_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32);
     /// `(a, b, c, d, fx, fz)`: the samples at `(i0, j0)`, `(i1, j0)`, `(i0, j1)`, `(i1, j1)`
     /// and the fractions.
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32);
@@ -156,8 +160,9 @@ pub(super) trait Field {
 }
 
 impl Field for Clamped<'_> {
+    const RIM: usize = 0;
     #[inline(always)]
-    fn plain_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32, bool) {
+    fn row_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
         // `cell` without its index clamp: it only moves a point on the field's last column
         // or row (x = w − 1, z = h − 1) into the cell below, and such a point lies more
         // than a cell from every interior face the row loop asks about, so that face is
@@ -166,7 +171,7 @@ impl Field for Clamped<'_> {
         let (x, z) = (clamp_to(x, self.xmax), clamp_to(z, self.zmax));
         // SAFETY: as in `cell`: x, z are finite and in [0, 2³¹).
         let (i0, j0) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
-        (i0, j0, x - i0 as f32, z - j0 as f32, true)
+        (i0, j0, x - i0 as f32, z - j0 as f32)
     }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
@@ -179,14 +184,19 @@ impl Field for Clamped<'_> {
 }
 
 impl Field for Wrapped<'_> {
+    /// The loop leaves out the first and last interior faces and the second row, so every
+    /// cell it can take for near is inside the period without wrapping: a point left of
+    /// the period (or NaN, index 0) is then more than a cell from every face it samples,
+    /// and the only faces whose cell could cross the seam (the last u face, whose next
+    /// column is the period's first) are not among them.
+    const RIM: usize = 1;
     #[inline(always)]
-    fn plain_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32, bool) {
+    fn row_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
         // For 0 ≤ t < p − 1, `wrap_coordinate(t) = t − p·⌊t/p⌋` is `t` itself (⌊t/p⌋ = 0),
-        // so where `plain` holds these are `wrap`'s numbers, but for −0.0, which the wrap
-        // turns into +0.0 (a zero fraction of either sign gives the same sample).
+        // so where the point is near these are `wrap`'s numbers, but for −0.0, which the
+        // wrap turns into +0.0 (a zero fraction of either sign gives the same sample).
         let (i0, j0) = (index(x, self.px), index(z, self.pz));
-        let plain = (x >= 0.0) & (z >= 0.0) & (i0 + 1 < self.ix) & (j0 + 1 < self.iz);
-        (i0, j0, x - i0 as f32, z - j0 as f32, plain)
+        (i0, j0, x - i0 as f32, z - j0 as f32)
     }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
@@ -234,7 +244,7 @@ pub(super) fn sample_row<F: Field>(
         out[k] = value(k, out[k], a, b, c, d, fx, fz);
     };
     // Rows j − 1 ..= j + 1 inside the window, and a row of the field's own width.
-    if n < 3 || n != w || j == 0 || j + 1 >= rows as usize {
+    if n < 3 + 2 * F::RIM || n != w || j < 1 + F::RIM || j + 1 >= rows as usize {
         // `by_point`'s body written out, so this loop's vectorisation does not hang on the
         // closure being inlined (its calls below are not).
         for k in 0..n {
@@ -255,22 +265,25 @@ pub(super) fn sample_row<F: Field>(
     let (xi, zi) = (&xs[1..][..m], &zs[1..][..m]);
     // How far the departure point of face `k = q + 1` lies from the face: its cell's offset
     // `(dx, dz)` from `(k − 1, j − 1)`, each 0 or 1 when the cell is one of
-    // `(k − 1 or k, j − 1 or j)` found without a wrap ([`Field::plain_cell`]); the spread,
-    // their bits or-ed, is at most 1 then and more when it is not (then the face is sampled
-    // point by point). Offsets from the lower corner, so the spread needs no `+ 1`.
+    // `(k − 1 or k, j − 1 or j)` ([`Field::row_cell`]); the spread, their bits or-ed, is at
+    // most 1 then and more when it is not (then the face is sampled point by point).
+    // Offsets from the lower corner, so the spread needs no `+ 1`.
     let j_below = j as i32 - 1;
     let spread = |q: usize, x: f32, z: f32| {
-        let (i0, j0, fx, fz, plain) = f.plain_cell(x - ox, z - oz);
+        let (i0, j0, fx, fz) = f.row_cell(x - ox, z - oz);
         let (dx, dz) = (i0 - q as i32, j0 - j_below);
-        let s = (dx as u32) | (dz as u32) | (u32::from(!plain) << 1);
+        let s = (dx as u32) | (dz as u32);
         (s, dx, dz, fx, fz)
     };
+    // The interior faces the loops below sample: all but the field's rim (`q` is face
+    // `q + 1`).
+    let qs = F::RIM..m - F::RIM;
     // The largest spread in the row: a max per lane, where or-ing the lanes' booleans made
     // AVX2 pack them to bytes every eight faces.
     let mut worst = 0u32;
     {
         let inner = &mut out[1..][..m];
-        for q in 0..m {
+        for q in qs.clone() {
             let (s, dx, dz, fx, fz) = spread(q, xi[q], zi[q]);
             worst = worst.max(s);
             let near = s <= 1;
@@ -302,12 +315,15 @@ pub(super) fn sample_row<F: Field>(
     }
     by_point(0, out);
     by_point(n - 1, out);
+    for k in (1..1 + F::RIM).chain(m + 1 - F::RIM..m + 1) {
+        by_point(k, out);
+    }
     if worst > 1 {
         // The far faces (0.9–1.4% of the faces where arrows are strong, in runs along the
         // jets) sampled point by point in a second vector pass over the row, which beat
         // finding them in blocks and sampling each one in scalar code.
         let inner = &mut out[1..][..m];
-        for q in 0..m {
+        for q in qs {
             let (x, z) = (xi[q], zi[q]);
             let far = spread(q, x, z).0 > 1;
             let (a, b, c, d, fx, fz) = f.corners(x - ox, z - oz);
