@@ -347,7 +347,9 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
 /// point lies within a cell of the face, and point by point elsewhere (farther points, the
 /// row ends, the first and last rows, a period's seam). Both must give the reference's bits:
 /// a flow of slow smooth wind (most faces local) with a band of fast noise (points up to
-/// three cells away), every boundary, both schemes, 1–3 threads.
+/// three cells away) and a rim of flow across each edge (points off the field or across a
+/// period's seam: into it at 1.6 cells a step at the low edges, out of it at 0.6 at the
+/// high ones), every boundary, both schemes, 1–3 threads.
 #[test]
 fn advection_matches_the_reference_near_and_far() {
     use doc::Advection::{MacCormack, SemiLagrangian};
@@ -363,7 +365,18 @@ fn advection_matches_the_reference_near_and_far() {
                 let cells = [l.world.size[0] / 67.0 / dt, l.world.size[1] / 45.0 / dt];
                 let (u, v) = s.faces_mut();
                 for (c, f) in [u, v].into_iter().enumerate() {
-                    let w = f.len() / if c == 0 { 45 } else { 46 };
+                    let h = if c == 0 { 45 } else { 46 };
+                    let w = f.len() / h;
+                    // Along the face's own axis, from the low and the high edge.
+                    let rim = |t: f32, n: usize| {
+                        if t < 2.0 {
+                            1.6
+                        } else if t > n as f32 - 3.0 {
+                            -0.6
+                        } else {
+                            0.0
+                        }
+                    };
                     for (k, x) in f.iter_mut().enumerate() {
                         let (i, j) = ((k % w) as f32, (k / w) as f32);
                         let smooth = 0.8 * (0.21 * i + 0.13 * j + c as f32).sin();
@@ -372,7 +385,8 @@ fn advection_matches_the_reference_near_and_far() {
                         } else {
                             0.0
                         };
-                        *x = (smooth + band) * cells[c];
+                        let rim = if c == 0 { rim(i, w) } else { rim(j, h) };
+                        *x = (smooth + band + rim) * cells[c];
                     }
                 }
                 s.enforce_boundaries();
