@@ -557,13 +557,7 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
             }
             Dialog::Recover { found } => {
                 ui.heading("Restore unsaved work?");
-                let what = match &found.origin {
-                    Some(p) => format!("{}", p.display()),
-                    None => "a new layout that was never saved".into(),
-                };
-                ui.label(format!(
-                    "windloom did not close cleanly last time. A recovery copy of {what} was found."
-                ));
+                ui.label(found.offer(app.path.as_deref()));
                 ui.horizontal(|ui| {
                     if ui.button("Restore").clicked() {
                         keep = false;

@@ -24,6 +24,28 @@ pub struct Found {
 }
 
 impl Found {
+    /// What the "Restore unsaved work?" dialog says of this copy to an editor that has
+    /// `open` open: whose copy it is, and, when that is not the open file, that Restore
+    /// replaces it (an editor started on one layout can be offered another's copy).
+    pub fn offer(&self, open: Option<&Path>) -> String {
+        let what = match &self.origin {
+            Some(p) => format!("{}", p.display()),
+            None => "a new layout that was never saved".into(),
+        };
+        let mut text = format!(
+            "windloom did not close cleanly last time. A recovery copy of {what} was found."
+        );
+        // The origin is kept canonical; the open file's path is as it was typed.
+        let same = |o: &Path| {
+            let o = o.canonicalize().unwrap_or_else(|_| o.to_path_buf());
+            self.origin.as_deref() == Some(o.as_path())
+        };
+        if let Some(open) = open.filter(|&o| !same(o)) {
+            text += &format!(" Restore opens it in place of {}.", open.display());
+        }
+        text + " Discard deletes the copy."
+    }
+
     /// Deletes the copy (after it was restored or discarded).
     pub fn remove(&self) {
         let _ = std::fs::remove_file(&self.layout);
@@ -210,6 +232,46 @@ impl Recovery {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The dialog names the file whose copy it offers, and says when restoring it would
+    /// replace the layout the editor was started on.
+    #[test]
+    fn the_offer_says_whose_copy_and_what_restore_replaces() {
+        let found = |origin: Option<&str>| Found {
+            layout: PathBuf::from("/r/copy.json"),
+            origin: origin.map(PathBuf::from),
+        };
+        let (level, other) = (Path::new("/levels/a.json"), Path::new("/levels/b.json"));
+        let same = found(Some("/levels/a.json")).offer(Some(level));
+        assert!(same.contains("copy of /levels/a.json"), "{same}");
+        assert!(!same.contains("in place of"), "{same}");
+        let elsewhere = found(Some("/levels/a.json")).offer(Some(other));
+        assert!(
+            elsewhere.contains("copy of /levels/a.json")
+                && elsewhere.contains("in place of /levels/b.json"),
+            "{elsewhere}"
+        );
+        let unsaved = found(None).offer(Some(level));
+        assert!(
+            unsaved.contains("never saved") && unsaved.contains("in place of /levels/a.json"),
+            "{unsaved}"
+        );
+        // The same file by another spelling of its path is the same file.
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::create_dir(dir.path().join("sub")).unwrap();
+        let real = dir.path().join("a.json");
+        std::fs::write(&real, b"{}").unwrap();
+        let canonical = real.canonicalize().unwrap();
+        let copy = Found {
+            layout: PathBuf::from("/r/copy.json"),
+            origin: Some(canonical.clone()),
+        };
+        let spelled = copy.offer(Some(&dir.path().join("sub/../a.json")));
+        assert!(!spelled.contains("in place of"), "{spelled}");
+        let fresh = found(Some("/levels/a.json")).offer(None);
+        assert!(!fresh.contains("in place of"), "{fresh}");
+        assert!(fresh.contains("Discard deletes the copy"), "{fresh}");
+    }
 
     /// A killed write's temporary file goes once it is old; a fresh one (another editor
     /// writing now), copies and the user's own files stay.
