@@ -219,7 +219,8 @@ impl Field for Wrapped<'_> {
 /// loads and picks from per face, where fetching them point by point costs four scalar
 /// loads per face (AVX2 compilers emit no gathers). The row's two end faces, the faces
 /// whose point lies farther (or across a period's seam), found in a second vector pass over
-/// the rows that have any, and the field's first and last rows are sampled point by point.
+/// the rows that have any, the field's first and last rows and its rim ([`Field::RIM`]: a
+/// periodic field's faces next to the ends and its second row) are sampled point by point.
 /// Both give the same values. `interior` is `value` for the faces the row loops sample (all
 /// but the two ends): the same function, or one without the free mask where the caller
 /// knows those faces are all free.
