@@ -93,30 +93,12 @@ impl Forcing<'_> {
         (first <= last).then_some(first..=last)
     }
 
-    /// Faces of a row at world `z` (of `w` faces, v faces with `is_v`) that splat `s` (with
-    /// bounds `b`) can push: its [`ArrowSplat::x_extent_at`] widened by a face and a
-    /// rounding margin, within its bounding box's columns. Every face left out lies beyond
-    /// the cutoff, where the push is exactly zero, so skipping it changes no bit.
-    pub(super) fn splat_columns(
-        &self,
-        s: &ArrowSplat,
-        b: ([f32; 2], [f32; 2]),
-        z: f32,
-        w: usize,
-        is_v: bool,
-    ) -> Option<RangeInclusive<usize>> {
-        let boxed = self.columns(b, w, is_v)?;
-        let (x0, x1) = s.x_extent_at(z)?;
-        let pad = self.g.hx + 1e-3 * (s.radius * SPLAT_CUTOFF_RADII + x1.abs() + x0.abs());
-        let cols = self.columns(([x0 - pad, b.0[1]], [x1 + pad, b.1[1]]), w, is_v)?;
-        let first = *cols.start().max(boxed.start());
-        let last = *cols.end().min(boxed.end());
-        (first <= last).then_some(first..=last)
-    }
-
     /// The faces of a row at world `z` (of `w` faces, v faces with `is_v`) that splat `s`
-    /// (bounds `b`) pushes: none when the row misses its bounding box, else
-    /// [`Self::splat_columns`]. What the forces pass visits and what the kept gains cover.
+    /// (bounds `b`) can push: none when the row misses its bounding box, else its
+    /// [`ArrowSplat::x_extent_at`] widened by a face and a rounding margin, within the box's
+    /// columns. Every face left out lies beyond the cutoff, where the push is exactly zero,
+    /// so skipping it changes no bit. What the forces pass visits and what the kept gains
+    /// cover.
     pub(super) fn splat_row(
         &self,
         s: &ArrowSplat,
@@ -128,7 +110,13 @@ impl Forcing<'_> {
         if z < b.0[1] || z > b.1[1] {
             return None;
         }
-        self.splat_columns(s, b, z, w, is_v)
+        let boxed = self.columns(b, w, is_v)?;
+        let (x0, x1) = s.x_extent_at(z)?;
+        let pad = self.g.hx + 1e-3 * (s.radius * SPLAT_CUTOFF_RADII + x1.abs() + x0.abs());
+        let cols = self.columns(([x0 - pad, b.0[1]], [x1 + pad, b.1[1]]), w, is_v)?;
+        let first = *cols.start().max(boxed.start());
+        let last = *cols.end().min(boxed.end());
+        (first <= last).then_some(first..=last)
     }
 
     /// The faces of row `j` that the forces write: the hull of the active splats' columns, or
