@@ -33,16 +33,24 @@ impl<'a> Clamped<'a> {
         }
     }
 
-    /// `(i0, j0, fx, fz)`: the point clamped to the field, its lower-left sample and the
-    /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (a NaN coordinate is 0).
+    /// `(x, z, i, j)`: the point clamped to the field and its coordinates truncated (a NaN
+    /// coordinate is 0): `cell` and the row loop's `row_cell`, but for their index clamps.
     #[inline(always)]
-    pub(super) fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
+    fn clamped(&self, x: f32, z: f32) -> (f32, f32, i32, i32) {
         // One clamp that also sends NaN to 0, which `index` then need not repeat: a `clamp`
         // (NaN kept) and `index`'s own made four min/max a face.
         let (x, z) = (clamp_to(x, self.xmax), clamp_to(z, self.zmax));
         // SAFETY: x, z are finite and in [0, 2³¹) (`new`: the field has fewer than 2³¹
         // samples), so their truncations fit an i32.
-        let (i0, j0) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
+        let (i, j) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
+        (x, z, i, j)
+    }
+
+    /// `(i0, j0, fx, fz)`: the point clamped to the field, its lower-left sample and the
+    /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (a NaN coordinate is 0).
+    #[inline(always)]
+    pub(super) fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
+        let (x, z, i0, j0) = self.clamped(x, z);
         let (i0, j0) = (i0.min(self.imax), j0.min(self.jmax));
         (i0, j0, x - i0 as f32, z - j0 as f32)
     }
@@ -168,9 +176,7 @@ impl Field for Clamped<'_> {
         // than a cell from every interior face the row loop asks about, so that face is
         // sampled point by point whichever cell this gives. Two fewer operations and
         // constants in the loop, which AVX2's sixteen registers feel.
-        let (x, z) = (clamp_to(x, self.xmax), clamp_to(z, self.zmax));
-        // SAFETY: as in `cell`: x, z are finite and in [0, 2³¹).
-        let (i0, j0) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
+        let (x, z, i0, j0) = self.clamped(x, z);
         (i0, j0, x - i0 as f32, z - j0 as f32)
     }
     #[inline(always)]
