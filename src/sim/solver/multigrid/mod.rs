@@ -322,7 +322,24 @@ pub(crate) fn relax_passes(
                 add_correction(lv, j, dst);
             }
         };
-        band_passes(nx, ny, lv.z_axis.wraps, out, a, b, passes, input, pass);
+        // Two rows at a time as two rows (the coarse levels' relaxation has no paired kernel).
+        let pair =
+            |t: usize, [j0, j1]: [usize; 2], [d0, d1]: [&mut [f32]; 2], rows: [&[f32]; 4]| {
+                pass(t, j0, d0, rows[0], rows[1], rows[2]);
+                pass(t, j1, d1, rows[1], rows[2], rows[3]);
+            };
+        band_passes(
+            nx,
+            ny,
+            lv.z_axis.wraps,
+            out,
+            a,
+            b,
+            passes,
+            input,
+            pass,
+            pair,
+        );
     });
 }
 
