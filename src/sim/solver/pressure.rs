@@ -247,8 +247,8 @@ pub(super) fn jacobi_row(
 /// to `j + 2`; the others as [`jacobi_row`] takes them, one per output row): the same
 /// values, bit for bit, as two calls of [`jacobi_row`]. Where neither row is irregular one
 /// loop makes both, reading the two middle rows once for both, so a blocked pass
-/// ([`band_passes`]) reads four source rows per two rows instead of six: 4–7% off the
-/// bench's pressure pass at 1000² (12–16% with the arrays already in cache).
+/// ([`band_passes`]) reads four source rows per two rows instead of six: 1–11% off the
+/// bench's pressure pass at 1000², least on obstacles (12–16% with the arrays in cache).
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
