@@ -217,7 +217,8 @@ impl EditorApp {
     pub(crate) fn next_recovery(&mut self) {
         if self.dialog.is_none() {
             if let Some(found) = self.recover_queue.pop() {
-                self.dialog = Some(Dialog::Recover { found });
+                let text = found.offer(self.path.as_deref());
+                self.dialog = Some(Dialog::Recover { found, text });
             }
         }
     }

@@ -171,6 +171,8 @@ pub enum Dialog {
     },
     Recover {
         found: recovery::Found,
+        /// What the dialog says of it ([`recovery::Found::offer`]), written when it opens.
+        text: String,
     },
     /// A path typed in the editor: where the system's file dialog cannot open (no desktop
     /// portal), or by choice (File → Open path… / Save to path…).

@@ -555,9 +555,9 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
                     }
                 });
             }
-            Dialog::Recover { found } => {
+            Dialog::Recover { found, text } => {
                 ui.heading("Restore unsaved work?");
-                ui.label(found.offer(app.path.as_deref()));
+                ui.label(text.as_str());
                 ui.horizontal(|ui| {
                     if ui.button("Restore").clicked() {
                         keep = false;
