@@ -64,6 +64,17 @@ pub(super) struct Geometry {
     pub(super) periodic: bool,
 }
 
+impl Geometry {
+    /// `(w, h)`: the samples of a face field, u faces or v faces with `is_v`.
+    pub(super) fn faces(&self, is_v: bool) -> (usize, usize) {
+        if is_v {
+            (self.nx, self.ny + 1)
+        } else {
+            (self.nx + 1, self.ny)
+        }
+    }
+}
+
 /// Bilinear sample of a face field with `w × h` samples, at fractional sample coordinates;
 /// periodic grids wrap every `nx × ny` samples (the last face row/column repeats the first).
 /// Returns the value and the min/max of the four samples used (for the MacCormack limiter).
@@ -258,7 +269,7 @@ pub(super) fn advect_faces(
     free: &[u8],
     is_v: bool,
 ) {
-    let w = if is_v { g.nx } else { g.nx + 1 };
+    let (w, _) = g.faces(is_v);
     dst.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
@@ -289,11 +300,7 @@ fn sample_row_of<const V: bool>(
     keep: f32,
     row: &mut [f32],
 ) {
-    let (w, h) = if V {
-        (g.nx, g.ny + 1)
-    } else {
-        (g.nx + 1, g.ny)
-    };
+    let (w, h) = g.faces(V);
     if g.periodic {
         let f = Wrapped::new(src, w, h, g.nx, g.ny);
         sample_wrapped::<V>(&f, j, xs, zs, free, keep, row);
@@ -320,7 +327,7 @@ pub(super) fn maccormack(
     free: &[u8],
     is_v: bool,
 ) {
-    let w = if is_v { g.nx } else { g.nx + 1 };
+    let (w, _) = g.faces(is_v);
     dst.par_chunks_mut(w)
         .enumerate()
         .with_min_len(rows_per_job(w))
@@ -353,11 +360,7 @@ fn maccormack_row<const V: bool>(
     zs: &mut [f32],
     row: &mut [f32],
 ) {
-    let (w, h) = if V {
-        (g.nx, g.ny + 1)
-    } else {
-        (g.nx + 1, g.ny)
-    };
+    let (w, h) = g.faces(V);
     let orig = if V { v } else { u };
     let k = j * w;
     let (free, fwd_row, orig_row) = (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);

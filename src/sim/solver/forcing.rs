@@ -154,7 +154,7 @@ impl Forcing<'_> {
         is_v: bool,
     ) -> Vec<Range<usize>> {
         let g = &self.g;
-        let w = if is_v { g.nx } else { g.nx + 1 };
+        let (w, _) = g.faces(is_v);
         let c = usize::from(is_v);
         let ox = if is_v { 0.5 } else { 0.0 };
         // World x of the faces of a row: the same for every row, so made once per pass.

@@ -119,12 +119,7 @@ fn runs(
     b: ([f32; 2], [f32; 2]),
     is_v: bool,
 ) -> Vec<(usize, usize, usize)> {
-    let g = &f.g;
-    let (w, rows) = if is_v {
-        (g.nx, g.ny + 1)
-    } else {
-        (g.nx + 1, g.ny)
-    };
+    let (w, rows) = f.g.faces(is_v);
     let mut off = 0;
     (0..rows)
         .map(|j| {
