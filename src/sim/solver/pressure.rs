@@ -551,13 +551,7 @@ pub(super) struct JacobiCtx<'a> {
 
 /// `levels` Jacobi iterations (or multigrid relaxation passes) for output rows `a..b`,
 /// written to `out`: [`band_passes`] with the Jacobi rows, two at a time.
-pub(super) fn jacobi_band<'a>(
-    c: &JacobiCtx<'a>,
-    out: &mut [f32],
-    a: usize,
-    b: usize,
-    levels: usize,
-) {
+pub(super) fn jacobi_band(c: &JacobiCtx, out: &mut [f32], a: usize, b: usize, levels: usize) {
     let nx = c.nx;
     let input = |j: usize, dst: &mut [f32]| {
         let src = &c.src[j * nx..][..nx];
@@ -586,7 +580,7 @@ pub(super) fn jacobi_band<'a>(
         }
     };
     let pair = |t: usize, js: [usize; 2], dst: [&mut [f32]; 2], rows: [&[f32]; 4]| {
-        let at = |v: &'a [f32]| js.map(|j| &v[j * nx..][..nx]);
+        let row = |j: usize| j * nx..(j + 1) * nx;
         let [r0, r1] = [rows[1], rows[2]];
         let [o0, o1] = dst;
         jacobi_rows2(
@@ -594,9 +588,9 @@ pub(super) fn jacobi_band<'a>(
             o0,
             o1,
             rows,
-            at(c.div),
-            js.map(|j| &c.flags[j * nx..][..nx]),
-            at(c.inv_w),
+            js.map(|j| &c.div[row(j)]),
+            js.map(|j| &c.flags[row(j)]),
+            js.map(|j| &c.inv_w[row(j)]),
             js.map(|j| c.irregular[j].as_slice()),
             c.relax.and_then(|r| r.weight(t - 1)),
         );
