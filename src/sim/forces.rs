@@ -6,7 +6,7 @@ use bytemuck::Zeroable;
 use rustfft::{FftPlanner, num_complex::Complex32};
 
 mod row;
-pub use row::RowScratch;
+pub use row::{FftTables, RowScratch};
 
 /// One active arrow at one instant: a capsule from `a` to `b` (world metres) that drives the
 /// wind along `dir` (unit) toward `strength` m/s, with Gaussian weight `g = exp(-d² / radius²)`,

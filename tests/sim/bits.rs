@@ -285,7 +285,7 @@ fn a_splat_s_row_slice_holds_every_point_it_pushes_and_no_more() {
 /// texel (runs of faces) to several texels or noise cells a face apart (face by face), rows
 /// crossing the FFT tile's edge and starting at negative x, both components, at several
 /// times; one scratch throughout, as a thread keeps it row after row (its cached lattice
-/// gradients included).
+/// gradients included); each row face by face and from the FFT tables a pass makes.
 #[test]
 fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
     let mut stacked = example("meadow.json");
@@ -311,7 +311,7 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
     }
     let layouts = [example("meadow.json"), example("breeze-fft.json"), stacked];
     let mut scratch = forces::RowScratch::default();
-    let mut checked = 0;
+    let (mut checked, mut tabled) = (0, 0);
     for l in &layouts {
         let mut ambient = forces::Ambient::new(l);
         // Face spacings from 40 faces a texel (1 m texels) to 2.5 texels a face, and 20 m
@@ -322,25 +322,35 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
                 let mut row = vec![0.0; xs.len()];
                 for t in [0.0, 1.7, 9.25] {
                     ambient.set_time(t);
-                    for c in 0..2 {
-                        ambient.component_row(c, z, &xs, &mut row, &mut scratch);
-                        for (k, &x) in xs.iter().enumerate() {
-                            let want = ambient.wind([x, z])[c];
-                            assert!(
-                                row[k].to_bits() == want.to_bits(),
-                                "{}: spacing {spacing}, x {x}, z {z}, t {t}, component {c}: \
-                                 row {} vs wind {want}",
-                                l.name,
-                                row[k]
-                            );
-                            checked += 1;
+                    // Face by face, and from FFT tables made for 400 rows 5 cm apart around
+                    // this one (as a pass at 1000² over 50 m makes them).
+                    let zs: Vec<f32> = (0..400).map(|i| z + (i - 200) as f32 * 0.05).collect();
+                    let tables = ambient.fft_tables(&xs, &zs);
+                    tabled += tables.count();
+                    for tables in [&forces::FftTables::NONE, &tables] {
+                        for c in 0..2 {
+                            ambient.component_row(c, z, &xs, tables, &mut row, &mut scratch);
+                            for (k, &x) in xs.iter().enumerate() {
+                                let want = ambient.wind([x, z])[c];
+                                assert!(
+                                    row[k].to_bits() == want.to_bits(),
+                                    "{}: spacing {spacing}, x {x}, z {z}, t {t}, component {c}, \
+                                     {} tables: row {} vs wind {want}",
+                                    l.name,
+                                    tables.count(),
+                                    row[k]
+                                );
+                                checked += 1;
+                            }
                         }
                     }
                 }
             }
         }
     }
-    assert_eq!(checked, 3 * 7 * 3 * 300 * 3 * 2);
+    assert_eq!(checked, 3 * 7 * 3 * 300 * 3 * 2 * 2);
+    // breeze-fft's layer, and the stacked layouts' one, at every spacing, place and time.
+    assert_eq!(tabled, 2 * 7 * 3 * 3, "FFT layers get tables");
 }
 
 /// The advection samplers read a face's neighbourhood as whole rows where the departure

@@ -69,11 +69,15 @@ impl LatticeCache {
 impl Ambient {
     /// `out[k]` = component `c` (0: x, 1: z) of [`Ambient::wind`]`([xs[k], z])`, for a row
     /// whose world x positions `xs` increase; the same bits as calling `wind` per point.
+    ///
+    /// `tables` holds what [`Self::fft_tables`] made for these `xs` at this time (or
+    /// [`FftTables::NONE`]): an FFT layer with a table blends two of its rows.
     pub fn component_row(
         &self,
         c: usize,
         z: f32,
         xs: &[f32],
+        tables: &FftTables,
         out: &mut [f32],
         scratch: &mut RowScratch,
     ) {
@@ -84,7 +88,7 @@ impl Ambient {
         scratch.noise.resize(n, 0.0);
         let (arg, noise) = (&mut scratch.arg[..n], &mut scratch.noise[..n]);
         let lattice = &mut scratch.lattice;
-        for (l, (_, fft)) in self.params.iter().zip(&self.layers) {
+        for (layer, (l, (_, fft))) in self.params.iter().zip(&self.layers).enumerate() {
             let dc = l.dir[c];
             match l.kind {
                 LAYER_DIRECTIONAL => {
@@ -102,7 +106,19 @@ impl Ambient {
                 LAYER_FFT => match fft {
                     Some(f) => {
                         let qz = z - l.shift[1];
-                        fft_row(f, xs, l.shift[0], qz, l.a, l.b, dc, out, arg);
+                        match tables.rows(layer, f, qz) {
+                            Some((a, b, fz)) => {
+                                let c = FftConstants {
+                                    xf: 0.0,
+                                    fz,
+                                    mean: l.a,
+                                    amplitude: l.b,
+                                    dc,
+                                };
+                                fft_table_row([a, b], &c, out);
+                            }
+                            None => fft_row(f, xs, l.shift[0], qz, l.a, l.b, dc, out, arg),
+                        }
                     }
                     None => {
                         // No field: the speed is the mean alone.
@@ -302,10 +318,7 @@ fn fft_row(
     wrapped: &mut [f32],
 ) {
     let nf = f.n as f32;
-    let z = unit_wrap(qz / f.tile) * nf;
-    let j0 = z.floor() as usize % f.n;
-    let j1 = (j0 + 1) % f.n;
-    let fz = z - z.floor();
+    let (j0, j1, fz) = texel_rows(f, qz);
     let (r0, r1) = (&f.field[j0 * f.n..][..f.n], &f.field[j1 * f.n..][..f.n]);
     let wrapped = &mut wrapped[..xs.len()];
     texel_coordinates(xs, shift, f.tile, nf, wrapped);
@@ -330,6 +343,143 @@ fn fft_row(
         let c = FftConstants { xf, ..c };
         fft_blend(&wrapped[r.clone()], &corners, &c, &mut out[r]);
     });
+}
+
+/// The two texel rows `(j0, j1)` an FFT layer's samples at `qz` (the row's z less the
+/// layer's shift) blend, and the weight `fz` of the second, as [`FftGusts::sample`] finds them.
+#[inline(always)]
+fn texel_rows(f: &FftGusts, qz: f32) -> (usize, usize, f32) {
+    let z = unit_wrap(qz / f.tile) * f.n as f32;
+    let j0 = z.floor() as usize % f.n;
+    (j0, (j0 + 1) % f.n, z - z.floor())
+}
+
+/// [`fft_row`] from a table: `a` and `b` are the layer's field blended along x at this row's
+/// faces in texel rows `j0` and `j1` (see [`FftTables`]), so only the blend in z is left,
+/// with the same operations as [`fft_blend`].
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn fft_table_row(rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
+    let n = out.len().min(rows[0].len()).min(rows[1].len());
+    let (a, b, out) = (&rows[0][..n], &rows[1][..n], &mut out[..n]);
+    for k in 0..n {
+        out[k] += c.dc * (c.mean + c.amplitude * (a[k] + (b[k] - a[k]) * c.fz));
+    }
+}
+
+/// An FFT layer's field blended along x at a pass's faces: for each texel row `j` the rows
+/// of faces sample, the value `field[j][i0] + (field[j][i1] − field[j][i0]) · fx` at each face,
+/// which is the `a` (or `b`) of [`FftGusts::sample`] before its blend in z.
+///
+/// The faces of a pass have the same x in every row, so a face row needs only two table
+/// rows and the blend between them, where sampling the field costs a texel lookup and two
+/// blends along x per face. Made per pass and time by [`Ambient::fft_tables`], for layers
+/// whose pass samples more face rows than texel rows (each table row then serves several).
+pub struct FftTables {
+    /// Per ambient layer: its table, if it has one.
+    layers: Vec<Option<FftTable>>,
+}
+
+struct FftTable {
+    /// Faces a row.
+    w: usize,
+    /// Texel row → its row in `rows` (`usize::MAX`: no face row samples it).
+    slot: Vec<usize>,
+    rows: Vec<f32>,
+}
+
+impl FftTables {
+    /// No tables: every FFT layer samples its field face by face.
+    pub const NONE: FftTables = FftTables { layers: Vec::new() };
+
+    /// How many layers have a table.
+    pub fn count(&self) -> usize {
+        self.layers.iter().flatten().count()
+    }
+
+    /// The table rows of `layer` (field `f`) a face row at `qz` blends, and the blend's weight.
+    fn rows(&self, layer: usize, f: &FftGusts, qz: f32) -> Option<(&[f32], &[f32], f32)> {
+        let t = self.layers.get(layer)?.as_ref()?;
+        let (j0, j1, fz) = texel_rows(f, qz);
+        let row = |j: usize| {
+            let k = *t.slot.get(j)?;
+            t.rows.get(k.checked_mul(t.w)?..)?.get(..t.w)
+        };
+        Some((row(j0)?, row(j1)?, fz))
+    }
+}
+
+impl Ambient {
+    /// The tables ([`FftTables`]) of this time's FFT layers for rows of faces at `xs` (the
+    /// same in every row), to be sampled at the rows `zs`; a layer gets one when `zs` hold
+    /// more rows than the texel rows they sample. Valid until the next [`Self::set_time`].
+    pub fn fft_tables(&self, xs: &[f32], zs: &[f32]) -> FftTables {
+        use rayon::prelude::*;
+        let layers = self
+            .params
+            .iter()
+            .zip(&self.layers)
+            .map(|(l, (_, fft))| {
+                let f = fft.as_ref().filter(|_| l.kind == LAYER_FFT)?;
+                let mut slot = vec![usize::MAX; f.n];
+                let mut used = Vec::new();
+                for &z in zs {
+                    let (j0, j1, _) = texel_rows(f, z - l.shift[1]);
+                    for j in [j0, j1] {
+                        if slot[j] == usize::MAX {
+                            slot[j] = used.len();
+                            used.push(j);
+                        }
+                    }
+                }
+                if used.len() >= zs.len() || xs.is_empty() {
+                    return None;
+                }
+                let w = xs.len();
+                let mut wrapped = vec![0.0; w];
+                texel_coordinates(xs, l.shift[0], f.tile, f.n as f32, &mut wrapped);
+                let mut rows = vec![0.0; used.len() * w];
+                rows.par_chunks_mut(w).zip(&used).for_each(|(out, &j)| {
+                    fft_along_x(&wrapped, &f.field[j * f.n..][..f.n], out);
+                });
+                Some(FftTable { w, slot, rows })
+            })
+            .collect();
+        FftTables { layers }
+    }
+}
+
+/// `out[k] = row[i0] + (row[i1] − row[i0]) · fx` for texel coordinates `xw` (the texel and
+/// weight of [`fft_faces`]): one texel row of the field blended along x at each face.
+#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
+#[cfg_attr(
+    windloom_static_simd,
+    multiversion(targets = "simd", dispatcher = "static")
+)]
+fn fft_along_x(xw: &[f32], row: &[f32], out: &mut [f32]) {
+    let texels = row.len();
+    assert!((1..i32::MAX as usize).contains(&texels));
+    let m = texels as i32;
+    let n = out.len().min(xw.len());
+    let (xw, out) = (&xw[..n], &mut out[..n]);
+    for k in 0..n {
+        let x = xw[k];
+        let xf = x.floor();
+        let i = index(xf, m as f32);
+        let i0 = if i >= m { i - m } else { i };
+        let i1 = if i0 + 1 >= m { 0 } else { i0 + 1 };
+        // SAFETY: `index` gives 0..=m, so `i0` and `i1` are in 0..m, the row's length.
+        let (t0, t1) = unsafe {
+            (
+                *row.get_unchecked(i0 as usize),
+                *row.get_unchecked(i1 as usize),
+            )
+        };
+        out[k] = t0 + (t1 - t0) * (x - xf);
+    }
 }
 
 /// Below this many faces per texel, [`fft_row`] samples face by face rather than by runs

@@ -3,7 +3,7 @@
 
 use super::gains::splat_gains;
 use super::*;
-use crate::sim::forces::{RowScratch, SPLAT_CUTOFF_RADII};
+use crate::sim::forces::{FftTables, RowScratch, SPLAT_CUTOFF_RADII};
 
 impl Solver {
     /// Step 1: AGC arrow splats and the pull toward the ambient wind. Both read the velocity
@@ -165,6 +165,13 @@ impl Forcing<'_> {
         } else {
             Vec::new()
         };
+        let tables = if self.coupling > 0.0 {
+            let (_, h) = g.faces(is_v);
+            let zs: Vec<f32> = (0..h).map(|j| self.row_z(j, is_v)).collect();
+            self.ambient.fft_tables(&xs, &zs)
+        } else {
+            FftTables::NONE
+        };
         inc.par_chunks_mut(w)
             .enumerate()
             .with_min_len(rows_per_job(w))
@@ -189,7 +196,8 @@ impl Forcing<'_> {
                     if self.coupling > 0.0 {
                         // The ambient target along the whole row at once, then the pull.
                         target.resize(w, 0.0);
-                        self.ambient.component_row(c, z_world, &xs, target, scratch);
+                        self.ambient
+                            .component_row(c, z_world, &xs, &tables, target, scratch);
                         let own = if is_v {
                             &v[j * w..][..w]
                         } else {
