@@ -467,11 +467,8 @@ fn fft_along_x(xw: &[f32], row: &[f32], out: &mut [f32]) {
     let (xw, out) = (&xw[..n], &mut out[..n]);
     for k in 0..n {
         let x = xw[k];
-        let xf = x.floor();
-        let i = index(xf, m as f32);
-        let i0 = if i >= m { i - m } else { i };
-        let i1 = if i0 + 1 >= m { 0 } else { i0 + 1 };
-        // SAFETY: `index` gives 0..=m, so `i0` and `i1` are in 0..m, the row's length.
+        let (xf, i0, i1) = texel_columns(x, m);
+        // SAFETY: `texel_columns` gives columns in 0..m, the row's length.
         let (t0, t1) = unsafe {
             (
                 *row.get_unchecked(i0 as usize),
@@ -480,6 +477,19 @@ fn fft_along_x(xw: &[f32], row: &[f32], out: &mut [f32]) {
         };
         out[k] = t0 + (t1 - t0) * (x - xf);
     }
+}
+
+/// The floor of texel coordinate `x` (in `[0, m]`) and the two texel columns a sample there
+/// blends, `⌊x⌋` and the next, both wrapped into `0..m` (`m` itself is column 0, as `%`
+/// makes it for a run). In i32 lanes: with 64-bit indices AVX2's cost model kept the loops
+/// that call it scalar.
+#[inline(always)]
+fn texel_columns(x: f32, m: i32) -> (f32, i32, i32) {
+    let xf = x.floor();
+    let i = index(xf, m as f32);
+    let i0 = if i >= m { i - m } else { i };
+    let i1 = if i0 + 1 >= m { 0 } else { i0 + 1 };
+    (xf, i0, i1)
 }
 
 /// Below this many faces per texel, [`fft_row`] samples face by face rather than by runs
@@ -500,12 +510,8 @@ fn fft_faces(xw: &[f32], rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
     let (xw, out) = (&xw[..n], &mut out[..n]);
     for k in 0..n {
         let x = xw[k];
-        let xf = x.floor();
-        // i32 lanes: with 64-bit indices AVX2's cost model keeps this loop scalar.
-        let i = index(xf, m as f32);
-        let i0 = if i >= m { i - m } else { i };
-        let i1 = if i0 + 1 >= m { 0 } else { i0 + 1 };
-        // SAFETY: `index` gives 0..=m, so `i0` and `i1` are in 0..m, the rows' length.
+        let (xf, i0, i1) = texel_columns(x, m);
+        // SAFETY: `texel_columns` gives columns in 0..m, the rows' length.
         let t = unsafe {
             [
                 *r0.get_unchecked(i0 as usize),
