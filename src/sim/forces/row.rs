@@ -378,6 +378,8 @@ fn fft_table_row(rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
 /// rows and the blend between them, where sampling the field costs a texel lookup and two
 /// blends along x per face. Made per pass and time by [`Ambient::fft_tables`], for layers
 /// whose pass samples more face rows than texel rows (each table row then serves several).
+/// A transient of at most one row of faces per texel row (a layer has at most 512 a side):
+/// 8 MiB for a 4,096-face row, next to the solver's 56 bytes a cell.
 pub struct FftTables {
     /// Per ambient layer: its table, if it has one.
     layers: Vec<Option<FftTable>>,
