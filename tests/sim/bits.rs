@@ -285,7 +285,8 @@ fn a_splat_s_row_slice_holds_every_point_it_pushes_and_no_more() {
 /// texel (runs of faces) to several texels or noise cells a face apart (face by face), rows
 /// crossing the FFT tile's edge and starting at negative x, both components, at several
 /// times; one scratch throughout, as a thread keeps it row after row (its cached lattice
-/// gradients included); each row face by face and from the FFT tables a pass makes.
+/// gradients included); each row face by face and from the FFT tables a pass makes, which
+/// are not used once the time or the row has changed.
 #[test]
 fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
     let mut stacked = example("meadow.json");
@@ -320,14 +321,16 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
             for (x0, z) in [(0.0f32, 3.3), (-17.25, 40.1), (61.9, -2.0)] {
                 let xs: Vec<f32> = (0..300).map(|i| x0 + i as f32 * spacing).collect();
                 let mut row = vec![0.0; xs.len()];
+                let mut stale = forces::FftTables::NONE;
                 for t in [0.0, 1.7, 9.25] {
                     ambient.set_time(t);
-                    // Face by face, and from FFT tables made for 400 rows 5 cm apart around
-                    // this one (as a pass at 1000² over 50 m makes them).
+                    // Face by face, from FFT tables made for 400 rows 5 cm apart around this
+                    // one (as a pass at 1000² over 50 m makes them), and from the tables of
+                    // the time before, which must not be used.
                     let zs: Vec<f32> = (0..400).map(|i| z + (i - 200) as f32 * 0.05).collect();
                     let tables = ambient.fft_tables(&xs, &zs);
                     tabled += tables.count();
-                    for tables in [&forces::FftTables::NONE, &tables] {
+                    for tables in [&forces::FftTables::NONE, &tables, &stale] {
                         for c in 0..2 {
                             ambient.component_row(c, z, &xs, tables, &mut row, &mut scratch);
                             for (k, &x) in xs.iter().enumerate() {
@@ -344,11 +347,22 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
                             }
                         }
                     }
+                    // Rows the tables were not made for (shorter; as long, but moved along x)
+                    // sample the field themselves.
+                    let moved: Vec<f32> = xs.iter().map(|x| x + 0.3 * spacing).collect();
+                    for other in [&xs[..150], &moved[..]] {
+                        let n = other.len();
+                        ambient.component_row(0, z, other, &tables, &mut row[..n], &mut scratch);
+                        for (k, &x) in other.iter().enumerate() {
+                            assert_eq!(row[k].to_bits(), ambient.wind([x, z])[0].to_bits());
+                        }
+                    }
+                    stale = tables;
                 }
             }
         }
     }
-    assert_eq!(checked, 3 * 7 * 3 * 300 * 3 * 2 * 2);
+    assert_eq!(checked, 3 * 7 * 3 * 300 * 3 * 2 * 3);
     // breeze-fft's layer, and the stacked layouts' one, at every spacing, place and time.
     assert_eq!(tabled, 2 * 7 * 3 * 3, "FFT layers get tables");
 }

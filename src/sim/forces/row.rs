@@ -106,7 +106,7 @@ impl Ambient {
                 LAYER_FFT => match fft {
                     Some(f) => {
                         let qz = z - l.shift[1];
-                        match tables.rows(layer, f, qz) {
+                        match tables.rows(layer, f, l.shift, xs, qz) {
                             Some((a, b, fz)) => {
                                 let c = FftConstants {
                                     xf: 0.0,
@@ -386,6 +386,10 @@ pub struct FftTables {
 }
 
 struct FftTable {
+    /// What it was made for: the field's time, the layer's shift, and the row's faces (their
+    /// number, first and last x). A table asked for anything else is not used (the row
+    /// samples the field itself).
+    made_for: (f32, [f32; 2], (usize, f32, f32)),
     /// Faces a row.
     w: usize,
     /// Texel row → its row in `rows` (`usize::MAX`: no face row samples it).
@@ -402,9 +406,23 @@ impl FftTables {
         self.layers.iter().flatten().count()
     }
 
-    /// The table rows of `layer` (field `f`) a face row at `qz` blends, and the blend's weight.
-    fn rows(&self, layer: usize, f: &FftGusts, qz: f32) -> Option<(&[f32], &[f32], f32)> {
+    /// The table rows of `layer` (field `f`, shifted by `shift`) a face row at `xs` and `qz`
+    /// blends, and the blend's weight; none if the table was made for another time or row,
+    /// or holds no row for `qz`.
+    fn rows(
+        &self,
+        layer: usize,
+        f: &FftGusts,
+        shift: [f32; 2],
+        xs: &[f32],
+        qz: f32,
+    ) -> Option<(&[f32], &[f32], f32)> {
         let t = self.layers.get(layer)?.as_ref()?;
+        let (time, made_shift, faces) = t.made_for;
+        let same = |a: f32, b: f32| a.to_bits() == b.to_bits();
+        if !same(time, f.field_time) || made_shift != shift || faces != row_key(xs)? {
+            return None;
+        }
         let (j0, j1, fz) = texel_rows(f, qz);
         let row = |j: usize| {
             let k = *t.slot.get(j)?;
@@ -417,7 +435,9 @@ impl FftTables {
 impl Ambient {
     /// The tables ([`FftTables`]) of this time's FFT layers for rows of faces at `xs` (the
     /// same in every row), to be sampled at the rows `zs`; a layer gets one when `zs` hold
-    /// more rows than the texel rows they sample. Valid until the next [`Self::set_time`].
+    /// more rows than the texel rows they sample. Used until the next [`Self::set_time`]
+    /// changes the layer; after it, or for rows of another length, the rows sample the field
+    /// face by face again.
     pub fn fft_tables(&self, xs: &[f32], zs: &[f32]) -> FftTables {
         use rayon::prelude::*;
         let layers = self
@@ -447,11 +467,22 @@ impl Ambient {
                 rows.par_chunks_mut(w).zip(&used).for_each(|(out, &j)| {
                     fft_along_x(&wrapped, &f.field[j * f.n..][..f.n], out);
                 });
-                Some(FftTable { w, slot, rows })
+                Some(FftTable {
+                    made_for: (f.field_time, l.shift, row_key(xs)?),
+                    w,
+                    slot,
+                    rows,
+                })
             })
             .collect();
         FftTables { layers }
     }
+}
+
+/// What tells rows of faces apart for [`FftTables`]: their number and first and last x
+/// (a pass's rows are evenly spaced); none for an empty row.
+fn row_key(xs: &[f32]) -> Option<(usize, f32, f32)> {
+    Some((xs.len(), *xs.first()?, *xs.last()?))
 }
 
 /// `out[k] = row[i0] + (row[i1] − row[i0]) · fx` for texel coordinates `xw` (the texel and
