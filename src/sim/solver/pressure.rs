@@ -184,6 +184,13 @@ impl Stencil {
         }
     }
 
+    /// A cell with four fluid neighbours (`l`, `r` along x, `b`, `t` along z) and
+    /// divergence `d`: what the flagged stencil gives there, by the fast path's arithmetic.
+    #[inline(always)]
+    pub(super) fn regular(&self, l: f32, r: f32, b: f32, t: f32, d: f32) -> f32 {
+        (self.wx * (l + r) + self.wz * (b + t) - d) * self.inv_regular
+    }
+
     /// `1 / Σw` for a cell with pressure flags `fl` (fluid and open-edge neighbours count;
     /// 0 when none does). For four fluid neighbours this is exactly `inv_regular`.
     pub(super) fn inv_weight(&self, fl: u8) -> f32 {
@@ -335,11 +342,6 @@ fn regular_pair(
     a: usize,
     damp: Option<f32>,
 ) {
-    let Stencil {
-        wx,
-        wz,
-        inv_regular,
-    } = *st;
     let m = p0.len();
     let p1 = &mut p1[..m];
     let (l0, c0, rr0) = (&r0[a - 1..][..m], &r0[a..][..m], &r0[a + 1..][..m]);
@@ -352,15 +354,13 @@ fn regular_pair(
     );
     if let Some(w) = damp {
         for i in 0..m {
-            let v0 = (wx * (l0[i] + rr0[i]) + wz * (bl[i] + c1[i]) - dd0[i]) * inv_regular;
-            let v1 = (wx * (l1[i] + rr1[i]) + wz * (c0[i] + ab[i]) - dd1[i]) * inv_regular;
-            p0[i] = c0[i] + w * (v0 - c0[i]);
-            p1[i] = c1[i] + w * (v1 - c1[i]);
+            p0[i] = damped(c0[i], w, st.regular(l0[i], rr0[i], bl[i], c1[i], dd0[i]));
+            p1[i] = damped(c1[i], w, st.regular(l1[i], rr1[i], c0[i], ab[i], dd1[i]));
         }
     } else {
         for i in 0..m {
-            p0[i] = (wx * (l0[i] + rr0[i]) + wz * (bl[i] + c1[i]) - dd0[i]) * inv_regular;
-            p1[i] = (wx * (l1[i] + rr1[i]) + wz * (c0[i] + ab[i]) - dd1[i]) * inv_regular;
+            p0[i] = st.regular(l0[i], rr0[i], bl[i], c1[i], dd0[i]);
+            p1[i] = st.regular(l1[i], rr1[i], c0[i], ab[i], dd1[i]);
         }
     }
 }
@@ -387,7 +387,7 @@ impl JacobiRow<'_> {
             - self.d[i])
             * self.inv_w[i];
         match damp {
-            Some(w) => self.row[i] + w * (v - self.row[i]),
+            Some(w) => damped(self.row[i], w, v),
             None => v,
         }
     }
@@ -416,11 +416,7 @@ impl JacobiRow<'_> {
         flagged: bool,
         damp: Option<f32>,
     ) {
-        let Stencil {
-            wx,
-            wz,
-            inv_regular,
-        } = *st;
+        let (wx, wz) = (st.wx, st.wz);
         let (row, n) = (self.row, b - a);
         let (o, l, r) = (&mut out[a..b], &row[a - 1..][..n], &row[a + 1..][..n]);
         let (bl, ab, dd) = (&self.below[a..b], &self.above[a..b], &self.d[a..b]);
@@ -439,12 +435,11 @@ impl JacobiRow<'_> {
         } else if let Some(w) = damp {
             let c = &row[a..b];
             for i in 0..n {
-                let v = (wx * (l[i] + r[i]) + wz * (bl[i] + ab[i]) - dd[i]) * inv_regular;
-                o[i] = c[i] + w * (v - c[i]);
+                o[i] = damped(c[i], w, st.regular(l[i], r[i], bl[i], ab[i], dd[i]));
             }
         } else {
             for i in 0..n {
-                o[i] = (wx * (l[i] + r[i]) + wz * (bl[i] + ab[i]) - dd[i]) * inv_regular;
+                o[i] = st.regular(l[i], r[i], bl[i], ab[i], dd[i]);
             }
         }
     }
@@ -672,8 +667,14 @@ impl<'a> Relax<'a> {
 #[inline(always)]
 fn damp_row(dst: &mut [f32], prev: &[f32], w: f32) {
     for (d, &p) in dst.iter_mut().zip(prev) {
-        *d = p + w * (*d - p);
+        *d = damped(p, w, *d);
     }
+}
+
+/// A damped Jacobi update: `prev + w·(jacobi − prev)`.
+#[inline(always)]
+pub(super) fn damped(prev: f32, w: f32, jacobi: f32) -> f32 {
+    prev + w * (jacobi - prev)
 }
 
 /// `levels` passes for output rows `a..b`, written to `out`, in one sweep down the band:

@@ -93,7 +93,7 @@ pub(crate) fn relax_link_row(
         let s = end_link_sum(i, [below, row, above], (ax, az_b, az_t), wraps);
         let v = (s + b_scale * b[i]) * inv_d[i];
         out[i] = match damp {
-            Some(w) => row[i] + w * (v - row[i]),
+            Some(w) => damped(row[i], w, v),
             None => v,
         };
     }
@@ -140,7 +140,7 @@ fn relax_span<const LINKED: bool, const DAMP: bool>(
             lx * l[i] + lx * r[i] + lz * bl[i] + lz * ab[i]
         };
         let v = (s + b_scale * bb[i]) * inv[i];
-        o[i] = if DAMP { c[i] + w * (v - c[i]) } else { v };
+        o[i] = if DAMP { damped(c[i], w, v) } else { v };
     }
 }
 
