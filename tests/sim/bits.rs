@@ -328,7 +328,7 @@ fn ambient_rows_give_the_bits_of_the_wind_point_by_point() {
                     // one (as a pass at 1000² over 50 m makes them), and from the tables of
                     // the time before, which must not be used.
                     let zs: Vec<f32> = (0..400).map(|i| z + (i - 200) as f32 * 0.05).collect();
-                    let tables = ambient.fft_tables(&xs, &zs);
+                    let tables = ambient.fft_tables(&xs, zs.iter().copied());
                     tabled += tables.count();
                     for tables in [&forces::FftTables::NONE, &tables, &stale] {
                         for c in 0..2 {

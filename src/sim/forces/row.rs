@@ -436,9 +436,13 @@ impl Ambient {
     /// The tables ([`FftTables`]) of this time's FFT layers for rows of faces at `xs` (the
     /// same in every row), to be sampled at the rows `zs`; a layer gets one when `zs` hold
     /// more rows than the texel rows they sample. Used until the next [`Self::set_time`]
-    /// changes the layer; after it, or for rows of another length, the rows sample the field
+    /// changes the layer; after it, or for another row of faces, the rows sample the field
     /// face by face again.
-    pub fn fft_tables(&self, xs: &[f32], zs: &[f32]) -> FftTables {
+    pub fn fft_tables(
+        &self,
+        xs: &[f32],
+        zs: impl ExactSizeIterator<Item = f32> + Clone,
+    ) -> FftTables {
         use rayon::prelude::*;
         let layers = self
             .params
@@ -448,7 +452,7 @@ impl Ambient {
                 let f = fft.as_ref().filter(|_| l.kind == LAYER_FFT)?;
                 let mut slot = vec![usize::MAX; f.n];
                 let mut used = Vec::new();
-                for &z in zs {
+                for z in zs.clone() {
                     let (j0, j1, _) = texel_rows(f, z - l.shift[1]);
                     for j in [j0, j1] {
                         if slot[j] == usize::MAX {

@@ -167,8 +167,8 @@ impl Forcing<'_> {
         };
         let tables = if self.coupling > 0.0 {
             let (_, h) = g.faces(is_v);
-            let zs: Vec<f32> = (0..h).map(|j| self.row_z(j, is_v)).collect();
-            self.ambient.fft_tables(&xs, &zs)
+            let zs = (0..h).map(|j| self.row_z(j, is_v));
+            self.ambient.fft_tables(&xs, zs)
         } else {
             FftTables::NONE
         };
