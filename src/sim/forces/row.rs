@@ -366,7 +366,7 @@ fn fft_table_row(rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
     let n = out.len().min(rows[0].len()).min(rows[1].len());
     let (a, b, out) = (&rows[0][..n], &rows[1][..n], &mut out[..n]);
     for k in 0..n {
-        out[k] += c.dc * (c.mean + c.amplitude * (a[k] + (b[k] - a[k]) * c.fz));
+        out[k] += c.part(a[k], b[k]);
     }
 }
 
@@ -512,7 +512,7 @@ fn fft_along_x(xw: &[f32], row: &[f32], out: &mut [f32]) {
                 *row.get_unchecked(i1 as usize),
             )
         };
-        out[k] = t0 + (t1 - t0) * (x - xf);
+        out[k] = lerp(t0, t1, x - xf);
     }
 }
 
@@ -558,9 +558,7 @@ fn fft_faces(xw: &[f32], rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
             ]
         };
         let fx = x - xf;
-        let a = t[0] + (t[1] - t[0]) * fx;
-        let b = t[2] + (t[3] - t[2]) * fx;
-        out[k] += c.dc * (c.mean + c.amplitude * (a + (b - a) * c.fz));
+        out[k] += c.part(lerp(t[0], t[1], fx), lerp(t[2], t[3], fx));
     }
 }
 
@@ -587,14 +585,28 @@ struct FftConstants {
     dc: f32,
 }
 
+impl FftConstants {
+    /// The layer's part from the field blended along x in the row's two texel rows, `a`
+    /// (lower) and `b`: `dc · (mean + amplitude · lerp(a, b, fz))`, as [`FftGusts::sample`]
+    /// and [`Ambient::wind`] compute it.
+    #[inline(always)]
+    fn part(&self, a: f32, b: f32) -> f32 {
+        self.dc * (self.mean + self.amplitude * lerp(a, b, self.fz))
+    }
+}
+
+/// `a + (b − a) · t`, the blend [`FftGusts::sample`] uses along each axis.
+#[inline(always)]
+fn lerp(a: f32, b: f32, t: f32) -> f32 {
+    a + (b - a) * t
+}
+
 /// The bilinear blend of one texel's four values `[x0z0, x1z0, x0z1, x1z1]` for the samples
 /// in it, added to `out` as the layer's part.
 #[inline(always)]
 fn fft_blend(xw: &[f32], t: &[f32; 4], c: &FftConstants, out: &mut [f32]) {
     for (o, &x) in out.iter_mut().zip(xw) {
         let fx = x - c.xf;
-        let a = t[0] + (t[1] - t[0]) * fx;
-        let b = t[2] + (t[3] - t[2]) * fx;
-        *o += c.dc * (c.mean + c.amplitude * (a + (b - a) * c.fz));
+        *o += c.part(lerp(t[0], t[1], fx), lerp(t[2], t[3], fx));
     }
 }
