@@ -321,18 +321,21 @@ fn draw_grid(painter: &egui::Painter, cam: &Camera, rect: Rect, min: doc::Vec2, 
     }
 }
 
-fn draw_legend(painter: &egui::Painter, rect: Rect, mode: WindView, scale: f32) {
+/// The colour scale of view `mode` with its title and range (top right of `rect`): the map
+/// view's, and the 3D view's while it shows the wind colours.
+pub(super) fn draw_legend(painter: &egui::Painter, rect: Rect, mode: WindView, scale: f32) {
     if mode == WindView::Off || scale <= 0.0 {
         return;
     }
+    // A plate 10 points inside the top right corner: the title, the bar, its range.
     let w = 180.0;
-    let origin = rect.right_top() + Vec2::new(-w - 16.0, 14.0);
-    let bar = Rect::from_min_size(origin + Vec2::new(0.0, 18.0), Vec2::new(w, 10.0));
-    painter.rect_filled(
-        bar.expand(22.0).translate(Vec2::new(0.0, 6.0)),
-        4.0,
-        Color32::from_black_alpha(150),
+    let plate = Rect::from_min_size(
+        rect.right_top() + Vec2::new(-w - 30.0, 10.0),
+        Vec2::new(w + 20.0, 56.0),
     );
+    let origin = plate.min + Vec2::new(10.0, 6.0);
+    let bar = Rect::from_min_size(origin + Vec2::new(0.0, 18.0), Vec2::new(w, 10.0));
+    painter.rect_filled(plate, 4.0, Color32::from_black_alpha(150));
     let n = 32;
     for k in 0..n {
         let t = k as f32 / (n - 1) as f32;
