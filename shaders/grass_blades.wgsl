@@ -22,13 +22,11 @@ struct BladeOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) colour: vec3<f32>,
     @location(1) normal: vec3<f32>,
-    @location(2) world: vec3<f32>,
 }
 
 // Vertices a blade of `segments` rows takes (`2·segments + 1`: left and right up each row, the
 // tip last).
-@vertex
-fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> BladeOut {
+fn blade_vertex(vi: u32, i: u32) -> BladeOut {
     let k = visible[i];
     let b = blades[k];
     let n = f32(L.segments);
@@ -46,7 +44,6 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> B
     let pos = p + side * (across * half);
     var out: BladeOut;
     out.clip = S.view_proj * vec4<f32>(pos, 1.0);
-    out.world = pos;
     out.normal = normalize(cross(side, ahead + vec3<f32>(0.0, 1e-6, 0.0)));
     let base = palettes[2u * b.palette].rgb;
     let tip = palettes[2u * b.palette + 1u].rgb;
@@ -57,10 +54,31 @@ fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> B
     return out;
 }
 
-@fragment
-fn fs_main(in: BladeOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    // Two-sided: light the side facing the camera; grass lets some light through.
-    var n = normalize(in.normal);
+@vertex
+fn vs_main(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> BladeOut {
+    return blade_vertex(vi, i);
+}
+
+// With the wind colours on (`GrassRenderer::set_wind_colours`), a pipeline of its own: even
+// a branch on them here and in the fragment cost lavapipe 6% a frame with them off.
+struct ColouredOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) colour: vec3<f32>,
+    @location(1) normal: vec3<f32>,
+    // The speed colour of the blade's wind (its cell's).
+    @location(2) wind: vec3<f32>,
+}
+
+@vertex
+fn vs_wind_colours(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> ColouredOut {
+    let o = blade_vertex(vi, i);
+    let w = wind_colour(blade_wind(blades[visible[i]]));
+    return ColouredOut(o.clip, o.colour, o.normal, w);
+}
+
+// Sun and sky on the side of the blade facing the camera; grass lets some light through.
+fn blade_light(normal: vec3<f32>, front: bool) -> f32 {
+    var n = normalize(normal);
     if (!front) {
         n = -n;
     }
@@ -68,6 +86,17 @@ fn fs_main(in: BladeOut, @builtin(front_facing) front: bool) -> @location(0) vec
     let diffuse = max(dot(n, l), 0.0);
     let through = 0.35 * max(dot(-n, l), 0.0);
     let sky = S.sun.w * (0.6 + 0.4 * n.y);
-    let light = sky + (1.0 - S.sun.w) * (diffuse + through);
-    return vec4<f32>(encode(in.colour * light), 1.0);
+    return sky + (1.0 - S.sun.w) * (diffuse + through);
+}
+
+@fragment
+fn fs_main(in: BladeOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    return vec4<f32>(encode(in.colour * blade_light(in.normal, front)), 1.0);
+}
+
+// The lit blade with the wind colours over it at their opacity.
+@fragment
+fn fs_wind_colours(in: ColouredOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
+    let lit = in.colour * blade_light(in.normal, front);
+    return vec4<f32>(encode(mix(lit, in.wind, S.wind_colours)), 1.0);
 }

@@ -54,7 +54,10 @@ struct Scene {
     // This frame's step (seconds) and the trail's lifetime.
     dt: f32,
     lifetime: f32,
-    _pad: vec2<f32>,
+    // The wind colours (`GrassRenderer::set_wind_colours`): opacity (0: off) and the speed,
+    // m/s, at the top of the scale.
+    wind_colours: f32,
+    wind_scale: f32,
 }
 
 // The far field (`gpu::grass::FarUniform`; `grass::far`): a grid of texels over the world
@@ -116,7 +119,8 @@ const TAU: f32 = 6.283185307179586;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 // The wind grid: cell-centred velocity (x, z), m/s, row-major.
 @group(0) @binding(2) var<storage, read> wind: array<vec2<f32>>;
-// Per palette: base then tip colour (linear RGB).
+// Per palette: base then tip colour (linear RGB); after the palettes, the speed scale's 256
+// steps (linear RGB, `colour::speed_table_linear`) for the wind colours.
 @group(0) @binding(3) var<storage, read> palettes: array<vec4<f32>>;
 // The trail's remaining life per texel (r32float, `grass::trail`).
 @group(0) @binding(4) var trail: texture_2d<f32>;
@@ -171,6 +175,27 @@ fn blade_wind(b: Blade) -> vec2<f32> {
     let i = u32(clamp(g.x, 0.0, f32(S.nx - 1u)));
     let j = u32(clamp(g.y, 0.0, f32(S.ny - 1u)));
     return wind[j * S.nx + i];
+}
+
+// The wind bilinear between cell centres, clamped at the grid's edges (the ground's wind
+// colours; the blades take their cell's, `blade_wind`).
+fn wind_between_cells(p: vec2<f32>) -> vec2<f32> {
+    let g = (p - S.origin) / S.cell - vec2<f32>(0.5);
+    let hi = vec2<f32>(f32(S.nx - 1u), f32(S.ny - 1u));
+    let c = clamp(g, vec2<f32>(0.0), hi);
+    let i0 = vec2<u32>(floor(c));
+    let i1 = min(i0 + vec2<u32>(1u), vec2<u32>(S.nx - 1u, S.ny - 1u));
+    let f = c - floor(c);
+    let a = mix(wind[i0.y * S.nx + i0.x], wind[i0.y * S.nx + i1.x], f.x);
+    let b = mix(wind[i1.y * S.nx + i0.x], wind[i1.y * S.nx + i1.x], f.x);
+    return mix(a, b, f.y);
+}
+
+// The map view's speed colour of wind `w` (`colour::speed_rgb` at speed / scale, the same
+// step of 256 as `map_common.wgsl`'s `lut_colour`), linear.
+fn wind_colour(w: vec2<f32>) -> vec3<f32> {
+    let t = clamp(length(w) / S.wind_scale, 0.0, 1.0);
+    return palettes[2u * S.palettes + u32(t * 255.0 + 0.5)].rgb;
 }
 
 // Forward (facing) and side unit vectors, world (x, z): `cwd::frame`.

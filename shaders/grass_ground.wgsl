@@ -3,6 +3,8 @@
 // over it at its opacity; lit by the same sun and sky as the blades. Where the renderer draws
 // fewer blades than the field holds (distance culling, a blade budget), the ground takes the
 // far field's look (`grass_far.wgsl`) by the share of coverage the blades no longer give.
+// With the wind colours on (`fs_wind_colours`), the map view's speed colour of the wind there
+// goes over it all.
 
 @group(1) @binding(0) var<uniform> F: Far;
 @group(1) @binding(1) var far_image: texture_2d<f32>;
@@ -26,8 +28,8 @@ fn vs_main(@builtin(vertex_index) k: u32) -> GroundOut {
     return GroundOut(S.view_proj * vec4<f32>(w.x, 0.0, w.y, 1.0), c, w);
 }
 
-@fragment
-fn fs_main(in: GroundOut) -> @location(0) vec4<f32> {
+// The ground's lit colour, the far field blended in.
+fn ground_colour(in: GroundOut) -> vec3<f32> {
     let soil = palettes[0].rgb * 0.55 + vec3<f32>(0.035, 0.028, 0.015);
     // The image is sRGB; the texture view decodes it to linear.
     let map = textureSample(backdrop_image, backdrop_sampler, in.uv).rgb;
@@ -42,5 +44,19 @@ fn fs_main(in: GroundOut) -> @location(0) vec4<f32> {
         // rgb: the blades from afar, lit; a: how much of the ground they take here.
         colour = mix(colour, far.rgb, clamp(far.a, 0.0, 1.0));
     }
-    return vec4<f32>(encode(colour), 1.0);
+    return colour;
+}
+
+@fragment
+fn fs_main(in: GroundOut) -> @location(0) vec4<f32> {
+    return vec4<f32>(encode(ground_colour(in)), 1.0);
+}
+
+// With the wind colours on, a pipeline of its own (`GrassRenderer::set_wind_colours`): the
+// speed colour of the wind here, bilinear between cell centres, over the lit ground at their
+// opacity.
+@fragment
+fn fs_wind_colours(in: GroundOut) -> @location(0) vec4<f32> {
+    let w = wind_colour(wind_between_cells(in.world));
+    return vec4<f32>(encode(mix(ground_colour(in), w, S.wind_colours)), 1.0);
 }

@@ -11,3 +11,37 @@ pub fn signed_rgb(t: f32) -> [u8; 3] {
     let c = colorous::RED_BLUE.eval_continuous(f64::from(0.5 - 0.5 * t.clamp(-1.0, 1.0)));
     [c.r, c.g, c.b]
 }
+
+/// The speed at the top of the speed scale for a wind field: its peak speed, at least 1 m/s
+/// (the map view's scale and legend, and the 3D view's wind colours).
+pub fn speed_scale(velocity: &[[f32; 2]]) -> f32 {
+    velocity
+        .iter()
+        .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
+        .fold(1.0f32, f32::max)
+}
+
+/// Steps of the speed scale in the GPU look-up tables (the map view's and the 3D view's):
+/// `t` picks step `round(t × 255)`.
+pub const SPEED_STEPS: usize = 256;
+
+/// An sRGB-encoded byte as a linear intensity in [0, 1] (the sRGB transfer function).
+pub fn srgb_to_linear(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// The speed scale in [`SPEED_STEPS`] steps as linear RGB (alpha 1), for shaders that light
+/// or blend in linear light: the 3D view's wind colours.
+pub fn speed_table_linear() -> Vec<[f32; 4]> {
+    (0..SPEED_STEPS)
+        .map(|k| {
+            let [r, g, b] = speed_rgb(k as f32 / (SPEED_STEPS - 1) as f32);
+            [srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), 1.0]
+        })
+        .collect()
+}

@@ -138,6 +138,10 @@ enum Command {
         /// metres, over the last second; its trail shows in the picture.
         #[arg(long, value_parser = parse_push, allow_hyphen_values = true)]
         push: Option<[f32; 5]>,
+        /// With --view grass: colour the grass and ground by the wind's speed at this opacity
+        /// (0 to 1), on the map view's scale, as the editor's "wind colours" toggle does.
+        #[arg(long, value_parser = parse_opacity)]
+        wind_colours: Option<f32>,
     },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
@@ -195,6 +199,9 @@ enum Command {
         /// Picture size for --grass, WxH.
         #[arg(long, default_value = "1920x1080", value_parser = parse_grid)]
         size: [u32; 2],
+        /// With --grass: draw the wind colours at this opacity (0 to 1), to time them.
+        #[arg(long, value_parser = parse_opacity)]
+        wind_colours: Option<f32>,
     },
 }
 
@@ -352,6 +359,13 @@ fn parse_push(s: &str) -> Result<[f32; 5], String> {
         ));
     }
     Ok(a)
+}
+
+fn parse_opacity(s: &str) -> Result<f32, String> {
+    match s.trim().parse::<f32>() {
+        Ok(a) if (0.0..=1.0).contains(&a) => Ok(a),
+        _ => Err(format!("expected an opacity from 0 to 1, got {s:?}")),
+    }
 }
 
 impl GrassModelArg {
@@ -617,6 +631,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             paper_literal,
             model,
             push,
+            wind_colours,
         }) => {
             let mut l = io::load(&layout)?;
             if let Some(m) = model {
@@ -648,6 +663,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                             to: [p[2], p[3]],
                             radius: p[4],
                         }),
+                        wind_colours,
                     };
                     let pixels = windloom::gpu::grass::picture(&ctx, &l, &base, &options)?;
                     let mut png = Vec::new();
@@ -679,6 +695,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             cull,
             camera,
             size,
+            wind_colours,
         }) => {
             if let Some(n) = grass {
                 let model = model.model();
@@ -699,6 +716,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     model,
                     cull: cull == OnOff::On,
                     camera: camera.map(camera_from),
+                    wind_colours,
                 };
                 let r = windloom::gpu::grass::bench(&ctx, &l, &options)?;
                 if json {

@@ -132,11 +132,7 @@ pub fn field_scale(snap: &Snapshot, mode: WindView) -> f32 {
     match mode {
         WindView::Curl => snap.curl.iter().fold(1e-6f32, |m, x| m.max(x.abs())),
         WindView::Pressure => snap.pressure.iter().fold(1e-6f32, |m, x| m.max(x.abs())),
-        _ => snap
-            .velocity
-            .iter()
-            .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
-            .fold(1.0f32, f32::max),
+        _ => crate::colour::speed_scale(&snap.velocity),
     }
 }
 

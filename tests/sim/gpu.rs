@@ -529,6 +529,9 @@ fn grass_bench_reports_the_model_culling_and_every_blade() {
     }
 }
 
+/// The 3D view's wind colours: the map view's speed scale over the grass and its ground.
+mod colours;
+
 /// The far field (`shaders/grass_far.wgsl`) against `grass::far`, and pictures of it.
 mod far;
 

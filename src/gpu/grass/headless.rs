@@ -29,21 +29,29 @@ pub fn settle(
     }
 }
 
-/// Gives `grass` the layout's wind after `time` simulated seconds (the CPU solver).
-fn wind_at(ctx: &crate::gpu::GpuContext, grass: &mut GrassRenderer, layout: &Layout, time: f32) {
+/// Gives `grass` the layout's wind after `time` simulated seconds (the CPU solver); returns
+/// the top of its speed scale ([`crate::colour::speed_scale`]).
+fn wind_at(
+    ctx: &crate::gpu::GpuContext,
+    grass: &mut GrassRenderer,
+    layout: &Layout,
+    time: f32,
+) -> f32 {
     let mut solver = crate::sim::Solver::new(layout);
     let steps = (time / layout.sim.dt).round().max(0.0) as usize;
     for _ in 0..steps {
         solver.step();
     }
+    let velocity = solver.velocity_field();
     grass.set_wind(
         &ctx.device,
         &ctx.queue,
         (solver.nx, solver.ny),
         solver.origin,
         [solver.hx, solver.hz],
-        &solver.velocity_field(),
+        &velocity,
     );
+    crate::colour::speed_scale(&velocity)
 }
 
 /// How `windloom render --view grass` draws: the picture's size, the wind's time, the camera
@@ -57,6 +65,8 @@ pub struct PictureOptions {
     pub camera: Option<Camera>,
     pub paper_literal: bool,
     pub push: Option<PushPath>,
+    /// The wind colours' opacity (`None`: off), as the editor's 3D view draws them.
+    pub wind_colours: Option<f32>,
 }
 
 /// A sphere of `radius` rolled from `from` to `to` (world `(x, z)`) over the second before the
@@ -102,7 +112,8 @@ pub fn picture(
         &crate::grass::scene::solids(layout),
         &crate::grass::scene::arrows(layout),
     );
-    wind_at(ctx, &mut grass, layout, time);
+    let scale = wind_at(ctx, &mut grass, layout, time);
+    grass.set_wind_colours(o.wind_colours.map(|opacity| (opacity, scale)));
     let aspect = o.size[0].max(1) as f32 / o.size[1].max(1) as f32;
     let camera = o
         .camera
@@ -140,6 +151,8 @@ pub struct GrassBench {
     pub adapter_type: String,
     pub model: String,
     pub cull: bool,
+    /// The wind colours' opacity (`None`: off).
+    pub wind_colours: Option<f32>,
     pub blades: u32,
     pub size: [u32; 2],
     pub frames: usize,
@@ -152,7 +165,8 @@ pub struct GrassBench {
 }
 
 /// What `bench --grass` times: about `blades` blades, pictures of `size`, `frames` timed
-/// frames, the model, culling on or off, and the camera ([`Camera::walk`] when `None`).
+/// frames, the model, culling on or off, the camera ([`Camera::walk`] when `None`) and the
+/// wind colours.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BenchOptions {
     pub blades: usize,
@@ -161,6 +175,8 @@ pub struct BenchOptions {
     pub model: GrassModel,
     pub cull: bool,
     pub camera: Option<Camera>,
+    /// The wind colours' opacity (`None`: off).
+    pub wind_colours: Option<f32>,
 }
 
 pub fn bench(
@@ -175,6 +191,7 @@ pub fn bench(
         model,
         cull,
         camera,
+        wind_colours,
     } = *o;
     let mut layout = layout.clone();
     let area = layout.world.size[0] * layout.world.size[1];
@@ -190,7 +207,8 @@ pub fn bench(
     if !cull {
         grass.set_cull(CullParams::OFF);
     }
-    wind_at(ctx, &mut grass, &layout, 2.0);
+    let scale = wind_at(ctx, &mut grass, &layout, 2.0);
+    grass.set_wind_colours(wind_colours.map(|opacity| (opacity, scale)));
     let camera = camera.unwrap_or_else(|| Camera::walk(&layout));
     let target = Target::new(&ctx.device, size, ctx.downlevel);
     // One untimed frame (pipelines, first use of the buffers), then the timed ones.
@@ -227,6 +245,7 @@ pub fn bench(
         }
         .into(),
         cull,
+        wind_colours,
         blades: grass.blade_count(),
         size,
         frames: times.len(),

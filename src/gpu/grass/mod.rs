@@ -157,7 +157,10 @@ pub struct Scene {
     pub trail_on: u32,
     pub dt: f32,
     pub lifetime: f32,
-    pub _pad: [f32; 2],
+    /// The wind colours' opacity over the grass and ground (0: off).
+    pub wind_colours: f32,
+    /// The speed, m/s, at the top of the wind colours' scale.
+    pub wind_scale: f32,
 }
 
 /// A blade's pose this frame; mirrors `struct Pose` in `shaders/grass_common.wgsl`.
@@ -198,6 +201,8 @@ pub struct GrassRenderer {
     group_shape: wgpu::BindGroup,
     deform: wgpu::ComputePipeline,
     blade_pipeline: wgpu::RenderPipeline,
+    /// The blades with the wind colours over them (`set_wind_colours`).
+    coloured_blade_pipeline: wgpu::RenderPipeline,
     /// The Bezier model's states and pass, while that model is chosen.
     bezier: Option<bezier::BezierPass>,
     cull: CullPass,
@@ -207,6 +212,7 @@ pub struct GrassRenderer {
     /// Seconds the trail still holds anything (the trail pass and its reads are skipped at 0).
     trail_left: f32,
     ground_pipeline: wgpu::RenderPipeline,
+    coloured_ground_pipeline: wgpu::RenderPipeline,
     solid_pipeline: wgpu::RenderPipeline,
     line_pipeline: wgpu::RenderPipeline,
     /// Obstacles as solids, the arrows, and the map's footprint (vertex buffer, count).
@@ -309,7 +315,8 @@ impl GrassRenderer {
             trail_on: 0,
             dt: 0.0,
             lifetime: TRAIL_LIFETIME,
-            _pad: [0.0; 2],
+            wind_colours: 0.0,
+            wind_scale: 1.0,
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -328,6 +335,8 @@ impl GrassRenderer {
             );
             colours = vec![[b[0], b[1], b[2], 1.0], [t[0], t[1], t[2], 1.0]];
         }
+        // The wind colours' scale after the palettes (`wind_colour` in grass_common.wgsl).
+        colours.extend(crate::colour::speed_table_linear());
         // Storage buffers may not be empty.
         let blade_bytes: &[u8] = if blades.is_empty() {
             &[0; std::mem::size_of::<Blade>()]
@@ -467,7 +476,7 @@ impl GrassRenderer {
             immediate_size: 0,
         });
         let render = |name: &str,
-                      fs: &str,
+                      [vs, fs]: [&str; 2],
                       topology: wgpu::PrimitiveTopology,
                       buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
             let m = module(name);
@@ -480,7 +489,7 @@ impl GrassRenderer {
                 }),
                 vertex: wgpu::VertexState {
                     module: &m,
-                    entry_point: Some("vs_main"),
+                    entry_point: Some(vs),
                     compilation_options: Default::default(),
                     buffers,
                 },
@@ -526,7 +535,13 @@ impl GrassRenderer {
             deform,
             blade_pipeline: render(
                 "grass_blades",
-                "fs_main",
+                ["vs_main", "fs_main"],
+                wgpu::PrimitiveTopology::TriangleStrip,
+                &[],
+            ),
+            coloured_blade_pipeline: render(
+                "grass_blades",
+                ["vs_wind_colours", "fs_wind_colours"],
                 wgpu::PrimitiveTopology::TriangleStrip,
                 &[],
             ),
@@ -535,16 +550,22 @@ impl GrassRenderer {
             trail,
             far,
             trail_left: 0.0,
-            ground_pipeline: render("grass_ground", "fs_main", TRIANGLES, &[]),
+            ground_pipeline: render("grass_ground", ["vs_main", "fs_main"], TRIANGLES, &[]),
+            coloured_ground_pipeline: render(
+                "grass_ground",
+                ["vs_main", "fs_wind_colours"],
+                TRIANGLES,
+                &[],
+            ),
             solid_pipeline: render(
                 "grass_scene",
-                "fs_solid",
+                ["vs_main", "fs_solid"],
                 TRIANGLES,
                 &[Some(scene_vertex.clone())],
             ),
             line_pipeline: render(
                 "grass_scene",
-                "fs_line",
+                ["vs_main", "fs_line"],
                 wgpu::PrimitiveTopology::LineList,
                 &[Some(scene_vertex)],
             ),
@@ -859,6 +880,24 @@ impl GrassRenderer {
         });
     }
 
+    /// Colours the grass and the ground by the wind's speed, as the map view's speed scale
+    /// does (`colour::speed_rgb`, `scale` m/s at its top), at `opacity` over their lit colour;
+    /// `None` (or opacity 0) draws them as they are. Blades take their wind cell's speed,
+    /// the ground the speed bilinear between cell centres.
+    pub fn set_wind_colours(&mut self, colours: Option<(f32, f32)>) {
+        let (opacity, scale) = colours.unwrap_or((0.0, 1.0));
+        self.scene.wind_colours = if opacity.is_finite() {
+            opacity.clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        self.scene.wind_scale = if scale.is_finite() && scale > 0.0 {
+            scale
+        } else {
+            1.0
+        };
+    }
+
     /// Seconds the trail takes to fade back (0: no trail, only the sphere itself).
     pub fn set_trail_lifetime(&mut self, seconds: f32) {
         self.scene.lifetime = seconds.max(0.0);
@@ -918,7 +957,12 @@ impl GrassRenderer {
     /// attachment): one indirect draw per LOD level.
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group0, &[]);
-        pass.set_pipeline(&self.ground_pipeline);
+        let coloured = self.scene.wind_colours > 0.0;
+        pass.set_pipeline(if coloured {
+            &self.coloured_ground_pipeline
+        } else {
+            &self.ground_pipeline
+        });
         pass.set_bind_group(1, &self.far.ground_group, &[]);
         pass.set_bind_group(2, &self.backdrop_group, &[]);
         pass.draw(0..6, 0..1);
@@ -933,7 +977,11 @@ impl GrassRenderer {
             pass.draw(0..*n, 0..1);
         }
         if self.scene.blades > 0 {
-            pass.set_pipeline(&self.blade_pipeline);
+            pass.set_pipeline(if coloured {
+                &self.coloured_blade_pipeline
+            } else {
+                &self.blade_pipeline
+            });
             pass.set_bind_group(1, &self.group_shape, &[]);
             self.cull.draw(pass);
         }

@@ -8,7 +8,7 @@ use windloom::grass::far::{self, Look};
 use windloom::grass::{scatter, wind_cell};
 
 /// The meadow example on a `w × d` m world with 0.5 m cells, at `density` blades a m².
-fn meadow(w: f32, d: f32, density: f32) -> Layout {
+pub(super) fn meadow(w: f32, d: f32, density: f32) -> Layout {
     let mut l = example("meadow.json");
     l.world.size = [w, d];
     l.world.grid = [(w * 2.0) as u32, (d * 2.0) as u32];
@@ -141,7 +141,7 @@ fn picture(
 }
 
 /// The pixel `(x, y)` of world point `(wx, wz)` on the ground.
-fn pixel_of(camera: &Camera, (wx, wz): (f32, f32)) -> (usize, usize) {
+pub(super) fn pixel_of(camera: &Camera, (wx, wz): (f32, f32)) -> (usize, usize) {
     let c = camera.view_proj(320.0 / 200.0) * glam::Vec4::new(wx, 0.0, wz, 1.0);
     let (x, y) = (c.x / c.w, c.y / c.w);
     (
@@ -166,7 +166,7 @@ fn mean_around(px: &[u8], (x, y): (usize, usize), r: usize) -> [f64; 3] {
 }
 
 /// Linear → sRGB, 0–255 (the target's encoding).
-fn srgb(c: f32) -> f64 {
+pub(super) fn srgb(c: f32) -> f64 {
     let c = c.clamp(0.0, 1.0);
     let e = if c <= 0.0031308 {
         c * 12.92

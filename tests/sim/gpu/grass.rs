@@ -470,6 +470,7 @@ fn a_grass_picture_from_a_faulted_device_is_an_error() {
         camera: None,
         paper_literal: false,
         push: None,
+        wind_colours: None,
     };
     let dir = tempfile::tempdir().unwrap();
     assert!(windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).is_ok());
@@ -522,6 +523,7 @@ fn the_ground_shows_the_map_backdrop() {
         camera: Some(camera),
         paper_literal: false,
         push: None,
+        wind_colours: None,
     };
     let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
     let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
@@ -673,6 +675,7 @@ fn the_default_grass_picture_shows_the_whole_level() {
         camera: None,
         paper_literal: false,
         push: None,
+        wind_colours: None,
     };
     for name in ["meadow.json", "obstacles.json", "branching.json"] {
         let mut l = example(name);
