@@ -178,6 +178,8 @@ pub struct GrassView {
     scene_for: Option<(Vec<crate::doc::Tree>, Vec<crate::doc::Obstacle>)>,
     footprint_for: Option<([f32; 2], [f32; 2])>,
     wind_serial: u64,
+    /// The wind colours' scale and the snapshot it was found in.
+    wind_scale: Option<(u64, f32)>,
     pub orbit: Option<Orbit>,
     /// The last 'frame all': the aspect it was for, and the orbit it gave (while the orbit is
     /// still that, the user has not moved the camera since).
@@ -205,6 +207,7 @@ impl Default for GrassView {
             scene_for: None,
             footprint_for: None,
             wind_serial: u64::MAX,
+            wind_scale: None,
             orbit: None,
             framed_for: None,
             blades: 0,
@@ -383,6 +386,17 @@ impl GrassView {
             grass.set_cull(c);
         }
         grass.set_far(self.controls.far);
+        // The wind colours on the map view's scale (its peak speed, at least 1 m/s).
+        let scale = match self.wind_scale {
+            Some((serial, scale)) if serial == snap.serial => scale,
+            _ => {
+                let scale = super::view::field_scale(snap, super::view::WindView::Speed);
+                self.wind_scale = Some((snap.serial, scale));
+                scale
+            }
+        };
+        let colours = self.controls.wind_colours;
+        grass.set_wind_colours(colours.then_some((self.controls.wind_opacity, scale)));
         grass.set_sphere(sphere);
         grass.set_trail_lifetime(self.controls.lifetime);
         // Obstacles and arrows: rebuilt when the trees or obstacles change.
@@ -498,7 +512,7 @@ impl GrassView {
         } else {
             "Drag or arrow keys to orbit, right-drag to pan, wheel or +/- to zoom, double-click to frame all"
         };
-        on_plate(
+        let hint = on_plate(
             ui.painter(),
             rect.left_top() + egui::vec2(10.0, 10.0),
             egui::Align2::LEFT_TOP,
@@ -506,6 +520,11 @@ impl GrassView {
             egui::Color32::from_black_alpha(170),
             rect.width() - 20.0,
         );
+        if colours {
+            // The map view's legend, under the hint.
+            let below = egui::Rect::from_min_max(egui::pos2(rect.left(), hint.bottom()), rect.max);
+            super::map::draw_legend(ui.painter(), below, super::view::WindView::Speed, scale);
+        }
         if let Some(stats) = &self.stats {
             self.counters_rect = Some(on_plate(
                 ui.painter(),

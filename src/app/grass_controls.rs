@@ -1,6 +1,6 @@
 //! The 3D view's own controls (egui only; the GPU side is `gpu_view.rs`): a toggle per
-//! culling test, for the LOD and for the far field, the pushing sphere and its trail, and the
-//! counters line — blades total, culled by each test, drawn per LOD level.
+//! culling test, for the LOD and for the far field, the wind colours, the pushing sphere and its
+//! trail, and the counters line — blades total, culled by each test, drawn per LOD level.
 
 use crate::gpu::grass::CullStats;
 use crate::grass::cull::{CullParams, LOD_SEGMENTS};
@@ -19,6 +19,10 @@ pub struct GrassControls {
     pub push: bool,
     pub radius: f32,
     pub lifetime: f32,
+    /// The grass and ground coloured by the wind's speed, on the map view's scale, so a still
+    /// view shows where the wind blows; and how opaque those colours are.
+    pub wind_colours: bool,
+    pub wind_opacity: f32,
 }
 
 impl Default for GrassControls {
@@ -29,6 +33,8 @@ impl Default for GrassControls {
             push: false,
             radius: 0.6,
             lifetime: crate::gpu::grass::TRAIL_LIFETIME,
+            wind_colours: false,
+            wind_opacity: 0.6,
         }
     }
 }
@@ -56,6 +62,15 @@ impl GrassControls {
                 );
                 ui.separator();
             }
+            ui.checkbox(&mut self.wind_colours, "wind colours")
+                .on_hover_text(
+                    "Colour the grass and ground by the wind's speed, on the map view's scale \
+                 (its legend top right), so a still view shows where the wind blows",
+                );
+            if self.wind_colours {
+                ui.add(egui::Slider::new(&mut self.wind_opacity, 0.1..=1.0).text("opacity"));
+            }
+            ui.separator();
             ui.toggle_value(&mut self.push, "Push")
                 .on_hover_text("Left-drag pushes a sphere through the grass (Ctrl+drag orbits)");
             if self.push {

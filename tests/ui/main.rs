@@ -922,7 +922,8 @@ fn map_and_3d_side_by_side_each_get_their_half() {
 }
 
 /// The 3D grass view: drawn on eframe's device in the live wind, its blades rebuilt when a
-/// grass edit changes them (and back on undo), with its own snapshot.
+/// grass edit changes them (and back on undo), with its own snapshots (plain, and with the
+/// wind colours and their legend).
 #[test]
 fn the_3d_grass_view_answers_grass_edits() {
     if !gpu_available() {
@@ -963,6 +964,17 @@ fn the_3d_grass_view_answers_grass_edits() {
         h.mask(r);
     }
     h.snapshot("editor_grass");
+
+    // The wind colours: the grass and ground on the map view's speed scale, with its legend.
+    h.state_mut().grass_view.controls.wind_colours = true;
+    h.run_steps(3);
+    // Timings and counters vary from run to run (the masks hold for one snapshot).
+    h.mask(h.state().status_rect);
+    if let Some(r) = h.state().grass_view.counters_rect {
+        h.mask(r);
+    }
+    h.snapshot("editor_grass_wind_colours");
+    h.state_mut().grass_view.controls.wind_colours = false;
 
     // Every test off: every blade drawn at full detail.
     let mut c = h.state().grass_view.controls.cull.expect("defaults");
