@@ -12,7 +12,8 @@
 //!
 //! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. `camera.rs`: the glam camera and
 //! the orbit that frames the world; `cull.rs`, `bezier.rs`, `trail.rs`, `far.rs`: those
-//! passes' buffers and pipelines; `backdrop.rs`: the map image on the ground; `target.rs`:
+//! passes' buffers and pipelines; `draw.rs`: the render pipelines; `backdrop.rs`: the map
+//! image on the ground; `target.rs`:
 //! the colour + depth target and whole frames into it; `headless.rs`: pictures and the
 //! benchmark for the CLI.
 
@@ -20,6 +21,7 @@ mod backdrop;
 mod bezier;
 mod camera;
 mod cull;
+mod draw;
 mod far;
 mod headless;
 mod target;
@@ -200,9 +202,8 @@ pub struct GrassRenderer {
     layout_shape: wgpu::BindGroupLayout,
     group_shape: wgpu::BindGroup,
     deform: wgpu::ComputePipeline,
-    blade_pipeline: wgpu::RenderPipeline,
-    /// The blades with the wind colours over them (`set_wind_colours`).
-    coloured_blade_pipeline: wgpu::RenderPipeline,
+    /// The ground, obstacles, arrows and blades, plain or with the wind colours.
+    draw: draw::DrawPipelines,
     /// The Bezier model's states and pass, while that model is chosen.
     bezier: Option<bezier::BezierPass>,
     cull: CullPass,
@@ -211,10 +212,6 @@ pub struct GrassRenderer {
     far: FarPass,
     /// Seconds the trail still holds anything (the trail pass and its reads are skipped at 0).
     trail_left: f32,
-    ground_pipeline: wgpu::RenderPipeline,
-    coloured_ground_pipeline: wgpu::RenderPipeline,
-    solid_pipeline: wgpu::RenderPipeline,
-    line_pipeline: wgpu::RenderPipeline,
     /// Obstacles as solids, the arrows, and the map's footprint (vertex buffer, count).
     solids: Option<(wgpu::Buffer, u32)>,
     lines: Option<(wgpu::Buffer, u32)>,
@@ -228,8 +225,6 @@ pub struct GrassRenderer {
     backdrop_layout: wgpu::BindGroupLayout,
     backdrop_group: wgpu::BindGroup,
 }
-
-const TRIANGLES: wgpu::PrimitiveTopology = wgpu::PrimitiveTopology::TriangleList;
 
 /// Group 0: the scene, blades, wind and palettes, and the trail.
 fn scene_group(
@@ -443,82 +438,17 @@ impl GrassRenderer {
             compilation_options: Default::default(),
             cache: None,
         });
-        let draw_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("grass draw"),
-            bind_group_layouts: &[Some(&layout0)],
-            immediate_size: 0,
-        });
-        let blade_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("grass blades"),
-            bind_group_layouts: &[
-                Some(&layout0),
-                Some(&layout_shape),
-                Some(&cull.level_layout),
-            ],
-            immediate_size: 0,
-        });
-        let scene_vertex = wgpu::VertexBufferLayout {
-            array_stride: std::mem::size_of::<SceneVertex>() as u64,
-            step_mode: wgpu::VertexStepMode::Vertex,
-            attributes: &wgpu::vertex_attr_array![0 => Float32x3, 1 => Float32x4],
-        };
         let backdrop_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass backdrop"),
             entries: &super::sampled_texture_entries(0),
         });
-        let ground_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("grass ground"),
-            bind_group_layouts: &[
-                Some(&layout0),
-                Some(&far.ground_layout),
-                Some(&backdrop_layout),
-            ],
-            immediate_size: 0,
-        });
-        let render = |name: &str,
-                      [vs, fs]: [&str; 2],
-                      topology: wgpu::PrimitiveTopology,
-                      buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
-            let m = module(name);
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(name),
-                layout: Some(match name {
-                    "grass_ground" => &ground_layout,
-                    "grass_blades" => &blade_layout,
-                    _ => &draw_layout,
-                }),
-                vertex: wgpu::VertexState {
-                    module: &m,
-                    entry_point: Some(vs),
-                    compilation_options: Default::default(),
-                    buffers,
-                },
-                primitive: wgpu::PrimitiveState {
-                    topology,
-                    ..Default::default()
-                },
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: wgpu::MultisampleState::default(),
-                fragment: Some(wgpu::FragmentState {
-                    module: &m,
-                    entry_point: Some(fs),
-                    compilation_options: Default::default(),
-                    targets: &[Some(wgpu::ColorTargetState {
-                        format,
-                        blend: None,
-                        write_mask: wgpu::ColorWrites::ALL,
-                    })],
-                }),
-                multiview_mask: None,
-                cache: None,
-            })
-        };
+        let draw = draw::DrawPipelines::new(
+            device,
+            format,
+            &module,
+            [&layout0, &layout_shape, &cull.level_layout],
+            [&far.ground_layout, &backdrop_layout],
+        );
         Self {
             total: scene.blades,
             scene,
@@ -533,42 +463,12 @@ impl GrassRenderer {
             layout_shape,
             group_shape,
             deform,
-            blade_pipeline: render(
-                "grass_blades",
-                ["vs_main", "fs_main"],
-                wgpu::PrimitiveTopology::TriangleStrip,
-                &[],
-            ),
-            coloured_blade_pipeline: render(
-                "grass_blades",
-                ["vs_wind_colours", "fs_wind_colours"],
-                wgpu::PrimitiveTopology::TriangleStrip,
-                &[],
-            ),
+            draw,
             bezier: None,
             cull,
             trail,
             far,
             trail_left: 0.0,
-            ground_pipeline: render("grass_ground", ["vs_main", "fs_main"], TRIANGLES, &[]),
-            coloured_ground_pipeline: render(
-                "grass_ground",
-                ["vs_main", "fs_wind_colours"],
-                TRIANGLES,
-                &[],
-            ),
-            solid_pipeline: render(
-                "grass_scene",
-                ["vs_main", "fs_solid"],
-                TRIANGLES,
-                &[Some(scene_vertex.clone())],
-            ),
-            line_pipeline: render(
-                "grass_scene",
-                ["vs_main", "fs_line"],
-                wgpu::PrimitiveTopology::LineList,
-                &[Some(scene_vertex)],
-            ),
             solids: None,
             lines: None,
             footprint: None,
@@ -958,30 +858,22 @@ impl GrassRenderer {
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group0, &[]);
         let coloured = self.scene.wind_colours > 0.0;
-        pass.set_pipeline(if coloured {
-            &self.coloured_ground_pipeline
-        } else {
-            &self.ground_pipeline
-        });
+        pass.set_pipeline(self.draw.ground(coloured));
         pass.set_bind_group(1, &self.far.ground_group, &[]);
         pass.set_bind_group(2, &self.backdrop_group, &[]);
         pass.draw(0..6, 0..1);
         if let Some((b, n)) = &self.solids {
-            pass.set_pipeline(&self.solid_pipeline);
+            pass.set_pipeline(&self.draw.solids);
             pass.set_vertex_buffer(0, b.slice(..));
             pass.draw(0..*n, 0..1);
         }
         for (b, n) in self.lines.iter().chain(&self.footprint) {
-            pass.set_pipeline(&self.line_pipeline);
+            pass.set_pipeline(&self.draw.lines);
             pass.set_vertex_buffer(0, b.slice(..));
             pass.draw(0..*n, 0..1);
         }
         if self.scene.blades > 0 {
-            pass.set_pipeline(if coloured {
-                &self.coloured_blade_pipeline
-            } else {
-                &self.blade_pipeline
-            });
+            pass.set_pipeline(self.draw.blades(coloured));
             pass.set_bind_group(1, &self.group_shape, &[]);
             self.cull.draw(pass);
         }
