@@ -135,6 +135,9 @@ pub struct Settings {
     pub backend: BackendChoice,
     /// Map, 3D grass, or both (View menu, toolbar).
     pub central: Central,
+    /// The 3D view's wind colours (its row of toggles): on or off, and their opacity.
+    pub wind_colours: bool,
+    pub wind_opacity: f32,
 }
 
 impl Default for Settings {
@@ -148,6 +151,8 @@ impl Default for Settings {
             show_grid: true,
             backend: BackendChoice::Auto,
             central: Central::Map,
+            wind_colours: false,
+            wind_opacity: 0.6,
         }
     }
 }
@@ -314,6 +319,28 @@ impl EditorApp {
         }
     }
 
+    /// Takes the settings of an earlier run, the 3D view's wind colours with them.
+    pub fn apply_settings(&mut self, s: Settings) {
+        let c = &mut self.grass_view.controls;
+        c.wind_colours = s.wind_colours;
+        c.wind_opacity = if s.wind_opacity.is_finite() {
+            s.wind_opacity.clamp(0.1, 1.0)
+        } else {
+            Settings::default().wind_opacity
+        };
+        self.settings = s;
+    }
+
+    /// The settings as the next run should find them.
+    pub fn settings_to_save(&self) -> Settings {
+        let c = &self.grass_view.controls;
+        Settings {
+            wind_colours: c.wind_colours,
+            wind_opacity: c.wind_opacity,
+            ..self.settings.clone()
+        }
+    }
+
     /// The editor as eframe creates it: settings and window state restored, the adapter
     /// named, and an offer to restore unsaved work if the last session did not end cleanly.
     pub fn from_creation_context(
@@ -325,7 +352,7 @@ impl EditorApp {
         let mut app = Self::new(doc, path, &cc.egui_ctx);
         if let Some(storage) = cc.storage {
             if let Some(s) = eframe::get_value::<Settings>(storage, SETTINGS_KEY) {
-                app.settings = s;
+                app.apply_settings(s);
             }
         }
         if let Some(b) = backend {
@@ -824,7 +851,7 @@ impl eframe::App for EditorApp {
     }
 
     fn save(&mut self, storage: &mut dyn eframe::Storage) {
-        eframe::set_value(storage, SETTINGS_KEY, &self.settings);
+        eframe::set_value(storage, SETTINGS_KEY, &self.settings_to_save());
     }
 
     fn on_exit(&mut self) {

@@ -921,6 +921,46 @@ fn map_and_3d_side_by_side_each_get_their_half() {
     );
 }
 
+/// The 3D view's wind colours outlast the editor: the settings it saves carry them (toggle
+/// and opacity), a new editor given those settings shows them again, settings from before
+/// they existed load with them off, and a hand-edited opacity out of range is brought back
+/// into the slider's.
+#[test]
+fn the_3d_view_s_wind_colours_are_kept_between_runs() {
+    use windloom::app::Settings;
+    let h = {
+        let mut h = harness(example("meadow.json"));
+        h.state_mut().grass_view.controls.wind_colours = true;
+        h.state_mut().grass_view.controls.wind_opacity = 0.8;
+        h.run();
+        h
+    };
+    let json = serde_json::to_string(&h.state().settings_to_save()).unwrap();
+    let mut next = harness(example("meadow.json"));
+    assert!(
+        !next.state().grass_view.controls.wind_colours,
+        "off at first"
+    );
+    next.state_mut()
+        .apply_settings(serde_json::from_str::<Settings>(&json).unwrap());
+    let c = next.state().grass_view.controls;
+    assert!(c.wind_colours && c.wind_opacity == 0.8, "{json}");
+
+    let older: Settings = serde_json::from_str(r#"{"snap": true}"#).unwrap();
+    next.state_mut().apply_settings(older);
+    let c = next.state().grass_view.controls;
+    assert!(!c.wind_colours && c.wind_opacity == 0.6);
+    assert!(
+        next.state().settings.snap,
+        "the rest of the settings are taken"
+    );
+
+    let edited: Settings =
+        serde_json::from_str(r#"{"wind_colours": true, "wind_opacity": 7.0}"#).unwrap();
+    next.state_mut().apply_settings(edited);
+    assert_eq!(next.state().grass_view.controls.wind_opacity, 1.0);
+}
+
 /// The 3D grass view: drawn on eframe's device in the live wind, its blades rebuilt when a
 /// grass edit changes them (and back on undo), with its own snapshots (plain, and with the
 /// wind colours and their legend).
