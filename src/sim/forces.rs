@@ -432,9 +432,9 @@ impl FftGusts {
         let (i1, j1) = ((i0 + 1) % self.n, (j0 + 1) % self.n);
         let (fx, fz) = (x - x.floor(), z - z.floor());
         let at = |i: usize, j: usize| self.field[j * self.n + i];
-        let a = at(i0, j0) + (at(i1, j0) - at(i0, j0)) * fx;
-        let b = at(i0, j1) + (at(i1, j1) - at(i0, j1)) * fx;
-        a + (b - a) * fz
+        let a = row::lerp(at(i0, j0), at(i1, j0), fx);
+        let b = row::lerp(at(i0, j1), at(i1, j1), fx);
+        row::lerp(a, b, fz)
     }
 
     pub fn field(&self) -> &[f32] {

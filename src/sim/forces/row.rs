@@ -595,9 +595,10 @@ impl FftConstants {
     }
 }
 
-/// `a + (b − a) · t`, the blend [`FftGusts::sample`] uses along each axis.
+/// `a + (b − a) · t`, the blend along each axis of an FFT layer's sample, the reference's
+/// ([`FftGusts::sample`]) and every row kernel's.
 #[inline(always)]
-fn lerp(a: f32, b: f32, t: f32) -> f32 {
+pub(super) fn lerp(a: f32, b: f32, t: f32) -> f32 {
     a + (b - a) * t
 }
 
