@@ -68,7 +68,11 @@ impl GrassControls {
                  (its legend top right), so a still view shows where the wind blows",
                 );
             if self.wind_colours {
-                ui.add(egui::Slider::new(&mut self.wind_opacity, 0.1..=1.0).text("opacity"));
+                // Narrow, so turning them on does not wrap the row (and resize the view).
+                ui.scope(|ui| {
+                    ui.spacing_mut().slider_width = 60.0;
+                    ui.add(egui::Slider::new(&mut self.wind_opacity, 0.1..=1.0).text("opacity"));
+                });
             }
             ui.separator();
             ui.toggle_value(&mut self.push, "Push")

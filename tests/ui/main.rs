@@ -1005,9 +1005,12 @@ fn the_3d_grass_view_answers_grass_edits() {
     }
     h.snapshot("editor_grass");
 
-    // The wind colours: the grass and ground on the map view's speed scale, with its legend.
+    // The wind colours: the grass and ground on the map view's speed scale, with its legend;
+    // their slider fits the row, so the view keeps its size.
+    let view = h.state().grass_view.rect;
     h.state_mut().grass_view.controls.wind_colours = true;
     h.run_steps(3);
+    assert_eq!(h.state().grass_view.rect, view, "the 3D view kept its size");
     // Timings and counters vary from run to run (the masks hold for one snapshot).
     h.mask(h.state().status_rect);
     if let Some(r) = h.state().grass_view.counters_rect {
