@@ -196,6 +196,8 @@ pub struct GrassView {
     pub counters_rect: Option<egui::Rect>,
     /// Where the 3D view was drawn last frame.
     pub rect: Option<egui::Rect>,
+    /// The ground point (world x, z) under the pointer, while it is over the view.
+    pub hover_ground: Option<[f32; 2]>,
 }
 
 impl Default for GrassView {
@@ -218,6 +220,7 @@ impl Default for GrassView {
             stats: None,
             counters_rect: None,
             rect: None,
+            hover_ground: None,
         }
     }
 }
@@ -308,15 +311,20 @@ impl GrassView {
             self.framed_for = Some((aspect, *orbit));
         }
         let camera = orbit.camera();
-        // The sphere: under the pointer, on the ground, while the left button is down.
         let aspect = rect.width() / rect.height().max(1.0);
+        let ground_at = |p: egui::Pos2| {
+            let ndc = [
+                (p.x - rect.left()) / rect.width() * 2.0 - 1.0,
+                1.0 - (p.y - rect.top()) / rect.height() * 2.0,
+            ];
+            camera.ground_point(aspect, ndc)
+        };
+        // The status bar's readout: the ground under the pointer.
+        self.hover_ground = response.hover_pos().and_then(ground_at).map(|g| [g.x, g.z]);
+        // The sphere: under the pointer, on the ground, while the left button is down.
         let sphere = if pushing && response.is_pointer_button_down_on() {
             response.interact_pointer_pos().and_then(|p| {
-                let ndc = [
-                    (p.x - rect.left()) / rect.width() * 2.0 - 1.0,
-                    1.0 - (p.y - rect.top()) / rect.height() * 2.0,
-                ];
-                camera.ground_point(aspect, ndc).map(|g| {
+                ground_at(p).map(|g| {
                     let r = self.controls.radius;
                     crate::grass::trail::Sphere {
                         centre: [g.x, 0.5 * r, g.z],

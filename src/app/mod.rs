@@ -442,6 +442,12 @@ impl EditorApp {
                 let base = crate::io::layout_base(self.path.as_deref());
                 self.grass_view
                     .show(ui, &rs, &self.doc, &snap, footprint, &base);
+                // The status bar reads the ground under the pointer in 3D as on the map (beside
+                // the map, whichever view the pointer is over).
+                let hover = self.grass_view.hover_ground;
+                if hover.is_some() || self.settings.central == Central::Grass {
+                    self.cursor_world = hover;
+                }
             }
             None => {
                 ui.centered_and_justified(|ui| {

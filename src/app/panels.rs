@@ -218,7 +218,11 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                     };
                 }
                 None => {
-                    ui.weak("cursor off the map");
+                    ui.weak(if app.settings.central == super::Central::Grass {
+                        "cursor off the ground"
+                    } else {
+                        "cursor off the map"
+                    });
                 }
             }
             ui.separator();

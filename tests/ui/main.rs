@@ -1019,6 +1019,24 @@ fn the_3d_grass_view_answers_grass_edits() {
     h.snapshot("editor_grass_wind_colours");
     h.state_mut().grass_view.controls.wind_colours = false;
 
+    // The status bar reads the ground under the pointer: the view's centre is the orbit's
+    // target; off the view there is no reading.
+    let view = h.state().grass_view.rect.unwrap();
+    h.event(Event::PointerMoved(view.center()));
+    h.run_steps(2);
+    let target = h.state().grass_view.orbit.unwrap().target;
+    let at = h
+        .state()
+        .cursor_world
+        .expect("a ground point under the pointer");
+    assert!(
+        (at[0] - target.x).abs() < 0.5 && (at[1] - target.z).abs() < 0.5,
+        "{at:?} under the centre, the camera looks at {target:?}"
+    );
+    h.event(Event::PointerMoved(Pos2::new(5.0, 400.0)));
+    h.run_steps(2);
+    assert_eq!(h.state().cursor_world, None, "off the 3D view");
+
     // Every test off: every blade drawn at full detail.
     let mut c = h.state().grass_view.controls.cull.expect("defaults");
     c.orientation = false;
