@@ -163,6 +163,14 @@ fn orbit_side(camera: &crate::gpu::grass::Camera) -> (f32, f32) {
     (-d.z / l, d.x / l)
 }
 
+/// The map beside the 3D view: the world rectangle it shows (min, max), outlined on the
+/// ground, and the ground point under its pointer, marked.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapBeside {
+    pub footprint: ([f32; 2], [f32; 2]),
+    pub pointer: Option<[f32; 2]>,
+}
+
 /// The editor's 3D view of the grass in the live wind: drawn by
 /// [`crate::gpu::grass::GrassRenderer`] on eframe's device into a texture of the view's size,
 /// shown as an egui image. The blades are rebuilt when the grass, world or obstacles change;
@@ -198,6 +206,8 @@ pub struct GrassView {
     pub rect: Option<egui::Rect>,
     /// The ground point (world x, z) under the pointer, while it is over the view.
     pub hover_ground: Option<[f32; 2]>,
+    /// Where the map's pointer was marked on the view last frame (beside the map).
+    pub mark: Option<egui::Pos2>,
 }
 
 impl Default for GrassView {
@@ -221,6 +231,7 @@ impl Default for GrassView {
             counters_rect: None,
             rect: None,
             hover_ground: None,
+            mark: None,
         }
     }
 }
@@ -237,17 +248,18 @@ impl GrassView {
         self.grass.as_ref().map(|g| g.model())
     }
 
-    /// Draws the view into the rest of `ui`; `footprint` is the map view's visible world
-    /// rectangle (min, max), when the map is shown too.
+    /// Draws the view into the rest of `ui`, with the map beside it when `beside` is given.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
         rs: &egui_wgpu::RenderState,
         doc: &crate::doc::Layout,
         snap: &Snapshot,
-        footprint: Option<([f32; 2], [f32; 2])>,
+        beside: Option<MapBeside>,
         base: &std::path::Path,
     ) {
+        let footprint = beside.map(|b| b.footprint);
+        let mark = beside.and_then(|b| b.pointer);
         use crate::gpu::grass::{GrassRenderer, Target};
         self.controls.ui(ui);
         let (rect, response) =
@@ -542,6 +554,22 @@ impl GrassView {
                 egui::Color32::from_black_alpha(190),
                 rect.width() - 20.0,
             ));
+        }
+        // The map's pointer, on the ground (in front of the camera only).
+        self.mark = mark.and_then(|[x, z]| {
+            let q = camera
+                .view_proj(aspect)
+                .project_point3(glam::Vec3::new(x, 0.0, z));
+            let behind =
+                (glam::Vec3::new(x, 0.0, z) - camera.eye).dot(camera.target - camera.eye) <= 0.0;
+            let at = egui::pos2(
+                rect.left() + (q.x + 1.0) / 2.0 * rect.width(),
+                rect.top() + (1.0 - q.y) / 2.0 * rect.height(),
+            );
+            (!behind && rect.contains(at)).then_some(at)
+        });
+        if let Some(at) = self.mark {
+            super::view::draw_pointer_mark(ui.painter(), at);
         }
         // The sphere, drawn over the picture where it is.
         if let Some(s) = sphere {

@@ -84,6 +84,12 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
 
     interact(app, &ctx, &response, rect, &cam, &painter);
     draw_legend(&painter, rect, app.settings.wind_view, max_speed);
+    // Beside the 3D view: where its pointer is on the ground (last frame's).
+    if app.settings.central == super::Central::Split {
+        if let Some(p) = app.grass_view.hover_ground {
+            view::draw_pointer_mark(&painter, cam.to_screen(rect, p));
+        }
+    }
 
     // Hint for the current tool, wrapped to the map's width (narrow beside the 3D view).
     let hint = painter.layout(

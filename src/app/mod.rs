@@ -440,8 +440,13 @@ impl EditorApp {
                     })
                     .flatten();
                 let base = crate::io::layout_base(self.path.as_deref());
+                // Beside the map (drawn first this frame), its pointer: marked in 3D too.
+                let beside = footprint.map(|footprint| gpu_view::MapBeside {
+                    footprint,
+                    pointer: self.cursor_world,
+                });
                 self.grass_view
-                    .show(ui, &rs, &self.doc, &snap, footprint, &base);
+                    .show(ui, &rs, &self.doc, &snap, beside, &base);
                 // The status bar reads the ground under the pointer in 3D as on the map (beside
                 // the map, whichever view the pointer is over).
                 let hover = self.grass_view.hover_ground;

@@ -476,3 +476,14 @@ pub fn draw_glyphs(
         y += spacing;
     }
 }
+
+/// A ring with a dot at `at`: where the pointer of the other view (the map beside the 3D
+/// view, or the 3D view beside the map) is on the ground.
+pub fn draw_pointer_mark(painter: &egui::Painter, at: Pos2) {
+    let dark = egui::Stroke::new(3.0, Color32::from_black_alpha(160));
+    let light = egui::Stroke::new(1.5, Color32::WHITE);
+    for stroke in [dark, light] {
+        painter.circle_stroke(at, 7.0, stroke);
+    }
+    painter.circle_filled(at, 2.0, Color32::WHITE);
+}

@@ -911,6 +911,40 @@ fn map_and_3d_side_by_side_each_get_their_half() {
     h.run_steps(3);
     assert_eq!(h.state().grass_view.orbit, Some(moved));
 
+    // Side by side, each view marks where the other's pointer is on the ground: the map's
+    // pointer at the world's centre is marked in 3D where the camera projects that point.
+    let centre = {
+        let (lo, hi) = h.state().doc.bounds();
+        [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0]
+    };
+    let on_map = h.state().camera.unwrap().to_screen(map, centre);
+    h.event(Event::PointerMoved(on_map));
+    h.run_steps(2);
+    let view = h.state().grass_view.rect.unwrap();
+    let vp = h
+        .state()
+        .grass_view
+        .orbit
+        .unwrap()
+        .camera()
+        .view_proj(view.width() / view.height());
+    let q = vp.project_point3(glam::Vec3::new(centre[0], 0.0, centre[1]));
+    let want = egui::pos2(
+        view.left() + (q.x + 1.0) / 2.0 * view.width(),
+        view.top() + (1.0 - q.y) / 2.0 * view.height(),
+    );
+    let mark = h
+        .state()
+        .grass_view
+        .mark
+        .expect("the map's pointer marked in 3D");
+    assert!((mark - want).length() < 1.0, "{mark:?}, want {want:?}");
+    // And the 3D view's pointer is read on the map's side (the status bar's reading).
+    h.event(Event::PointerMoved(view.center()));
+    h.run_steps(2);
+    assert!(h.state().grass_view.mark.is_none(), "no map pointer then");
+    assert!(h.state().grass_view.hover_ground.is_some());
+
     h.state_mut().settings.central = windloom::app::Central::Map;
     h.run_steps(3);
     let again = world(&h);
