@@ -156,6 +156,16 @@ fn on_plate(
     plate
 }
 
+/// Where world point `p` appears in the view drawn in `rect` (in front of the camera).
+fn on_screen(camera: &crate::gpu::grass::Camera, rect: egui::Rect, p: glam::Vec3) -> egui::Pos2 {
+    let aspect = rect.width() / rect.height().max(1.0);
+    let q = camera.view_proj(aspect).project_point3(p);
+    egui::pos2(
+        rect.left() + (q.x + 1.0) / 2.0 * rect.width(),
+        rect.top() + (1.0 - q.y) / 2.0 * rect.height(),
+    )
+}
+
 /// A horizontal unit vector across the camera's view (for the sphere's screen radius).
 fn orbit_side(camera: &crate::gpu::grass::Camera) -> (f32, f32) {
     let d = camera.target - camera.eye;
@@ -258,9 +268,9 @@ impl GrassView {
         beside: Option<MapBeside>,
         base: &std::path::Path,
     ) {
+        use crate::gpu::grass::{GrassRenderer, Target};
         let footprint = beside.map(|b| b.footprint);
         let mark = beside.and_then(|b| b.pointer);
-        use crate::gpu::grass::{GrassRenderer, Target};
         self.controls.ui(ui);
         let (rect, response) =
             ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
@@ -557,15 +567,9 @@ impl GrassView {
         }
         // The map's pointer, on the ground (in front of the camera only).
         self.mark = mark.and_then(|[x, z]| {
-            let q = camera
-                .view_proj(aspect)
-                .project_point3(glam::Vec3::new(x, 0.0, z));
-            let behind =
-                (glam::Vec3::new(x, 0.0, z) - camera.eye).dot(camera.target - camera.eye) <= 0.0;
-            let at = egui::pos2(
-                rect.left() + (q.x + 1.0) / 2.0 * rect.width(),
-                rect.top() + (1.0 - q.y) / 2.0 * rect.height(),
-            );
+            let p = glam::Vec3::new(x, 0.0, z);
+            let behind = (p - camera.eye).dot(camera.target - camera.eye) <= 0.0;
+            let at = on_screen(&camera, rect, p);
             (!behind && rect.contains(at)).then_some(at)
         });
         if let Some(at) = self.mark {
@@ -573,15 +577,8 @@ impl GrassView {
         }
         // The sphere, drawn over the picture where it is.
         if let Some(s) = sphere {
-            let vp = camera.view_proj(aspect);
             let c = glam::Vec3::from(s.centre);
-            let to_screen = |p: glam::Vec3| {
-                let q = vp.project_point3(p);
-                egui::pos2(
-                    rect.left() + (q.x + 1.0) / 2.0 * rect.width(),
-                    rect.top() + (1.0 - q.y) / 2.0 * rect.height(),
-                )
-            };
+            let to_screen = |p: glam::Vec3| on_screen(&camera, rect, p);
             let (sy, cy) = orbit_side(&camera);
             let centre = to_screen(c);
             let edge = to_screen(c + glam::Vec3::new(sy, 0.0, cy) * s.radius);
