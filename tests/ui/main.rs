@@ -1078,7 +1078,15 @@ fn the_3d_grass_view_answers_grass_edits() {
     c.distance = false;
     c.lod = false;
     h.state_mut().grass_view.controls.cull = Some(c);
-    h.run_steps(4);
+    // The counters come back without waiting, a few frames late (more while other tests load
+    // the software rasteriser): up to 40 frames for them to show every blade drawn.
+    for _ in 0..40 {
+        h.run_steps(1);
+        let s = h.state().grass_view.stats.unwrap();
+        if s.drawn == [s.total, 0, 0] {
+            break;
+        }
+    }
     let stats = h.state().grass_view.stats.unwrap();
     assert_eq!(stats.drawn, [stats.total, 0, 0], "no culling: all drawn");
 
