@@ -272,9 +272,8 @@ impl Forcing<'_> {
         let g = &self.g;
         let nx = g.nx;
         let c = usize::from(is_v);
-        let ox = if is_v { 0.5 } else { 0.0 };
-        let z_world = self.row_z(j, is_v);
-        let (origin_x, hx, k, dt) = (self.origin[0], g.hx, self.response, self.dt);
+        // Where the row's faces are: the same x and z as the run's gains.
+        let at = self.span_of(s, j, is_v, 0);
         #[inline(always)]
         #[allow(clippy::too_many_arguments)]
         fn impulse(
@@ -288,8 +287,7 @@ impl Forcing<'_> {
         ) -> f32 {
             s.impulse_weighted(s.weight([x, z]), vel, k, dt)[c]
         }
-        let x_of = |i: usize| origin_x + (i as f32 + ox) * hx;
-        let push = |i: usize, vel: [f32; 2]| impulse(s, x_of(i), z_world, vel, k, dt, c);
+        let push = |i: usize, vel: [f32; 2]| impulse(s, at.x(i as i32), at.z, vel, at.k, at.dt, c);
         let (lo, hi) = self.interior(is_v);
         for i in span.clone().filter(|i| !(lo..=hi).contains(i)) {
             if free[i] != 0 {
@@ -342,6 +340,14 @@ pub(super) struct SplatSpan<'a> {
     pub(super) ox: f32,
     pub(super) hx: f32,
     pub(super) z: f32,
+}
+
+impl SplatSpan<'_> {
+    /// World x of face `i` of the row (an `i32`, so the gains' loop vectorises).
+    #[inline(always)]
+    pub(super) fn x(&self, i: i32) -> f32 {
+        self.x0 + (i as f32 + self.ox) * self.hx
+    }
 }
 
 /// Adds splat `splat`'s push `dir · gain · deficit` to the free faces of a run whose

@@ -165,7 +165,6 @@ pub(super) fn splat_gains(p: &SplatSpan, out: &mut [f32]) {
     let splat = *p.s;
     let first = p.first as i32;
     for (q, o) in out.iter_mut().enumerate() {
-        let x = p.x0 + ((first + q as i32) as f32 + p.ox) * p.hx;
-        *o = splat.gain([x, p.z], p.k, p.dt);
+        *o = splat.gain([p.x(first + q as i32), p.z], p.k, p.dt);
     }
 }
