@@ -37,6 +37,10 @@ struct View {
     particles: u32,
     // 1 when the render target stores sRGB (the shader then writes linear values).
     srgb_target: u32,
+    // The speed colours' top, m/s (the View menu's fixed speed scale; 0: the stats pass's
+    // peak).
+    speed_scale: f32,
+    _pad: f32,
 }
 
 // A streak particle: its trail (oldest first, `len` points), age and lifetime in seconds.
@@ -156,9 +160,13 @@ fn output(rgb: vec3<f32>, alpha: f32) -> vec4<f32> {
     return vec4<f32>(c * alpha, alpha);
 }
 
-// Stats the stats pass gathers, as f32 bit patterns: peak speed, |curl|, |pressure|.
+// The top of a layer's colour scale: for speed the fixed scale where one is set, else from
+// the stats the stats pass gathers (as f32 bit patterns: peak speed, |curl|, |pressure|).
 fn scale_of(stats: vec3<u32>, layer: u32) -> f32 {
     if (layer == 0u) {
+        if (V.speed_scale > 0.0) {
+            return V.speed_scale;
+        }
         return max(bitcast<f32>(stats.x), 1.0);
     }
     if (layer == 1u) {

@@ -196,8 +196,10 @@ pub struct GrassView {
     scene_for: Option<(Vec<crate::doc::Tree>, Vec<crate::doc::Obstacle>)>,
     footprint_for: Option<([f32; 2], [f32; 2])>,
     wind_serial: u64,
-    /// The wind colours' scale and the snapshot it was found in.
-    wind_scale: Option<(u64, f32)>,
+    /// The wind colours' scale, and the snapshot and fixed scale it was found for.
+    wind_scale: Option<(u64, Option<f32>, f32)>,
+    /// The View menu's fixed speed scale (`None`: the field's peak), as the map uses it.
+    pub speed_scale: Option<f32>,
     pub orbit: Option<Orbit>,
     /// The last 'frame all': the aspect it was for, and the orbit it gave (while the orbit is
     /// still that, the user has not moved the camera since).
@@ -230,6 +232,7 @@ impl Default for GrassView {
             footprint_for: None,
             wind_serial: u64::MAX,
             wind_scale: None,
+            speed_scale: None,
             orbit: None,
             framed_for: None,
             blades: 0,
@@ -418,10 +421,13 @@ impl GrassView {
         grass.set_far(self.controls.far);
         // The wind colours on the map view's scale (its peak speed, at least 1 m/s).
         let scale = match self.wind_scale {
-            Some((serial, scale)) if serial == snap.serial => scale,
+            Some((serial, fixed, scale)) if serial == snap.serial && fixed == self.speed_scale => {
+                scale
+            }
             _ => {
-                let scale = super::view::field_scale(snap, super::view::WindView::Speed);
-                self.wind_scale = Some((snap.serial, scale));
+                let speed = super::view::WindView::Speed;
+                let scale = super::view::field_scale(snap, speed, self.speed_scale);
+                self.wind_scale = Some((snap.serial, self.speed_scale, scale));
                 scale
             }
         };

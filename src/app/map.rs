@@ -50,6 +50,7 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     draw_backdrop(app, &ctx, &painter, world);
     let snap = app.live.snapshot();
     let max_speed = draw_wind(app, &ctx, &painter, &cam, rect, world, &snap);
+    app.legend_scale = max_speed;
     if app.settings.show_grid {
         draw_grid(&painter, &cam, rect, min, max);
     }
@@ -180,27 +181,25 @@ fn draw_wind(
             return draw_wind_gpu(app, ctx, painter, cam, rect, snap, field);
         }
     }
-    let stale = app
-        .field_texture
-        .as_ref()
-        .is_none_or(|(serial, m, _, _)| *serial != snap.serial || *m != mode);
+    let fixed = app.settings.speed_scale;
+    let key = (snap.serial, mode, fixed);
+    let stale = app.field_texture.as_ref().is_none_or(|(k, _, _)| *k != key);
     if stale {
-        if let Some((img, scale)) = view::field_image(snap, mode) {
+        if let Some((img, scale)) = view::field_image(snap, mode, fixed) {
             match &mut app.field_texture {
-                Some((serial, m, tex, s)) => {
+                Some((k, tex, s)) => {
                     tex.set(img, egui::TextureOptions::LINEAR);
-                    *serial = snap.serial;
-                    *m = mode;
+                    *k = key;
                     *s = scale;
                 }
                 None => {
                     let tex = ctx.load_texture("wind", img, egui::TextureOptions::LINEAR);
-                    app.field_texture = Some((snap.serial, mode, tex, scale));
+                    app.field_texture = Some((key, tex, scale));
                 }
             }
         }
     }
-    let Some((_, _, tex, scale)) = &app.field_texture else {
+    let Some((_, tex, scale)) = &app.field_texture else {
         return 0.0;
     };
     let scale = *scale;
@@ -238,11 +237,12 @@ fn draw_wind_gpu(
 ) -> f32 {
     use crate::gpu::mapview::{Frame, Layer, Overlay};
     let mode = app.settings.wind_view;
+    let key = (snap.serial, mode, app.settings.speed_scale);
     let scale = match app.gpu_scale {
-        Some((serial, m, scale)) if serial == snap.serial && m == mode => scale,
+        Some((k, scale)) if k == key => scale,
         _ => {
-            let scale = view::field_scale(snap, mode);
-            app.gpu_scale = Some((snap.serial, mode, scale));
+            let scale = view::field_scale(snap, mode, app.settings.speed_scale);
+            app.gpu_scale = Some((key, scale));
             scale
         }
     };
@@ -286,6 +286,7 @@ fn draw_wind_gpu(
         lattice_origin: cam.to_world(rect, first),
         lattice_step: spacing / cam.zoom,
         lattice: [count(a.x, b.x), count(a.y, b.y)],
+        speed_scale: app.settings.speed_scale,
     };
     painter.add(super::gpu_view::map_wind(rect, field, frame));
     scale

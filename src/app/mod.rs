@@ -138,7 +138,13 @@ pub struct Settings {
     /// The 3D view's wind colours (its row of toggles): on or off, and their opacity.
     pub wind_colours: bool,
     pub wind_opacity: f32,
+    /// The speed at the top of the speed colours (map and 3D), m/s; `None`: the field's peak
+    /// (View menu).
+    pub speed_scale: Option<f32>,
 }
+
+/// What a colour scale was found for: the snapshot, the view, the fixed speed scale.
+type ScaleKey = (u64, WindView, Option<f32>);
 
 impl Default for Settings {
     fn default() -> Self {
@@ -153,11 +159,14 @@ impl Default for Settings {
             central: Central::Map,
             wind_colours: false,
             wind_opacity: 0.6,
+            speed_scale: None,
         }
     }
 }
 
 const SETTINGS_KEY: &str = "windloom-settings";
+/// The fixed speed scale's range, m/s.
+pub const SPEED_SCALE: (f32, f32) = (0.5, 200.0);
 const AUTOSAVE_SECONDS: f64 = 20.0;
 
 /// A modal question or message.
@@ -223,7 +232,7 @@ pub struct EditorApp {
     gpu_submissions: Option<GpuSubmissions>,
     pub live: LiveSim,
     streaks: Streaks,
-    field_texture: Option<(u64, WindView, egui::TextureHandle, f32)>,
+    field_texture: Option<(ScaleKey, egui::TextureHandle, f32)>,
     backdrop: Option<(PathBuf, Option<egui::TextureHandle>)>,
     gesture: Option<map::Gesture>,
     polygon: Vec<doc::Vec2>,
@@ -258,10 +267,12 @@ pub struct EditorApp {
     /// The 3D grass view.
     pub grass_view: gpu_view::GrassView,
     /// The colour scale of the GPU-drawn view, from the last read-back: (serial, view, scale).
-    gpu_scale: Option<(u64, WindView, f32)>,
+    gpu_scale: Option<(ScaleKey, f32)>,
     /// The window title last sent to the window.
     sent_title: Option<String>,
     pub cursor_world: Option<doc::Vec2>,
+    /// The top of the map's colour scale as its legend last read (0: no legend).
+    pub legend_scale: f32,
     allow_close: bool,
     pub export: export::ExportDialog,
 }
@@ -314,6 +325,7 @@ impl EditorApp {
             gpu_scale: None,
             sent_title: None,
             cursor_world: None,
+            legend_scale: 0.0,
             allow_close: false,
             export: export::ExportDialog::default(),
         }
@@ -329,6 +341,11 @@ impl EditorApp {
             Settings::default().wind_opacity
         };
         self.settings = s;
+        self.settings.speed_scale = self
+            .settings
+            .speed_scale
+            .filter(|v| v.is_finite())
+            .map(|v| v.clamp(SPEED_SCALE.0, SPEED_SCALE.1));
     }
 
     /// The settings as the next run should find them.
@@ -440,6 +457,7 @@ impl EditorApp {
                     })
                     .flatten();
                 let base = crate::io::layout_base(self.path.as_deref());
+                self.grass_view.speed_scale = self.settings.speed_scale;
                 // Beside the map (drawn first this frame), its pointer: marked in 3D too.
                 let beside = footprint.map(|footprint| gpu_view::MapBeside {
                     footprint,

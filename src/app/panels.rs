@@ -101,6 +101,7 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 for v in WindView::ALL {
                     ui.radio_value(&mut app.settings.wind_view, v, v.label());
                 }
+                speed_scale_menu(app, ui);
                 ui.separator();
                 ui.label("Wind runs on");
                 let mut choice = app.settings.backend;
@@ -731,4 +732,32 @@ pub fn disk_banner(app: &mut EditorApp, ui: &mut egui::Ui) {
                 }
             });
         });
+}
+
+/// The View menu's speed scale: the speed colours (map and 3D) up to the field's peak, which
+/// moves as the wind changes, or up to a fixed speed that stays put while you edit.
+fn speed_scale_menu(app: &mut EditorApp, ui: &mut egui::Ui) {
+    let (lo, hi) = super::SPEED_SCALE;
+    let mut fixed = app.settings.speed_scale.is_some();
+    ui.checkbox(&mut fixed, "Fixed speed scale").on_hover_text(
+        "Speed colours from 0 to a speed you set, the same from one edit to the next; \
+         off: to the field's peak speed",
+    );
+    app.settings.speed_scale = if fixed {
+        // Turned on: start at the peak now, rounded up to a whole m/s.
+        let peak = || {
+            let snap = app.live.snapshot();
+            super::view::field_scale(&snap, WindView::Speed, None).ceil()
+        };
+        let mut v = app.settings.speed_scale.unwrap_or_else(peak).clamp(lo, hi);
+        ui.add(
+            egui::DragValue::new(&mut v)
+                .range(lo..=hi)
+                .speed(0.1)
+                .suffix(" m/s"),
+        );
+        Some(v)
+    } else {
+        None
+    };
 }

@@ -126,19 +126,24 @@ pub fn signed_colour(t: f32) -> Color32 {
     Color32::from_rgb(r, g, b)
 }
 
-/// The value at the top of view `mode`'s colour scale: the peak speed (at least 1 m/s), or
-/// the peak magnitude of curl or pressure.
-pub fn field_scale(snap: &Snapshot, mode: WindView) -> f32 {
+/// The value at the top of view `mode`'s colour scale: for the speed views `fixed` (the
+/// View menu's fixed speed scale) or else the peak speed (at least 1 m/s); the peak
+/// magnitude of curl or pressure.
+pub fn field_scale(snap: &Snapshot, mode: WindView, fixed: Option<f32>) -> f32 {
     match mode {
         WindView::Curl => snap.curl.iter().fold(1e-6f32, |m, x| m.max(x.abs())),
         WindView::Pressure => snap.pressure.iter().fold(1e-6f32, |m, x| m.max(x.abs())),
-        _ => crate::colour::speed_scale(&snap.velocity),
+        _ => fixed.unwrap_or_else(|| crate::colour::speed_scale(&snap.velocity)),
     }
 }
 
 /// The field as an image for the colour-map views (one pixel per cell), and the value that
-/// maps to the top of the scale.
-pub fn field_image(snap: &Snapshot, mode: WindView) -> Option<(egui::ColorImage, f32)> {
+/// maps to the top of the scale ([`field_scale`]).
+pub fn field_image(
+    snap: &Snapshot,
+    mode: WindView,
+    fixed: Option<f32>,
+) -> Option<(egui::ColorImage, f32)> {
     if snap.nx == 0 {
         return None;
     }
@@ -149,7 +154,7 @@ pub fn field_image(snap: &Snapshot, mode: WindView) -> Option<(egui::ColorImage,
                 .iter()
                 .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
                 .collect();
-            let max = speeds.iter().copied().fold(1.0f32, f32::max);
+            let max = fixed.unwrap_or_else(|| speeds.iter().copied().fold(1.0f32, f32::max));
             let dim = if mode == WindView::Speed { 230 } else { 120 };
             (
                 speeds

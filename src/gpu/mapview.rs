@@ -61,6 +61,9 @@ pub struct View {
     pub lattice_cols: u32,
     pub particles: u32,
     pub srgb_target: u32,
+    /// The speed colours' top, m/s (0: the stats pass's peak).
+    pub speed_scale: f32,
+    pub _pad: f32,
 }
 
 /// A streak particle; mirrors `struct Particle` in `shaders/map_common.wgsl`.
@@ -165,6 +168,9 @@ pub struct Frame {
     pub lattice_origin: [f32; 2],
     pub lattice_step: f32,
     pub lattice: [u32; 2],
+    /// The speed colours' top, m/s, where it is fixed (the View menu's fixed speed scale);
+    /// `None`: the field's peak, from the stats pass.
+    pub speed_scale: Option<f32>,
 }
 
 /// Bytes per streak particle on the GPU.
@@ -340,6 +346,7 @@ impl MapRenderer {
                 lattice_origin: [0.0; 2],
                 lattice_step: 1.0,
                 lattice: [0, 0],
+                speed_scale: None,
             },
             frames: 0,
             srgb: format.is_srgb(),
@@ -419,6 +426,8 @@ impl MapRenderer {
             lattice_cols: frame.lattice[0],
             particles: streaks,
             srgb_target: u32::from(self.srgb),
+            speed_scale: frame.speed_scale.unwrap_or(0.0),
+            _pad: 0.0,
         };
         queue.write_buffer(&self.view_buf, 0, bytemuck::bytes_of(&view));
         let Some(b) = &self.bound else { return };

@@ -955,6 +955,52 @@ fn map_and_3d_side_by_side_each_get_their_half() {
     );
 }
 
+/// A fixed speed scale (View menu) holds the speed colours still: with it off the map's
+/// legend reads the field's peak and the fastest cell is the top of the scale; set to twice
+/// the peak, the legend reads that and the fastest cell is the scale's middle colour. A
+/// hand-edited scale out of range is brought back into the menu's on load.
+#[test]
+fn a_fixed_speed_scale_holds_the_speed_colours_still() {
+    use windloom::app::view::{WindView, field_image, field_scale, speed_colour};
+    let mut h = harness(example("meadow.json"));
+    h.state_mut().settings.wind_view = WindView::Speed;
+    step_and_wait(&mut h, 30, Backend::Cpu);
+    h.run_steps(2);
+    let snap = h.state().live.snapshot();
+    let peak = field_scale(&snap, WindView::Speed, None);
+    assert!(peak > 1.0, "the meadow's wind after 30 steps: {peak}");
+    assert_eq!(h.state().legend_scale, peak, "the legend reads the peak");
+
+    h.state_mut().settings.speed_scale = Some(2.0 * peak);
+    h.run_steps(2);
+    assert_eq!(
+        h.state().legend_scale,
+        2.0 * peak,
+        "the legend reads the fixed scale"
+    );
+
+    // The fastest cell's colour (the Speed view's: 230/255 over the map).
+    let fastest = (0..snap.velocity.len())
+        .max_by(|&a, &b| {
+            let s = |k: usize| snap.velocity[k][0].hypot(snap.velocity[k][1]);
+            s(a).total_cmp(&s(b))
+        })
+        .unwrap();
+    let shown = |t: f32| {
+        let c = speed_colour(t).gamma_multiply(230.0 / 255.0);
+        egui::Color32::from_rgba_unmultiplied(c.r(), c.g(), c.b(), 230)
+    };
+    let (auto, _) = field_image(&snap, WindView::Speed, None).unwrap();
+    assert_eq!(auto.pixels[fastest], shown(1.0));
+    let (fixed, scale) = field_image(&snap, WindView::Speed, Some(2.0 * peak)).unwrap();
+    assert_eq!(scale, 2.0 * peak);
+    assert_eq!(fixed.pixels[fastest], shown(0.5));
+
+    let edited = serde_json::from_str(r#"{"speed_scale": 1e9}"#).unwrap();
+    h.state_mut().apply_settings(edited);
+    assert_eq!(h.state().settings.speed_scale, Some(200.0));
+}
+
 /// The 3D view's wind colours outlast the editor: the settings it saves carry them (toggle
 /// and opacity), a new editor given those settings shows them again, settings from before
 /// they existed load with them off, and a hand-edited opacity out of range is brought back

@@ -39,6 +39,7 @@ fn frame(s: &Solver, w: u32, layer: Layer, overlay: Overlay) -> (Frame, [u32; 2]
         lattice_origin: min,
         lattice_step: 1.0,
         lattice: [0, 0],
+        speed_scale: None,
     };
     (f, [w, h])
 }
@@ -230,22 +231,29 @@ fn render(ctx: &GpuContext, gpu: &GpuSolver, f: &Frame, [w, h]: [u32; 2]) -> Vec
     windloom::gpu::read_texture(device, queue, &target, 4).unwrap()
 }
 
-/// Every pixel of the GPU colour map (speed, and pressure) is the colour the CPU
-/// view gives the field sampled at that pixel's centre, within the colour table's
-/// quantisation (4/255 a channel).
+/// Every pixel of the GPU colour map (speed on the field's peak and on a fixed scale, and
+/// pressure) is the colour the CPU view gives the field sampled at that pixel's centre,
+/// within the colour table's quantisation (4/255 a channel).
 #[test]
 fn the_colour_map_matches_the_cpu_view_pixel_by_pixel() {
     let Some((ctx, cpu, gpu)) = setup(13) else {
         return;
     };
     let snap = snapshot(&cpu);
-    for layer in [Layer::Speed, Layer::Pressure] {
-        let (f, [w, h]) = frame(&cpu, 160, layer, Overlay::None);
+    let peak = snap
+        .velocity
+        .iter()
+        .fold(1.0f32, |m, v| m.max(v[0].hypot(v[1])));
+    // Speed on the field's peak, then on a fixed scale of twice it (the View menu's).
+    for (layer, fixed) in [
+        (Layer::Speed, None),
+        (Layer::Speed, Some(2.0 * peak)),
+        (Layer::Pressure, None),
+    ] {
+        let (mut f, [w, h]) = frame(&cpu, 160, layer, Overlay::None);
+        f.speed_scale = fixed;
         let pixels = render(&ctx, &gpu, &f, [w, h]);
-        let speed_scale = snap
-            .velocity
-            .iter()
-            .fold(1.0f32, |m, v| m.max(v[0].hypot(v[1])));
+        let speed_scale = fixed.unwrap_or(peak);
         let p_scale = cpu.p.iter().fold(1e-6f32, |m, p| m.max(p.abs()));
         let mut worst = 0u8;
         for y in 0..h {
@@ -268,7 +276,7 @@ fn the_colour_map_matches_the_cpu_view_pixel_by_pixel() {
                 }
             }
         }
-        println!("{layer:?}: max channel difference {worst}/255 over {w}x{h} pixels");
+        println!("{layer:?} ({fixed:?}): max channel difference {worst}/255 over {w}x{h} pixels");
         assert!(
             worst <= 4,
             "{layer:?}: GPU pixels differ from the CPU view by {worst}/255"
