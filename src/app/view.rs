@@ -144,37 +144,28 @@ pub fn field_image(
     mode: WindView,
     fixed: Option<f32>,
 ) -> Option<(egui::ColorImage, f32)> {
-    if snap.nx == 0 {
+    if snap.nx == 0 || mode == WindView::Off {
         return None;
     }
-    let (pixels, scale): (Vec<Color32>, f32) = match mode {
-        WindView::Speed | WindView::Streaks | WindView::Glyphs => {
-            let speeds: Vec<f32> = snap
-                .velocity
-                .iter()
-                .map(|v| (v[0] * v[0] + v[1] * v[1]).sqrt())
-                .collect();
-            let max = fixed.unwrap_or_else(|| speeds.iter().copied().fold(1.0f32, f32::max));
-            let dim = if mode == WindView::Speed { 230 } else { 120 };
-            (
-                speeds
-                    .iter()
-                    .map(|s| speed_colour(s / max).gamma_multiply(dim as f32 / 255.0))
-                    .map(|c| Color32::from_rgba_unmultiplied(c.r(), c.g(), c.b(), dim))
-                    .collect(),
-                max,
-            )
-        }
+    let scale = field_scale(snap, mode, fixed);
+    let pixels: Vec<Color32> = match mode {
         WindView::Curl | WindView::Pressure => {
             let data = if mode == WindView::Curl {
                 &snap.curl
             } else {
                 &snap.pressure
             };
-            let max = data.iter().fold(1e-6f32, |m, x| m.max(x.abs()));
-            (data.iter().map(|x| signed_colour(x / max)).collect(), max)
+            data.iter().map(|x| signed_colour(x / scale)).collect()
         }
-        WindView::Off => return None,
+        _ => {
+            let dim = if mode == WindView::Speed { 230 } else { 120 };
+            snap.velocity
+                .iter()
+                .map(|v| speed_colour((v[0] * v[0] + v[1] * v[1]).sqrt() / scale))
+                .map(|c| c.gamma_multiply(dim as f32 / 255.0))
+                .map(|c| Color32::from_rgba_unmultiplied(c.r(), c.g(), c.b(), dim))
+                .collect()
+        }
     };
     Some((egui::ColorImage::new([snap.nx, snap.ny], pixels), scale))
 }
