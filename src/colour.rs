@@ -25,23 +25,14 @@ pub fn speed_scale(velocity: &[[f32; 2]]) -> f32 {
 /// `t` picks step `round(t × 255)`.
 pub const SPEED_STEPS: usize = 256;
 
-/// An sRGB-encoded byte as a linear intensity in [0, 1] (the sRGB transfer function).
-pub fn srgb_to_linear(c: u8) -> f32 {
-    let c = f32::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
-}
-
 /// The speed scale in [`SPEED_STEPS`] steps as linear RGB (alpha 1), for shaders that light
 /// or blend in linear light: the 3D view's wind colours.
 pub fn speed_table_linear() -> Vec<[f32; 4]> {
     (0..SPEED_STEPS)
         .map(|k| {
             let [r, g, b] = speed_rgb(k as f32 / (SPEED_STEPS - 1) as f32);
-            [srgb_to_linear(r), srgb_to_linear(g), srgb_to_linear(b), 1.0]
+            let linear = eframe::egui::ecolor::linear_f32_from_gamma_u8;
+            [linear(r), linear(g), linear(b), 1.0]
         })
         .collect()
 }

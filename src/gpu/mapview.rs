@@ -208,8 +208,9 @@ struct Bound {
 
 fn colour_table() -> Vec<u32> {
     let pack = |[r, g, b]: [u8; 3]| u32::from_le_bytes([r, g, b, 255]);
-    (0..256)
-        .map(|k| pack(crate::colour::speed_rgb(k as f32 / 255.0)))
+    let steps = crate::colour::SPEED_STEPS;
+    (0..steps)
+        .map(|k| pack(crate::colour::speed_rgb(k as f32 / (steps - 1) as f32)))
         .chain((0..256).map(|k| pack(crate::colour::signed_rgb(k as f32 / 127.5 - 1.0))))
         .collect()
 }

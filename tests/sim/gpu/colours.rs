@@ -78,7 +78,7 @@ fn square(px: &[u8], (x, y): (usize, usize)) -> Vec<[u8; 3]> {
 }
 
 fn linear(c: u8) -> f32 {
-    windloom::colour::srgb_to_linear(c)
+    eframe::egui::ecolor::linear_f32_from_gamma_u8(c)
 }
 
 /// The 3D view's "wind colours" show where the wind blows in a still picture, in the map
