@@ -25,6 +25,9 @@ pub struct GrassControls {
     pub wind_opacity: f32,
 }
 
+/// The wind colours' opacity slider's range (saved settings are clamped into it).
+pub const WIND_OPACITY: std::ops::RangeInclusive<f32> = 0.1..=1.0;
+
 impl Default for GrassControls {
     fn default() -> Self {
         Self {
@@ -71,7 +74,7 @@ impl GrassControls {
                 // Narrow, so turning them on does not wrap the row (and resize the view).
                 ui.scope(|ui| {
                     ui.spacing_mut().slider_width = 60.0;
-                    ui.add(egui::Slider::new(&mut self.wind_opacity, 0.1..=1.0).text("opacity"));
+                    ui.add(egui::Slider::new(&mut self.wind_opacity, WIND_OPACITY).text("opacity"));
                 });
             }
             ui.separator();

@@ -158,7 +158,7 @@ impl Default for Settings {
             backend: BackendChoice::Auto,
             central: Central::Map,
             wind_colours: false,
-            wind_opacity: 0.6,
+            wind_opacity: grass_controls::GrassControls::default().wind_opacity,
             speed_scale: None,
         }
     }
@@ -335,8 +335,9 @@ impl EditorApp {
     pub fn apply_settings(&mut self, s: Settings) {
         let c = &mut self.grass_view.controls;
         c.wind_colours = s.wind_colours;
+        let range = grass_controls::WIND_OPACITY;
         c.wind_opacity = if s.wind_opacity.is_finite() {
-            s.wind_opacity.clamp(0.1, 1.0)
+            s.wind_opacity.clamp(*range.start(), *range.end())
         } else {
             Settings::default().wind_opacity
         };
