@@ -47,3 +47,10 @@ fn neighbours(i: u32, n: u32) -> vec2<u32> {
     }
     return vec2<u32>(select(i - 1u, 0u, i == 0u), min(i + 1u, n - 1u));
 }
+
+// The element a 64-wide invocation of a one-dimensional pass stands for. Such passes are
+// dispatched as rows of at most 65,535 workgroups (`fluid::flat_groups`), so that arrays of
+// more than 65,535 × 64 elements (a 2048² grid's faces) are covered too.
+fn flat_index(id: vec3<u32>, nwg: vec3<u32>) -> u32 {
+    return id.y * nwg.x * 64u + id.x;
+}

@@ -262,8 +262,12 @@ fn inc_v(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn add(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x < arrayLength(&field)) {
-        field[id.x] = clamp(field[id.x] + inc[id.x], -P.max_speed, P.max_speed);
+fn add(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+) {
+    let k = flat_index(id, nwg);
+    if (k < arrayLength(&field)) {
+        field[k] = clamp(field[k] + inc[k], -P.max_speed, P.max_speed);
     }
 }

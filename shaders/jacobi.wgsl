@@ -16,9 +16,13 @@ fn pick(fl: u32, bit: u32, x: f32) -> f32 {
 }
 
 @compute @workgroup_size(64)
-fn decay(@builtin(global_invocation_id) id: vec3<u32>) {
-    if (id.x < P.nx * P.ny) {
-        p[id.x] = p[id.x] * P.decay;
+fn decay(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+) {
+    let k = flat_index(id, nwg);
+    if (k < P.nx * P.ny) {
+        p[k] = p[k] * P.decay;
     }
 }
 

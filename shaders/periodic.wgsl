@@ -6,8 +6,11 @@
 @group(0) @binding(2) var<storage, read_write> v: array<f32>;
 
 @compute @workgroup_size(64)
-fn sync_u(@builtin(global_invocation_id) id: vec3<u32>) {
-    let j = id.x;
+fn sync_u(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+) {
+    let j = flat_index(id, nwg);
     if (j < P.ny) {
         let w = P.nx + 1u;
         u[j * w + P.nx] = u[j * w];
@@ -15,8 +18,11 @@ fn sync_u(@builtin(global_invocation_id) id: vec3<u32>) {
 }
 
 @compute @workgroup_size(64)
-fn sync_v(@builtin(global_invocation_id) id: vec3<u32>) {
-    let i = id.x;
+fn sync_v(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(num_workgroups) nwg: vec3<u32>,
+) {
+    let i = flat_index(id, nwg);
     if (i < P.nx) {
         v[P.ny * P.nx + i] = v[i];
     }

@@ -194,6 +194,23 @@ fn groups(n: usize, size: u32) -> u32 {
     (n as u32).div_ceil(size)
 }
 
+/// The most workgroups a dispatch may have along one dimension (WebGPU's
+/// `maxComputeWorkgroupsPerDimension` default, which every adapter meets).
+const GROUPS_PER_DIMENSION: u32 = 65_535;
+
+/// Workgroups of 64 covering `n` elements of a one-dimensional pass, as rows of at most
+/// [`GROUPS_PER_DIMENSION`]: a 2048² grid's faces need 65,568. The shaders find their element
+/// with `flat_index` (`shaders/common.wgsl`); the last row's spare invocations fall outside
+/// the array and do nothing.
+pub(crate) fn flat_groups(n: usize) -> (u32, u32) {
+    let g = groups(n, 64);
+    if g == 0 {
+        return (0, 0);
+    }
+    let x = g.min(GROUPS_PER_DIMENSION);
+    (x, g.div_ceil(x))
+}
+
 impl GpuFluid {
     /// Uploads `solver`'s grid, masks and state. The solver fixes the layout: its grid, cell
     /// size, boundary mode and obstacles.
@@ -406,7 +423,8 @@ impl GpuFluid {
             pass.set_pipeline(&k.pipeline);
             pass.set_bind_group(0, &*group, &[]);
             if y == 1 {
-                pass.dispatch_workgroups(groups(x, 64), 1, 1);
+                let (gx, gy) = flat_groups(x);
+                pass.dispatch_workgroups(gx, gy, 1);
             } else {
                 pass.dispatch_workgroups(groups(x, 8), groups(y, 8), 1);
             }
