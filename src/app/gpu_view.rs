@@ -366,7 +366,9 @@ impl GrassView {
         grass_key.model = Default::default();
         let key = (grass_key, doc.world.clone(), doc.obstacles.clone());
         if self.built_for.as_ref() != Some(&key) {
-            let mut blades = crate::grass::scatter(doc);
+            // All of them, unless the device cannot hold them: then evenly thinned.
+            let most = crate::gpu::grass::max_blades(&rs.device.limits());
+            let mut blades = crate::grass::scatter_within(doc, most);
             self.total_blades = blades.len() as u32;
             // A software rasteriser draws about 2.6 µs a blade (docs/PERFORMANCE.md): keep the
             // view interactive there by drawing a sample, dense near the camera.

@@ -80,6 +80,12 @@ pub fn in_obstacle(layout: &Layout, p: [f32; 2]) -> bool {
 /// How many strata (one blade each) [`scatter`] lays over the world: `(columns, rows)` of
 /// squares `1/√density` metres across, thinned evenly if that exceeds [`MAX_BLADES`].
 pub fn strata(layout: &Layout) -> (usize, usize, f32) {
+    strata_within(layout, MAX_BLADES)
+}
+
+/// [`strata`], thinned evenly to at most `cap` blades (and [`MAX_BLADES`]).
+pub fn strata_within(layout: &Layout, cap: usize) -> (usize, usize, f32) {
+    let cap = cap.clamp(1, MAX_BLADES);
     let g = &layout.grass;
     let [w, d] = layout.world.size;
     let mut step = 1.0 / g.density.max(1e-6).sqrt();
@@ -90,8 +96,9 @@ pub fn strata(layout: &Layout) -> (usize, usize, f32) {
         )
     };
     let (mut nx, mut nz) = count(step);
-    if nx.saturating_mul(nz) > MAX_BLADES {
-        step *= ((nx * nz) as f32 / MAX_BLADES as f32).sqrt() * 1.0001;
+    // Rounding can leave a thinned grid a little over the cap: thin again until it fits.
+    while nx.saturating_mul(nz) > cap {
+        step *= ((nx * nz) as f32 / cap as f32).sqrt() * 1.0001;
         (nx, nz) = count(step);
     }
     (nx, nz, step)
@@ -101,8 +108,14 @@ pub fn strata(layout: &Layout) -> (usize, usize, f32) {
 /// inside an obstacle. Deterministic for `grass.seed`; the same seed gives the same blades in
 /// the same order on every machine.
 pub fn scatter(layout: &Layout) -> Vec<Blade> {
+    scatter_within(layout, MAX_BLADES)
+}
+
+/// [`scatter`] over [`strata_within`]`(layout, cap)`: at most `cap` blades, thinned evenly
+/// (what a GPU that cannot hold them all draws).
+pub fn scatter_within(layout: &Layout, cap: usize) -> Vec<Blade> {
     let g = &layout.grass;
-    let (nx, nz, _) = strata(layout);
+    let (nx, nz, _) = strata_within(layout, cap);
     let [w, d] = layout.world.size;
     let (sx, sz) = (w / nx as f32, d / nz as f32);
     let o = layout.world.origin;

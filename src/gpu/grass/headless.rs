@@ -1,6 +1,6 @@
 //! The grass without a window: `windloom render --view grass` and `windloom bench --grass`.
 
-use super::{Camera, CullStats, GrassRenderer, Target, render_into, render_offscreen};
+use super::{Camera, CullStats, GrassRenderer, Target, max_blades, render_into, render_offscreen};
 use crate::doc::{GrassModel, Layout};
 use crate::gpu::GpuError;
 use crate::grass::cull::CullParams;
@@ -78,6 +78,24 @@ pub struct PushPath {
     pub radius: f32,
 }
 
+/// `layout`'s blades, thinned evenly to what the device can hold ([`max_blades`]), with a
+/// warning when they are.
+pub(crate) fn scatter_for(
+    ctx: &crate::gpu::GpuContext,
+    layout: &Layout,
+) -> Vec<crate::grass::Blade> {
+    let most = max_blades(&ctx.device.limits());
+    let (nx, nz, _) = crate::grass::strata(layout);
+    if nx * nz > most {
+        log::warn!(
+            "the layout's {} blades are more than {} can hold: drawing {most}, thinned evenly",
+            nx * nz,
+            ctx.describe()
+        );
+    }
+    crate::grass::scatter_within(layout, most)
+}
+
 /// A picture of `layout`'s grass in its wind after `time` seconds: RGBA8 sRGB pixels, `size`
 /// wide and high. `windloom render --view grass`.
 pub fn picture(
@@ -87,7 +105,7 @@ pub fn picture(
     o: &PictureOptions,
 ) -> Result<Vec<u8>, GpuError> {
     let (size, time) = (o.size, o.time);
-    let blades = crate::grass::scatter(layout);
+    let blades = scatter_for(ctx, layout);
     let mut grass = GrassRenderer::new(
         &ctx.device,
         wgpu::TextureFormat::Rgba8UnormSrgb,
@@ -196,6 +214,18 @@ pub fn bench(
     let mut layout = layout.clone();
     let area = layout.world.size[0] * layout.world.size[1];
     layout.grass.density = (blades as f32 / area).max(1e-3);
+    let most = max_blades(&ctx.device.limits());
+    let (nx, nz, _) = crate::grass::strata(&layout);
+    if nx * nz > most {
+        return Err(GpuError::Unsupported {
+            adapter: ctx.describe(),
+            what: format!(
+                "hold {} blades: its storage buffers bind {} MiB, room for {most} blades",
+                nx * nz,
+                ctx.device.limits().max_storage_buffer_binding_size >> 20
+            ),
+        });
+    }
     let placed = crate::grass::scatter(&layout);
     let mut grass = GrassRenderer::new(
         &ctx.device,
@@ -254,4 +284,72 @@ pub fn bench(
         culled,
         lod_segments: crate::grass::cull::LOD_SEGMENTS,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn meadow() -> Layout {
+        let text = include_str!("../../../layouts/meadow.json");
+        crate::doc::parse(text).unwrap()
+    }
+
+    /// A device that binds 8 MiB per storage buffer holds 174,762 blades; the meadow has
+    /// about 600,000. Its picture thins them evenly instead of failing validation, and a bench
+    /// that asks for more than the device holds is refused with the limit named.
+    #[test]
+    fn grass_beyond_the_device_s_buffers_is_thinned_or_refused() {
+        let Some(ctx) = crate::gpu::test_context(|l| l.max_storage_buffer_binding_size = 8 << 20)
+        else {
+            return;
+        };
+        let layout = meadow();
+        let most = max_blades(&ctx.device.limits());
+        assert_eq!(most, (8 << 20) / 48);
+        let (nx, nz, _) = crate::grass::strata(&layout);
+        assert!(nx * nz > 3 * most, "the meadow must be over the limit");
+
+        let blades = scatter_for(&ctx, &layout);
+        assert!(blades.len() <= most && blades.len() > most * 9 / 10);
+        // Evenly: each quarter of the world keeps about a quarter of them.
+        let (min, max) = layout.bounds();
+        let mid = [(min[0] + max[0]) / 2.0, (min[1] + max[1]) / 2.0];
+        for q in 0..4 {
+            let n = blades
+                .iter()
+                .filter(|b| (b.pos[0] < mid[0]) == (q & 1 == 0) && (b.pos[1] < mid[1]) == (q < 2))
+                .count();
+            let share = n as f32 / blades.len() as f32;
+            assert!((share - 0.25).abs() < 0.03, "quarter {q}: {share}");
+        }
+
+        let o = PictureOptions {
+            size: [96, 64],
+            time: 0.5,
+            camera: None,
+            paper_literal: false,
+            push: None,
+            wind_colours: None,
+        };
+        let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+        let pixels = picture(&ctx, &layout, &base, &o).expect("a thinned picture");
+        assert_eq!(pixels.len(), 96 * 64 * 4);
+        assert!(ctx.fault().is_none(), "{:?}", ctx.fault());
+
+        let asked = BenchOptions {
+            blades: 2 * most,
+            size: [64, 64],
+            frames: 1,
+            model: GrassModel::CwdQuadratic,
+            cull: true,
+            camera: None,
+            wind_colours: None,
+        };
+        let e = bench(&ctx, &layout, &asked).unwrap_err().to_string();
+        assert!(
+            e.contains(&format!("room for {most} blades")) && e.contains("8 MiB"),
+            "{e}"
+        );
+    }
 }

@@ -257,6 +257,26 @@ fn vertices(device: &wgpu::Device, v: &[SceneVertex]) -> Option<(wgpu::Buffer, u
     })
 }
 
+/// The most blades a device with `limits` can hold: its largest per-blade array (the Bezier
+/// model's control points, 48 bytes a blade) must fit one storage-buffer binding. Lavapipe
+/// binds 128 MiB: about 2.8 million blades. Never more than [`crate::grass::MAX_BLADES`].
+pub fn max_blades(limits: &wgpu::Limits) -> usize {
+    let cap = limits
+        .max_storage_buffer_binding_size
+        .min(limits.max_buffer_size);
+    let widest = [
+        std::mem::size_of::<Blade>(),
+        std::mem::size_of::<Pose>(),
+        std::mem::size_of::<BezierState>(),
+    ]
+    .into_iter()
+    .max()
+    .unwrap_or(1) as u64;
+    usize::try_from(cap / widest)
+        .unwrap_or(usize::MAX)
+        .min(crate::grass::MAX_BLADES)
+}
+
 impl GrassRenderer {
     /// The grass of `layout` (its `blades`, from [`crate::grass::scatter`]) for targets of
     /// `format` with a [`DEPTH_FORMAT`] depth buffer. The wind starts calm.
