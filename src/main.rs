@@ -723,7 +723,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     println!("{}", serde_json::to_string(&r)?);
                 } else {
                     println!(
-                        "{} blades ({}, culling {}) at {}x{} on {} ({}): median {:.2} ms, min {:.2} ms a frame over {} frames; drawn per LOD {:?}, culled by orientation {}, frustum {}, distance {}",
+                        "{} blades ({}, culling {}) at {}x{} on {} ({}): median {:.2} ms, min {:.2} ms a frame over {} frames (compute passes alone {:.2} ms, drawing alone {:.2} ms); drawn per LOD {:?}, culled by orientation {}, frustum {}, distance {}",
                         r.blades,
                         r.model,
                         if r.cull { "on" } else { "off" },
@@ -734,6 +734,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         r.median_ms,
                         r.min_ms,
                         r.frames,
+                        r.compute_ms,
+                        r.draw_ms,
                         r.culled.drawn,
                         r.culled.orientation,
                         r.culled.frustum,
@@ -772,7 +774,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     let r = windloom::gpu::bench::run(ctx, &l, &name, warmup, steps)?;
                     if !json {
                         println!(
-                            "{} {}x{}, {}, GPU {} ({}): median {:.2} ms, min {:.2} ms per step, {:.1} GB/s effective",
+                            "{} {}x{}, {}, GPU {} ({}): median {:.2} ms, min {:.2} ms per step (recording {:.2} ms of it), {:.1} GB/s effective",
                             r.layout,
                             r.grid[0],
                             r.grid[1],
@@ -781,6 +783,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                             r.adapter.device_type,
                             r.median_ms,
                             r.min_ms,
+                            r.record_ms,
                             r.effective_gb_s
                         );
                         for (pass, ms) in &r.passes_ms {

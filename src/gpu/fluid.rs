@@ -431,6 +431,12 @@ impl GpuFluid {
         });
     }
 
+    /// Stops timing the dispatches (each timed dispatch costs the GPU a timestamp pair and
+    /// the CPU a read-back).
+    pub fn disable_profiling(&self) {
+        *self.profiler.lock().unwrap_or_else(|e| e.into_inner()) = None;
+    }
+
     /// Starts timing every dispatch with timestamp queries; false when the device cannot.
     pub fn enable_profiling(&self, device: &wgpu::Device) -> bool {
         if !device.features().contains(wgpu::Features::TIMESTAMP_QUERY) {

@@ -153,6 +153,11 @@ impl GpuSolver {
         self.fluid.enable_profiling(&ctx.device)
     }
 
+    /// Stops per-pass GPU timing.
+    pub fn disable_profiling(&self) {
+        self.fluid.disable_profiling();
+    }
+
     /// GPU milliseconds per pass since the last call (empty without profiling).
     pub fn pass_times(
         &self,

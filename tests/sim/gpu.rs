@@ -495,6 +495,12 @@ fn bench_reports_the_gpu_it_ran_on() {
     assert_eq!(r["adapter"]["name"], _ctx.adapter.name.as_str());
     assert_eq!(r["grid"], serde_json::json!([48, 48]));
     assert!(r["median_ms"].as_f64().unwrap() > 0.0);
+    // Recording and submitting is part of the step's wall time.
+    let record = r["record_ms"].as_f64().unwrap();
+    assert!(
+        record > 0.0 && record <= r["median_ms"].as_f64().unwrap(),
+        "{r}"
+    );
     assert!(r["bytes_per_step"].as_u64().unwrap() > 0);
     // lavapipe has timestamp queries: every pass of the obstacles layout is timed, and
     // the passes add up to no more than the wall time of a step.
@@ -520,8 +526,9 @@ fn bench_reports_the_gpu_it_ran_on() {
     }
 }
 
-/// `bench --grass` prints one JSON object per run: the model and culling asked for, and
-/// counters that account for every blade; culling draws fewer blades than no culling.
+/// `bench --grass` prints one JSON object per run: the model and culling asked for, counters
+/// that account for every blade, and the compute and draw halves of a frame timed alone;
+/// culling draws fewer blades than no culling.
 #[test]
 fn grass_bench_reports_the_model_culling_and_every_blade() {
     let Some(_ctx) = context() else { return };
@@ -546,7 +553,16 @@ fn grass_bench_reports_the_model_culling_and_every_blade() {
             n(&r["blades"]),
             "{r}"
         );
-        assert!(r["median_ms"].as_f64().unwrap() > 0.0);
+        let ms = |k: &str| r[k].as_f64().unwrap();
+        assert!(ms("median_ms") > 0.0);
+        // The frame's halves, timed alone: each takes time, and neither alone takes longer
+        // than several whole frames (noise on a shared software adapter aside).
+        for part in ["compute_ms", "draw_ms"] {
+            assert!(
+                ms(part) > 0.0 && ms(part) < 4.0 * ms("median_ms") + 5.0,
+                "{part}: {r}"
+            );
+        }
         drawn
     };
     for model in ["cwd", "bezier"] {

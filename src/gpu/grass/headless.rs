@@ -1,6 +1,9 @@
 //! The grass without a window: `windloom render --view grass` and `windloom bench --grass`.
 
-use super::{Camera, CullStats, GrassRenderer, Target, max_blades, render_into, render_offscreen};
+use super::{
+    Camera, CullStats, FramePart, GrassRenderer, Target, max_blades, render_into, render_offscreen,
+    render_part,
+};
 use crate::doc::{GrassModel, Layout};
 use crate::gpu::GpuError;
 use crate::grass::cull::CullParams;
@@ -176,6 +179,10 @@ pub struct GrassBench {
     pub frames: usize,
     pub median_ms: f64,
     pub min_ms: f64,
+    /// Median milliseconds of the compute passes alone (wind, model, far field, cull) and of
+    /// the render pass alone, each submitted and waited for: where a frame's time goes.
+    pub compute_ms: f64,
+    pub draw_ms: f64,
     /// The last frame's counters: culled by each test, drawn per LOD level.
     pub culled: CullStats,
     /// Segments per blade at each LOD level.
@@ -263,6 +270,26 @@ pub fn bench(
         times.push(ms);
     }
     times.sort_by(f64::total_cmp);
+    // Where the time goes: the compute passes alone, then the render pass alone (over the
+    // blades the last compute passes kept), each submitted and waited for.
+    let mut part_ms = |part| -> Result<f64, GpuError> {
+        let mut t = Vec::with_capacity(frames.max(1));
+        for k in 0..frames.max(1) {
+            t.push(render_part(
+                &ctx.device,
+                &ctx.queue,
+                &mut grass,
+                &camera,
+                (2.0 + k as f32 / FPS, 1.0 / FPS),
+                &target,
+                part,
+            )?);
+        }
+        t.sort_by(f64::total_cmp);
+        Ok(t[t.len() / 2])
+    };
+    let compute_ms = part_ms(FramePart::Compute)?;
+    let draw_ms = part_ms(FramePart::Draw)?;
     let (culled, _) = grass.read_cull(&ctx.device, &ctx.queue)?;
     // Frames timed on a faulted device drew nothing worth timing.
     ctx.check("drawing the grass")?;
@@ -281,6 +308,8 @@ pub fn bench(
         frames: times.len(),
         median_ms: times[times.len() / 2],
         min_ms: times[0],
+        compute_ms,
+        draw_ms,
         culled,
         lod_segments: crate::grass::cull::LOD_SEGMENTS,
     })

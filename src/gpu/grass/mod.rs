@@ -33,7 +33,7 @@ pub use camera::{Camera, FRAME_MARGIN, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
 pub use far::{FarPass, FarUniform};
 pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture, settle};
-pub use target::{Target, render_into, render_offscreen};
+pub use target::{FramePart, Target, render_into, render_offscreen, render_part};
 
 use super::GpuError;
 use super::buffer_entry as entry;

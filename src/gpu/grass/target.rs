@@ -120,6 +120,12 @@ impl GrassRenderer {
     ) {
         let [w, h] = target.size;
         self.prepare(queue, enc, camera, w as f32 / h as f32, time, dt);
+        self.record_draw(enc, target);
+    }
+
+    /// Records the frame's render pass alone into `target` (sky, ground and blades), drawing
+    /// the blades the last [`GrassRenderer::prepare`] posed and kept.
+    pub fn record_draw(&self, enc: &mut wgpu::CommandEncoder, target: &Target) {
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("grass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -168,6 +174,55 @@ pub fn render_offscreen(
     Ok((pixels, ms))
 }
 
+/// Submits `enc` and waits for the device: the milliseconds since `started`.
+fn finish_timed(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    enc: wgpu::CommandEncoder,
+    started: std::time::Instant,
+) -> Result<f64, GpuError> {
+    queue.submit([enc.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Runtime {
+            what: "drawing the grass".into(),
+            message: e.to_string(),
+        })?;
+    Ok(started.elapsed().as_secs_f64() * 1e3)
+}
+
+/// Half a frame into an existing target, submitted and waited for: its wall-clock
+/// milliseconds. `Compute` records the compute passes alone ([`GrassRenderer::prepare`]),
+/// `Draw` the render pass alone over the blades the last compute passes kept; `bench --grass`
+/// times both to say where a frame's time goes.
+pub fn render_part(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    grass: &mut GrassRenderer,
+    camera: &Camera,
+    (time, dt): (f32, f32),
+    target: &Target,
+    part: FramePart,
+) -> Result<f64, GpuError> {
+    let started = std::time::Instant::now();
+    let mut enc = device.create_command_encoder(&Default::default());
+    match part {
+        FramePart::Compute => {
+            let [w, h] = target.size;
+            grass.prepare(queue, &mut enc, camera, w as f32 / h as f32, time, dt);
+        }
+        FramePart::Draw => grass.record_draw(&mut enc, target),
+    }
+    finish_timed(device, queue, enc, started)
+}
+
+/// Which half of a frame [`render_part`] times.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FramePart {
+    Compute,
+    Draw,
+}
+
 /// A frame into an existing target, submitted and waited for: its wall-clock milliseconds
 /// (the benchmark times these and reads nothing back).
 pub fn render_into(
@@ -181,12 +236,5 @@ pub fn render_into(
     let started = std::time::Instant::now();
     let mut enc = device.create_command_encoder(&Default::default());
     grass.record(queue, &mut enc, target, camera, time, dt);
-    queue.submit([enc.finish()]);
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Runtime {
-            what: "drawing the grass".into(),
-            message: e.to_string(),
-        })?;
-    Ok(started.elapsed().as_secs_f64() * 1e3)
+    finish_timed(device, queue, enc, started)
 }
