@@ -69,11 +69,29 @@ struct ColouredOut {
     @location(2) wind: vec3<f32>,
 }
 
-@vertex
-fn vs_wind_colours(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> ColouredOut {
+fn coloured_vertex(vi: u32, i: u32) -> ColouredOut {
     let o = blade_vertex(vi, i);
     let w = wind_colour(blade_wind(blades[visible[i]]));
     return ColouredOut(o.clip, o.colour, o.normal, w);
+}
+
+@vertex
+fn vs_wind_colours(@builtin(vertex_index) vi: u32, @builtin(instance_index) i: u32) -> ColouredOut {
+    return coloured_vertex(vi, i);
+}
+
+// The far level, whose blades are one triangle each, drawn as one triangle list without
+// instancing: vertex `vi` is corner `vi % 3` of the level's blade `vi / 3`. The same triangles
+// in the same order as three-vertex instances, but GPUs shade tiny instances poorly (NVIDIA:
+// a warp's vertices come from one instance), and most drawn blades are far ones.
+@vertex
+fn vs_far(@builtin(vertex_index) vi: u32) -> BladeOut {
+    return blade_vertex(vi % 3u, vi / 3u);
+}
+
+@vertex
+fn vs_far_wind_colours(@builtin(vertex_index) vi: u32) -> ColouredOut {
+    return coloured_vertex(vi % 3u, vi / 3u);
 }
 
 // Sun and sky on the side of the blade facing the camera; grass lets some light through.

@@ -8,8 +8,10 @@
 @group(2) @binding(0) var<storage, read_write> visible: array<u32>;
 @group(2) @binding(1) var<uniform> C: Cull;
 // Per level: draw_indirect's (vertex_count, instance_count, first_vertex, first_instance);
-// then blades culled by orientation, frustum and distance.
-@group(2) @binding(2) var<storage, read_write> args: array<atomic<u32>, 16>;
+// then blades culled by orientation, frustum and distance, and one word spare; then the far
+// level once more as one draw of its triangles without instancing, (3 × count, 1, 0, 0):
+// what is drawn (`cull::FAR_DRAW`), where the instanced arguments keep the counts.
+@group(2) @binding(2) var<storage, read_write> args: array<atomic<u32>, 20>;
 // Each blade's level last frame plus one (0: not drawn yet), for the hysteresis.
 @group(2) @binding(3) var<storage, read_write> lods: array<u32>;
 // Tips and shades (tests only: the `tips_main` entry point).
@@ -93,7 +95,12 @@ fn main(
     }
     workgroupBarrier();
     if (lid < 3u) {
-        bases[lid] = atomicAdd(&args[lid * 4u + 1u], atomicLoad(&counts[lid]));
+        let n = atomicLoad(&counts[lid]);
+        bases[lid] = atomicAdd(&args[lid * 4u + 1u], n);
+        if (lid == 2u) {
+            // The far level's blades are one triangle each (`LOD_SEGMENTS[2]` is 1).
+            atomicAdd(&args[16u], 3u * n);
+        }
     } else if (lid < 6u) {
         atomicAdd(&args[12u + lid - 3u], atomicLoad(&counts[lid]));
     }

@@ -93,6 +93,20 @@ pub fn strip_vertices(segments: u32) -> u32 {
     2 * segments + 1
 }
 
+/// The far LOD level: one segment, one triangle a blade, drawn without instancing.
+const FAR_LEVEL: usize = 2;
+const _: () = assert!(
+    LOD_SEGMENTS[FAR_LEVEL] == 1,
+    "grass_cull.wgsl counts 3 vertices a far blade"
+);
+
+/// Byte offset in the arguments buffer of the far level's non-instanced draw: after the three
+/// levels' instanced arguments and the culled counters (`args` in `grass_cull.wgsl`).
+const FAR_DRAW: u64 = 64;
+
+/// Words in the arguments buffer.
+const ARGS_WORDS: usize = 20;
+
 const IDLE: u8 = 0;
 const COPIED: u8 = 1;
 const MAPPING: u8 = 2;
@@ -155,7 +169,7 @@ impl CullPass {
         let visible = buffer("grass visible", 3 * slice, storage);
         let args = buffer(
             "grass draw args",
-            64,
+            ARGS_WORDS as u64 * 4,
             storage | wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
         );
         let lods = device.create_buffer(&wgpu::BufferDescriptor {
@@ -280,10 +294,12 @@ impl CullPass {
         shape: &wgpu::BindGroup,
         blades: u32,
     ) {
-        let mut words = [0u32; 16];
+        let mut words = [0u32; ARGS_WORDS];
         for (l, s) in LOD_SEGMENTS.iter().enumerate() {
             words[l * 4] = strip_vertices(*s);
         }
+        // The far draw: its vertex count grows with the blades; one instance.
+        words[FAR_DRAW as usize / 4 + 1] = 1;
         queue.write_buffer(&self.args, 0, bytemuck::cast_slice(&words));
         queue.write_buffer(
             &self.uniform,
@@ -324,11 +340,19 @@ impl CullPass {
         super::dispatch_blades(&mut pass, blades);
     }
 
-    /// Draws the blades of every level from the visible lists (group 2 is the level's).
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>) {
+    /// Draws the blades of every level from the visible lists (group 2 is the level's): the
+    /// near levels as instanced strips with `strip`, the far level's one-triangle blades as
+    /// one triangle list with `far` ([`FAR_DRAW`]).
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, [strip, far]: [&wgpu::RenderPipeline; 2]) {
         for (l, g) in self.level_groups.iter().enumerate() {
             pass.set_bind_group(2, g, &[]);
-            pass.draw_indirect(&self.args, l as u64 * 16);
+            if l == FAR_LEVEL {
+                pass.set_pipeline(far);
+                pass.draw_indirect(&self.args, FAR_DRAW);
+            } else {
+                pass.set_pipeline(strip);
+                pass.draw_indirect(&self.args, l as u64 * 16);
+            }
         }
     }
 
@@ -356,6 +380,19 @@ impl CullPass {
             _ => {}
         }
         self.last
+    }
+
+    /// The far level's draw arguments `(vertex_count, instance_count, first_vertex,
+    /// first_instance)`, as the last cull pass left them (tests; waits for the GPU).
+    pub fn read_far_draw(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<[u32; 4], GpuError> {
+        let words = crate::gpu::read_buffer(device, queue, &self.args)?;
+        let words: &[u32] = bytemuck::cast_slice(&words);
+        let at = FAR_DRAW as usize / 4;
+        Ok([words[at], words[at + 1], words[at + 2], words[at + 3]])
     }
 
     /// The last frame's counters and each level's visible blade indices (waits for the GPU).

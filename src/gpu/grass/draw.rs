@@ -11,6 +11,8 @@ pub(super) struct DrawPipelines {
     coloured_ground: wgpu::RenderPipeline,
     blades: wgpu::RenderPipeline,
     coloured_blades: wgpu::RenderPipeline,
+    far_blades: wgpu::RenderPipeline,
+    coloured_far_blades: wgpu::RenderPipeline,
     pub(super) solids: wgpu::RenderPipeline,
     pub(super) lines: wgpu::RenderPipeline,
 }
@@ -103,6 +105,13 @@ impl DrawPipelines {
                 strip,
                 &[],
             ),
+            far_blades: render("grass_blades", ["vs_far", "fs_main"], TRIANGLES, &[]),
+            coloured_far_blades: render(
+                "grass_blades",
+                ["vs_far_wind_colours", "fs_wind_colours"],
+                TRIANGLES,
+                &[],
+            ),
             solids: render(
                 "grass_scene",
                 ["vs_main", "fs_solid"],
@@ -127,12 +136,13 @@ impl DrawPipelines {
         }
     }
 
-    /// The blades' pipeline, with the wind colours or without.
-    pub(super) fn blades(&self, wind_colours: bool) -> &wgpu::RenderPipeline {
+    /// The blades' pipelines, with the wind colours or without: the near levels' instanced
+    /// strips, and the far level's triangle list.
+    pub(super) fn blades(&self, wind_colours: bool) -> [&wgpu::RenderPipeline; 2] {
         if wind_colours {
-            &self.coloured_blades
+            [&self.coloured_blades, &self.coloured_far_blades]
         } else {
-            &self.blades
+            [&self.blades, &self.far_blades]
         }
     }
 }

@@ -893,9 +893,8 @@ impl GrassRenderer {
             pass.draw(0..*n, 0..1);
         }
         if self.scene.blades > 0 {
-            pass.set_pipeline(self.draw.blades(coloured));
             pass.set_bind_group(1, &self.group_shape, &[]);
-            self.cull.draw(pass);
+            self.cull.draw(pass, self.draw.blades(coloured));
         }
     }
 
@@ -913,6 +912,16 @@ impl GrassRenderer {
         queue: &wgpu::Queue,
     ) -> Result<(CullStats, [Vec<u32>; 3]), GpuError> {
         self.cull.read_stats(device, queue)
+    }
+
+    /// The far LOD level's draw arguments, one triangle list over its blades (for tests,
+    /// waits for the GPU).
+    pub fn read_far_draw(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<[u32; 4], GpuError> {
+        self.cull.read_far_draw(device, queue)
     }
 
     /// The Bezier blades' control points (`None` with the CWD model; for tests, waits for the

@@ -288,6 +288,12 @@ fn culling_on_the_gpu_matches_the_cpu_for_random_cameras() {
             r.prepare(&ctx.queue, &mut enc, &camera, aspect, 0.5, 1.0 / 60.0);
             ctx.queue.submit([enc.finish()]);
             let (stats, lists) = r.read_cull(&ctx.device, &ctx.queue).unwrap();
+            // The far level is drawn as one triangle list: one triangle for each blade kept.
+            assert_eq!(
+                r.read_far_draw(&ctx.device, &ctx.queue).unwrap(),
+                [3 * stats.drawn[2], 1, 0, 0],
+                "the far draw covers the far level's blades"
+            );
             let mut gpu = vec![None; blades.len()];
             for (lvl, list) in lists.iter().enumerate() {
                 for &k in list {
