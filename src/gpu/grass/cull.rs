@@ -342,7 +342,7 @@ impl CullPass {
 
     /// Draws the blades of every level from the visible lists (group 2 is the level's): the
     /// near levels as instanced strips with `strip`, the far level's one-triangle blades as
-    /// one triangle list with `far` ([`FAR_DRAW`]).
+    /// one triangle list with `far` (the draw arguments after the counters).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, [strip, far]: [&wgpu::RenderPipeline; 2]) {
         for (l, g) in self.level_groups.iter().enumerate() {
             pass.set_bind_group(2, g, &[]);
