@@ -21,8 +21,9 @@ struct Mg {
     // The right-hand side is b_scale · b (−hx·hz on the finest level, whose b is the divergence).
     b_scale: f32,
     weight: f32,
-    _pad1: f32,
-    _pad2: f32,
+    // On the coarsest level: the red–black sweeps that solve it (`mg_coarsest`).
+    sweeps: u32,
+    _pad: f32,
 }
 
 @group(0) @binding(0) var<uniform> M: Mg;

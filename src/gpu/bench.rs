@@ -40,6 +40,9 @@ pub struct GpuBenchReport {
     /// Median milliseconds the CPU takes to record and submit a step (part of `median_ms`):
     /// what the step costs beyond the GPU's own work.
     pub record_ms: f64,
+    /// Median milliseconds a step of the profiled steps below, timestamps and their
+    /// read-back included (`None` without timestamps).
+    pub profiled_median_ms: Option<f64>,
     /// Median GPU milliseconds per pass from timestamp queries, over as many steps again
     /// after the timed ones (empty where the adapter has none: see `timestamps`).
     pub passes_ms: BTreeMap<&'static str, f64>,
@@ -76,10 +79,13 @@ pub fn run(
     // The per-pass split separately: timestamps around every dispatch change what they time.
     let timestamps = s.enable_profiling(ctx);
     let mut per_pass: BTreeMap<&'static str, Vec<f64>> = BTreeMap::new();
+    let mut profiled = Vec::new();
     if timestamps {
         for _ in 0..steps.max(1) {
+            let t = Instant::now();
             s.step(ctx);
             s.finish(ctx)?;
+            profiled.push(t.elapsed().as_secs_f64() * 1e3);
             for (pass, ms) in s.pass_times(ctx)? {
                 per_pass.entry(pass).or_default().push(ms);
             }
@@ -115,6 +121,7 @@ pub fn run(
         median_ms,
         min_ms: totals.iter().copied().fold(f64::MAX, f64::min),
         record_ms: median(&mut recording),
+        profiled_median_ms: (!profiled.is_empty()).then(|| median(&mut profiled)),
         passes_ms: per_pass
             .into_iter()
             .map(|(k, mut v)| (k, median(&mut v)))

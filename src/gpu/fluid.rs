@@ -130,7 +130,7 @@ fn pass_of(kernel: &str) -> &'static str {
         "curl" => "curl",
         "force" | "apply_u" | "apply_v" => "confinement",
         "divergence" => "divergence",
-        "decay" | "main" | "mg_smooth" | "mg_restrict" | "mg_prolong" => "pressure",
+        "decay" | "main" | "mg_smooth" | "mg_coarsest" | "mg_restrict" | "mg_prolong" => "pressure",
         "u_faces" | "v_faces" => "gradient",
         "sync_u" | "sync_v" => "periodic",
         _ => "advection",

@@ -25,7 +25,9 @@ pub struct MgParams {
     pub b_scale: f32,
     /// Damped Jacobi's weight (`colour` [`DAMPED`]).
     pub weight: f32,
-    pub _pad: [f32; 2],
+    /// On the coarsest level: the red–black sweeps that solve it (`mg_coarsest`).
+    pub sweeps: u32,
+    pub _pad: f32,
 }
 
 /// `MgParams::colour` for a damped Jacobi pass (every cell, weighted) instead of a red–black
@@ -36,8 +38,12 @@ pub const DAMPED: u32 = 2;
 pub const MG_COMMON: &str = include_str!("../../shaders/mg_common.wgsl");
 
 /// The multigrid passes: `(name, source)`, each compiled after [`MG_COMMON`].
-pub const MG_SHADERS: [(&str, &str); 3] = [
+pub const MG_SHADERS: [(&str, &str); 4] = [
     ("mg_smooth", include_str!("../../shaders/mg_smooth.wgsl")),
+    (
+        "mg_coarsest",
+        include_str!("../../shaders/mg_coarsest.wgsl"),
+    ),
     (
         "mg_restrict",
         include_str!("../../shaders/mg_restrict.wgsl"),
@@ -52,6 +58,12 @@ pub fn shader_source(name: &str) -> Option<String> {
         .find(|(n, _)| *n == name)
         .map(|(_, s)| format!("{MG_COMMON}\n{s}"))
 }
+
+/// The most cells a coarsest level may have to be solved in one dispatch (`CAP` in
+/// `shaders/mg_coarsest.wgsl`: two copies fill WebGPU's default 16 KiB of workgroup memory).
+/// Coarsening stops at 64 cells or so; larger coarsest levels (no axis left to halve) take
+/// the separate half sweeps.
+pub const COARSEST_CAP: usize = 2048;
 
 /// One level's buffers on the GPU (the finest level's unknowns, scratch and right-hand side
 /// are the solver's pressure, its scratch and the divergence, passed in).
@@ -89,6 +101,7 @@ pub struct GpuMultigrid {
     levels: Vec<GpuLevel>,
     coarsest_sweeps: usize,
     smooth: Pass,
+    coarsest: Pass,
     restrict: Pass,
     prolong: Pass,
     /// Bind groups, made on first use and kept (the buffers live as long as the grid).
@@ -152,7 +165,12 @@ impl GpuMultigrid {
                         coarse_z: u32::from(coarse.is_some_and(|c| c.z_axis.coarsened)),
                         b_scale: if l == 0 { -vol } else { 1.0 },
                         weight,
-                        _pad: [0.0; 2],
+                        sweeps: if l + 1 == n {
+                            coarsest_sweeps(lv) as u32
+                        } else {
+                            0
+                        },
+                        _pad: 0.0,
                     };
                     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some("multigrid level"),
@@ -200,6 +218,7 @@ impl GpuMultigrid {
             levels,
             coarsest_sweeps: coarsest_sweeps(mg.levels.last().expect("one level at least")),
             smooth: pass("mg_smooth"),
+            coarsest: pass("mg_coarsest"),
             restrict: pass("mg_restrict"),
             prolong: pass("mg_prolong"),
             groups: Default::default(),
@@ -274,6 +293,61 @@ impl GpuMultigrid {
         for h in 0..2 * sweeps {
             self.record_pass(device, enc, fine, l, (first + h) % 2, h % 2 == 1);
         }
+    }
+
+    /// Records the coarsest level's solve: its red–black sweeps, colour 0 first, in one
+    /// dispatch (`mg_coarsest`) when it has at most [`COARSEST_CAP`] cells, else as separate
+    /// half sweeps; the same values either way, back in the level's `x`.
+    pub fn record_coarsest(
+        &self,
+        device: &wgpu::Device,
+        enc: &mut wgpu::CommandEncoder,
+        fine: Fine,
+    ) {
+        let l = self.levels.len() - 1;
+        let lv = &self.levels[l];
+        let cells = lv.nx * lv.ny;
+        if cells > COARSEST_CAP {
+            self.record_sweeps(device, enc, fine, l, self.coarsest_sweeps, 0);
+            return;
+        }
+        let (x, tmp, b) = self.arrays(l, fine);
+        let buffers = [
+            (0, &lv.params[0]),
+            (1, x),
+            (2, tmp),
+            (3, b),
+            (4, &lv.ax),
+            (5, &lv.az),
+            (6, &lv.inv_d),
+        ];
+        let pass = &self.coarsest;
+        let mut groups = self.groups.lock().unwrap_or_else(|e| e.into_inner());
+        let group = groups.entry(("mg_coarsest", l, 0, 0)).or_insert_with(|| {
+            let entries: Vec<_> = buffers
+                .iter()
+                .map(|&(binding, b)| wgpu::BindGroupEntry {
+                    binding,
+                    resource: b.as_entire_binding(),
+                })
+                .collect();
+            device.create_bind_group(&wgpu::BindGroupDescriptor {
+                label: Some("mg_coarsest"),
+                layout: &pass.layout,
+                entries: &entries,
+            })
+        });
+        (fine.stamp)("mg_coarsest", &mut |timestamp_writes| {
+            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
+                label: Some("mg_coarsest"),
+                timestamp_writes,
+            });
+            cp.set_pipeline(&pass.pipeline);
+            cp.set_bind_group(0, &*group, &[]);
+            cp.dispatch_workgroups(1, 1, 1);
+        });
+        drop(groups);
+        enc.copy_buffer_to_buffer(tmp, 0, x, 0, (cells * 4) as u64);
     }
 
     /// Records level `l`'s damped smoothing passes before (`post` false) or after its coarse
@@ -410,7 +484,7 @@ impl GpuMultigrid {
         let n = self.levels.len();
         for _ in 0..cycles {
             if n == 1 {
-                self.record_sweeps(device, enc, fine, 0, self.coarsest_sweeps, 0);
+                self.record_coarsest(device, enc, fine);
                 continue;
             }
             for l in 0..n - 1 {
@@ -419,7 +493,7 @@ impl GpuMultigrid {
                 self.record_restrict(device, enc, fine, l);
                 enc.clear_buffer(&self.levels[l + 1].x, 0, None);
             }
-            self.record_sweeps(device, enc, fine, n - 1, self.coarsest_sweeps, 0);
+            self.record_coarsest(device, enc, fine);
             for l in (0..n - 1).rev() {
                 self.record_prolong(device, enc, fine, l);
                 self.record_smoothing(device, enc, fine, l, true);

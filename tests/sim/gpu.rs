@@ -503,7 +503,7 @@ fn bench_reports_the_gpu_it_ran_on() {
     );
     assert!(r["bytes_per_step"].as_u64().unwrap() > 0);
     // lavapipe has timestamp queries: every pass of the obstacles layout is timed, and
-    // the passes add up to no more than the wall time of a step.
+    // the passes add up to no more than the wall time of the steps they timed.
     if r["timestamps"] == true {
         let passes = r["passes_ms"].as_object().unwrap();
         for p in [
@@ -518,11 +518,8 @@ fn bench_reports_the_gpu_it_ran_on() {
             assert!(passes[p].as_f64().unwrap() >= 0.0, "{p} timed: {passes:?}");
         }
         let sum: f64 = passes.values().map(|v| v.as_f64().unwrap()).sum();
-        assert!(
-            sum > 0.0 && sum <= r["median_ms"].as_f64().unwrap() * 1.5,
-            "{sum} vs {}",
-            r["median_ms"]
-        );
+        let wall = r["profiled_median_ms"].as_f64().unwrap();
+        assert!(sum > 0.0 && sum <= wall * 1.5, "{sum} vs {wall}");
     }
 }
 
