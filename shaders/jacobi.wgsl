@@ -26,6 +26,15 @@ fn decay(
     }
 }
 
+// One sweep's value at cell (i, j) from its neighbours' previous values `l`, `r` (along x),
+// `b`, `t` (along z); those the flags drop are never read into the sum.
+fn sweep_at(i: u32, j: u32, l: f32, r: f32, b: f32, t: f32) -> f32 {
+    let k = j * P.nx + i;
+    let fl = flags[k];
+    return (P.wx * (pick(fl, 1u, l) + pick(fl, 2u, r)) + P.wz * (pick(fl, 4u, b) + pick(fl, 8u, t))
+        - div[k]) * inv_w[k];
+}
+
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let i = id.x;
@@ -45,9 +54,77 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let il = select(i - 1u, nx - 1u, i == 0u);
     let ir = select(i + 1u, 0u, i == nx - 1u);
-    let k = j * nx + i;
-    let fl = flags[k];
-    p_out[k] = (P.wx * (pick(fl, 1u, p_in[j * nx + il]) + pick(fl, 2u, p_in[j * nx + ir]))
-        + P.wz * (pick(fl, 4u, p_in[jb * nx + i]) + pick(fl, 8u, p_in[jt * nx + i]))
-        - div[k]) * inv_w[k];
+    p_out[j * nx + i] = sweep_at(
+        i,
+        j,
+        p_in[j * nx + il],
+        p_in[j * nx + ir],
+        p_in[jb * nx + i],
+        p_in[jt * nx + i],
+    );
+}
+
+// Two sweeps in one dispatch (`pair`): each 16 × 16 workgroup loads its tile of the previous
+// iterate with a margin of two cells (20 × 20), makes the first sweep over the tile and a
+// margin of one (18 × 18) in workgroup memory, then the second over the tile. The values are
+// `main`'s twice, bit for bit: each cell's arithmetic is `sweep_at`'s, on the same
+// neighbours (wrapped when periodic; off the grid otherwise, where the flags drop them).
+// Half the dispatches and half the reads of the previous iterate for 1.27× the arithmetic.
+const TILE: u32 = 16u;
+var<workgroup> tile_p: array<f32, 400>;
+var<workgroup> tile_m: array<f32, 324>;
+
+// The cell a tile position `c` on an axis of `n` cells stands for: wrapped when periodic,
+// else clamped (a clamped margin cell is only ever read where the flags drop it).
+fn cell_of(c: i32, n: u32) -> u32 {
+    let m = i32(n);
+    if (P.periodic != 0u) {
+        return u32(((c % m) + m) % m);
+    }
+    return u32(clamp(c, 0, m - 1));
+}
+
+@compute @workgroup_size(16, 16)
+fn pair(
+    @builtin(workgroup_id) wid: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    let nx = P.nx;
+    let ny = P.ny;
+    let i0 = i32(wid.x * TILE) - 2;
+    let j0 = i32(wid.y * TILE) - 2;
+    for (var s = lid; s < 400u; s = s + 256u) {
+        let ci = cell_of(i0 + i32(s % 20u), nx);
+        let cj = cell_of(j0 + i32(s / 20u), ny);
+        tile_p[s] = p_in[cj * nx + ci];
+    }
+    workgroupBarrier();
+    for (var s = lid; s < 324u; s = s + 256u) {
+        let ti = s % 18u;
+        let tj = s / 18u;
+        let gi = i0 + 1 + i32(ti);
+        let gj = j0 + 1 + i32(tj);
+        var v = 0.0;
+        if (P.periodic != 0u || (gi >= 0 && gi < i32(nx) && gj >= 0 && gj < i32(ny))) {
+            let c = (tj + 1u) * 20u + ti + 1u;
+            v = sweep_at(
+                cell_of(gi, nx),
+                cell_of(gj, ny),
+                tile_p[c - 1u],
+                tile_p[c + 1u],
+                tile_p[c - 20u],
+                tile_p[c + 20u],
+            );
+        }
+        tile_m[s] = v;
+    }
+    workgroupBarrier();
+    let ti = lid % TILE;
+    let tj = lid / TILE;
+    let i = wid.x * TILE + ti;
+    let j = wid.y * TILE + tj;
+    if (i < nx && j < ny) {
+        let c = (tj + 1u) * 18u + ti + 1u;
+        p_out[j * nx + i] = sweep_at(i, j, tile_m[c - 1u], tile_m[c + 1u], tile_m[c - 18u], tile_m[c + 18u]);
+    }
 }

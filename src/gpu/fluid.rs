@@ -104,6 +104,10 @@ pub struct GpuFluid {
     /// The pressure solve [`Self::pressure`] records, and the multigrid V-cycles.
     pub pressure_solve: PressureSolve,
     pub pressure_cycles: usize,
+    /// Jacobi sweeps two a dispatch (`pair` in jacobi.wgsl) rather than one (`main`): the
+    /// same values. On by default; a software adapter turns it off (see
+    /// [`crate::gpu::GpuSolver::new`]).
+    pub paired_sweeps: bool,
     /// What the multigrid hierarchy is built from (on first use): the pressure flags, cell
     /// size and boundary of the CPU solver this was made from.
     mg_source: (Vec<u8>, [f32; 2], Boundary),
@@ -130,7 +134,9 @@ fn pass_of(kernel: &str) -> &'static str {
         "curl" => "curl",
         "force" | "apply_u" | "apply_v" => "confinement",
         "divergence" => "divergence",
-        "decay" | "main" | "mg_smooth" | "mg_coarsest" | "mg_restrict" | "mg_prolong" => "pressure",
+        "decay" | "main" | "pair" | "mg_smooth" | "mg_coarsest" | "mg_restrict" | "mg_prolong" => {
+            "pressure"
+        }
         "u_faces" | "v_faces" => "gradient",
         "sync_u" | "sync_v" => "periodic",
         _ => "advection",
@@ -295,6 +301,7 @@ impl GpuFluid {
             profiler: Default::default(),
             pressure_solve: sp.pressure,
             pressure_cycles: sp.pressure_cycles as usize,
+            paired_sweeps: true,
             mg_source: (solver.flags.clone(), [solver.hx, solver.hz], sp.boundary),
             multigrid: Default::default(),
         }
@@ -425,6 +432,9 @@ impl GpuFluid {
             if y == 1 {
                 let (gx, gy) = flat_groups(x);
                 pass.dispatch_workgroups(gx, gy, 1);
+            } else if kernel == "pair" {
+                // 16 × 16 tiles (`TILE` in jacobi.wgsl).
+                pass.dispatch_workgroups(groups(x, 16), groups(y, 16), 1);
             } else {
                 pass.dispatch_workgroups(groups(x, 8), groups(y, 8), 1);
             }
@@ -690,8 +700,11 @@ impl GpuFluid {
                 .record_cycles(device, enc, fine, self.pressure_cycles);
             return;
         }
-        for k in 0..iterations {
-            let (from, to) = if k % 2 == 0 {
+        // Two sweeps a dispatch (`pair`), and one (`main`) for an odd count; or one each.
+        let per = if self.paired_sweeps { 2 } else { 1 };
+        let dispatches = iterations.div_ceil(per);
+        for d in 0..dispatches {
+            let (from, to) = if d % 2 == 0 {
                 (&self.p, &self.p_tmp)
             } else {
                 (&self.p_tmp, &self.p)
@@ -703,9 +716,14 @@ impl GpuFluid {
                 (4, &self.flags),
                 (5, &self.inv_w),
             ];
-            self.dispatch(device, enc, "main", &b, (nx, ny));
+            let kernel = if per == 2 && 2 * d + 1 < iterations {
+                "pair"
+            } else {
+                "main"
+            };
+            self.dispatch(device, enc, kernel, &b, (nx, ny));
         }
-        if iterations % 2 == 1 {
+        if dispatches % 2 == 1 {
             enc.copy_buffer_to_buffer(&self.p_tmp, 0, &self.p, 0, self.p.size());
         }
     }
@@ -880,7 +898,7 @@ fn entry_points(shader: &str) -> &'static [(&'static str, &'static str)] {
             ("apply_v", "apply_v"),
         ],
         "divergence" => &[("divergence", "main")],
-        "jacobi" => &[("decay", "decay"), ("main", "main")],
+        "jacobi" => &[("decay", "decay"), ("main", "main"), ("pair", "pair")],
         "gradient" => &[("u_faces", "u_faces"), ("v_faces", "v_faces")],
         "advect" => &[
             ("advect_u", "advect_u"),

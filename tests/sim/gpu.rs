@@ -225,11 +225,29 @@ fn each_pass_matches_the_cpu_on_every_boundary_with_obstacles() {
         run(&mut gpu, &|g, e| g.divergence(device, e));
         check(&tag("divergence"), &get(&gpu, FieldId::Div), &cpu.div, 1e-5);
 
-        let mut cpu = random_solver(boundary, seed);
-        cpu.solve_pressure();
-        let iterations = cpu.params.pressure_iterations as usize;
-        run(&mut gpu, &|g, e| g.pressure(device, e, iterations));
-        check(&tag("pressure"), &get(&gpu, FieldId::P), &cpu.p, 1e-5);
+        // Two sweeps a dispatch (hardware adapters) and one (software), even and odd counts:
+        // within the tolerance of the CPU, and the same bits as each other.
+        for iterations in [20, 7] {
+            let mut pressures = Vec::new();
+            for paired in [true, false] {
+                let mut cpu = random_solver(boundary, seed);
+                cpu.params.pressure_iterations = iterations;
+                cpu.solve_pressure();
+                gpu.paired_sweeps = paired;
+                run(&mut gpu, &|g, e| g.pressure(device, e, iterations as usize));
+                let what = format!("pressure, {iterations} sweeps, paired {paired}");
+                let p = get(&gpu, FieldId::P);
+                check(&tag(&what), &p, &cpu.p, 1e-5);
+                pressures.push(p);
+            }
+            assert!(
+                pressures[0]
+                    .iter()
+                    .zip(&pressures[1])
+                    .all(|(a, b)| a.to_bits() == b.to_bits()),
+                "{boundary:?}: paired sweeps differ from single ones"
+            );
+        }
 
         let mut cpu = random_solver(boundary, seed);
         cpu.subtract_gradient();
