@@ -74,14 +74,15 @@ const TILE: u32 = 16u;
 var<workgroup> tile_p: array<f32, 400>;
 var<workgroup> tile_m: array<f32, 324>;
 
-// The cell a tile position `c` on an axis of `n` cells stands for: wrapped when periodic,
-// else clamped (a clamped margin cell is only ever read where the flags drop it).
+// The cell a tile position `c` (from −2 to n + 17) on an axis of `n` cells stands for:
+// wrapped when periodic, else clamped (a clamped margin cell is only ever read where the
+// flags drop it). The wrap takes an unsigned remainder of `c + n`, never negative: GLSL
+// leaves `%` of a negative number undefined, and on the GL backend llvmpipe got it wrong.
 fn cell_of(c: i32, n: u32) -> u32 {
-    let m = i32(n);
     if (P.periodic != 0u) {
-        return u32(((c % m) + m) % m);
+        return u32(c + i32(n)) % n;
     }
-    return u32(clamp(c, 0, m - 1));
+    return u32(clamp(c, 0, i32(n) - 1));
 }
 
 @compute @workgroup_size(16, 16)
