@@ -12,6 +12,10 @@ pub fn signed_rgb(t: f32) -> [u8; 3] {
     [c.r, c.g, c.b]
 }
 
+/// The range a fixed speed scale may take, m/s (the editor's View → Fixed speed scale,
+/// `render --speed-scale`).
+pub const FIXED_SCALE_RANGE: (f32, f32) = (0.5, 200.0);
+
 /// The speed at the top of the speed scale for a wind field: its peak speed, at least 1 m/s
 /// (the map view's scale and legend, and the 3D view's wind colours).
 pub fn speed_scale(velocity: &[[f32; 2]]) -> f32 {

@@ -142,6 +142,11 @@ enum Command {
         /// (0 to 1), on the map view's scale, as the editor's "wind colours" toggle does.
         #[arg(long, value_parser = parse_opacity)]
         wind_colours: Option<f32>,
+        /// The speed (m/s, 0.5 to 200) at the top of the speed colours, in the map and in the
+        /// grass's wind colours, as the editor's View → Fixed speed scale; default: the
+        /// field's peak. Pictures of different layouts or times then use the same colours.
+        #[arg(long, value_parser = parse_speed_scale)]
+        speed_scale: Option<f32>,
     },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
@@ -359,6 +364,14 @@ fn parse_push(s: &str) -> Result<[f32; 5], String> {
         ));
     }
     Ok(a)
+}
+
+fn parse_speed_scale(s: &str) -> Result<f32, String> {
+    let (lo, hi) = windloom::colour::FIXED_SCALE_RANGE;
+    match s.trim().parse::<f32>() {
+        Ok(v) if (lo..=hi).contains(&v) => Ok(v),
+        _ => Err(format!("expected a speed from {lo} to {hi} m/s, got {s:?}")),
+    }
 }
 
 fn parse_opacity(s: &str) -> Result<f32, String> {
@@ -632,6 +645,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             model,
             push,
             wind_colours,
+            speed_scale,
         }) => {
             let mut l = io::load(&layout)?;
             if let Some(m) = model {
@@ -645,7 +659,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 eprintln!("warning: {}: {a}", layout.display());
             }
             let png = match view {
-                ViewArg::Map => windloom::render::render_png(&l, &base, size, time)?,
+                ViewArg::Map => windloom::render::render_png(&l, &base, size, time, speed_scale)?,
                 ViewArg::Grass => {
                     anyhow::ensure!(
                         (16..=16384).contains(&size[0]) && (16..=16384).contains(&size[1]),
@@ -664,6 +678,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                             radius: p[4],
                         }),
                         wind_colours,
+                        speed_scale,
                     };
                     let pixels = windloom::gpu::grass::picture(&ctx, &l, &base, &options)?;
                     let mut png = Vec::new();

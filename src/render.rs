@@ -63,11 +63,14 @@ fn check_size(w: u32, h: u32) -> Result<(), RenderError> {
 
 /// Simulates `layout` for `time` seconds and draws it into a `size` PNG. `base` is the folder
 /// the layout's backdrop path is relative to.
+/// `speed_scale`: the speed (m/s) at the top of the colours, as the editor's fixed speed
+/// scale; `None`: the field's peak.
 pub fn render_png(
     layout: &Layout,
     base: &Path,
     size: [u32; 2],
     time: f32,
+    speed_scale: Option<f32>,
 ) -> Result<Vec<u8>, RenderError> {
     let [w, h] = size;
     check_size(w, h)?;
@@ -78,7 +81,7 @@ pub fn render_png(
     while solver.time + 1e-6 < time {
         solver.step();
     }
-    let pix = render(layout, base, &solver, w, h)?;
+    let pix = render_scaled(layout, base, &solver, [w, h], speed_scale)?;
     pix.encode_png()
         .map_err(|e| RenderError::Encode(e.to_string()))
 }
@@ -91,6 +94,18 @@ pub fn render(
     solver: &Solver,
     w: u32,
     h: u32,
+) -> Result<Pixmap, RenderError> {
+    render_scaled(layout, base, solver, [w, h], None)
+}
+
+/// [`render`] with the speed colours from 0 to `speed_scale` m/s (`None`: to the field's
+/// peak); faster wind takes the top colour.
+pub fn render_scaled(
+    layout: &Layout,
+    base: &Path,
+    solver: &Solver,
+    [w, h]: [u32; 2],
+    speed_scale: Option<f32>,
 ) -> Result<Pixmap, RenderError> {
     let degenerate = || RenderError::Degenerate(layout.world.size[0], layout.world.size[1], w, h);
     check_size(w, h)?;
@@ -133,13 +148,16 @@ pub fn render(
 
     // Speed underlay: the field as a small image, stretched with bilinear filtering.
     let field = solver.velocity_field();
-    let max_speed = field
+    let peak = field
         .iter()
         .map(|v| v[0].hypot(v[1]))
         .fold(1e-3f32, f32::max);
+    let max_speed = speed_scale
+        .filter(|s| s.is_finite() && *s > 0.0)
+        .unwrap_or(peak);
     if let Some(mut under) = Pixmap::new(solver.nx as u32, solver.ny as u32) {
         for (p, v) in under.pixels_mut().iter_mut().zip(&field) {
-            let t = v[0].hypot(v[1]) / max_speed;
+            let t = (v[0].hypot(v[1]) / max_speed).min(1.0);
             let c = speed_rgb(t);
             let a = (40.0 + 120.0 * t.sqrt()) as u8;
             *p = tiny_skia::ColorU8::from_rgba(c[0], c[1], c[2], a).premultiply();
@@ -197,7 +215,7 @@ pub fn render(
         gz += step;
     }
 
-    draw_streamlines(&mut pix, &view, solver, max_speed, ui);
+    draw_streamlines(&mut pix, &view, solver, (max_speed, peak), ui);
     draw_obstacles(&mut pix, &view, layout, ui);
     draw_trees(&mut pix, &view, layout, ui);
 
@@ -310,7 +328,15 @@ fn draw_backdrop(pix: &mut Pixmap, layout: &Layout, base: &Path, world: Rect) {
 
 /// Evenly spaced streamlines: seeds on a jittered lattice, traced both ways with RK2 until
 /// they slow down, leave the world, hit a solid or come too close to an earlier line.
-fn draw_streamlines(pix: &mut Pixmap, view: &View, s: &Solver, max_speed: f32, ui: f32) {
+/// Streamlines coloured on the scale `max_speed`; where the wind is under 3 % of the field's
+/// own `peak` none starts or goes on, whatever the colour scale.
+fn draw_streamlines(
+    pix: &mut Pixmap,
+    view: &View,
+    s: &Solver,
+    (max_speed, peak): (f32, f32),
+    ui: f32,
+) {
     let spacing = 16.0 * ui; // pixels between lines
     let (w, h) = (pix.width() as f32, pix.height() as f32);
     let cell = spacing * 0.5;
@@ -348,7 +374,7 @@ fn draw_streamlines(pix: &mut Pixmap, view: &View, s: &Solver, max_speed: f32, u
     }
     // Faster places first, so the strongest flow gets the continuous lines.
     seeds.sort_by(|a, b| speed(*b).1.total_cmp(&speed(*a).1));
-    let cutoff = max_speed * 0.03;
+    let cutoff = peak * 0.03;
     for seed in seeds {
         if !inside(seed) || speed(seed).1 < cutoff || occupied(&taken, view.px(seed)) {
             continue;
@@ -407,7 +433,7 @@ fn draw_streamlines(pix: &mut Pixmap, view: &View, s: &Solver, max_speed: f32, u
         for k in 1..n {
             let (a, sa) = line_pts[k - 1];
             let (b, _) = line_pts[k];
-            let t = sa / max_speed;
+            let t = (sa / max_speed).min(1.0);
             let fade = ((k.min(n - k) as f32) / 12.0).min(1.0);
             let c = speed_rgb(t.sqrt());
             let stroke = Stroke {
@@ -431,7 +457,7 @@ fn draw_streamlines(pix: &mut Pixmap, view: &View, s: &Solver, max_speed: f32, u
             view.px(a),
             view.px(b),
             5.0 * ui,
-            rgba(speed_rgb((sb / max_speed).sqrt()), 230),
+            rgba(speed_rgb((sb / max_speed).min(1.0).sqrt()), 230),
             ui,
         );
     }

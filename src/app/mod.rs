@@ -166,7 +166,7 @@ impl Default for Settings {
 
 const SETTINGS_KEY: &str = "windloom-settings";
 /// The fixed speed scale's range, m/s.
-pub const SPEED_SCALE: (f32, f32) = (0.5, 200.0);
+pub const SPEED_SCALE: (f32, f32) = crate::colour::FIXED_SCALE_RANGE;
 const AUTOSAVE_SECONDS: f64 = 20.0;
 
 /// A modal question or message.

@@ -227,7 +227,7 @@ proptest! {
             return Ok(()); // refusals: the property above
         };
         if l.world.grid[0] * l.world.grid[1] <= 64 * 64 {
-            match windloom::render::render_png(&l, &base, [96, 64], 0.2) {
+            match windloom::render::render_png(&l, &base, [96, 64], 0.2, None) {
                 Ok(png) => prop_assert!(png.starts_with(b"\x89PNG\r\n\x1a\n")),
                 Err(e) => prop_assert!(!e.to_string().is_empty()),
             }

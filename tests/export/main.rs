@@ -744,6 +744,63 @@ fn render_draws_the_arrows_and_wind_where_they_are() {
     assert!(arrow_pixels > 500, "arrows drawn: {arrow_pixels} pixels");
 }
 
+/// `render --speed-scale`: a fixed top for the speed colours. At the field's own peak it is
+/// the default picture, pixel for pixel; at four times the peak the fastest wind is drawn
+/// with the colours of a quarter of the scale, so the picture changes; out of range is
+/// refused by name.
+#[test]
+fn render_takes_a_fixed_speed_scale() {
+    let layout = example("two-winds.json");
+    let mut solver = windloom::sim::Solver::new(&layout);
+    for _ in 0..120 {
+        solver.step();
+    }
+    let peak = solver
+        .velocity_field()
+        .iter()
+        .map(|v| v[0].hypot(v[1]))
+        .fold(1e-3f32, f32::max);
+    let draw = |scale| {
+        windloom::render::render_scaled(&layout, Path::new("."), &solver, [400, 300], scale)
+            .unwrap()
+            .data()
+            .to_vec()
+    };
+    let plain = draw(None);
+    assert!(
+        plain == draw(Some(peak)),
+        "the peak as a fixed scale is the default"
+    );
+    let wide = draw(Some(4.0 * peak));
+    let changed = plain
+        .chunks(4)
+        .zip(wide.chunks(4))
+        .filter(|(a, b)| a.iter().zip(*b).any(|(x, y)| x.abs_diff(*y) > 8))
+        .count();
+    assert!(
+        changed > 2_000,
+        "a wider scale recolours the wind: {changed} pixels"
+    );
+
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "render",
+            "layouts/two-winds.json",
+            "-o",
+            "/dev/null",
+            "--speed-scale",
+            "0.1",
+        ])
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && err.contains("--speed-scale") && err.contains("0.5 to 200"),
+        "{err}"
+    );
+}
+
 #[test]
 fn ctrl_c_during_a_cli_bake_leaves_no_files() {
     let dir = tempfile::tempdir().unwrap();

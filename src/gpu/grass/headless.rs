@@ -70,6 +70,9 @@ pub struct PictureOptions {
     pub push: Option<PushPath>,
     /// The wind colours' opacity (`None`: off), as the editor's 3D view draws them.
     pub wind_colours: Option<f32>,
+    /// The speed (m/s) at the top of the wind colours (`None`: the field's peak), as the
+    /// editor's fixed speed scale.
+    pub speed_scale: Option<f32>,
 }
 
 /// A sphere of `radius` rolled from `from` to `to` (world `(x, z)`) over the second before the
@@ -133,7 +136,8 @@ pub fn picture(
         &crate::grass::scene::solids(layout),
         &crate::grass::scene::arrows(layout),
     );
-    let scale = wind_at(ctx, &mut grass, layout, time);
+    let peak = wind_at(ctx, &mut grass, layout, time);
+    let scale = o.speed_scale.unwrap_or(peak);
     grass.set_wind_colours(o.wind_colours.map(|opacity| (opacity, scale)));
     let aspect = o.size[0].max(1) as f32 / o.size[1].max(1) as f32;
     let camera = o
@@ -360,6 +364,7 @@ mod tests {
             paper_literal: false,
             push: None,
             wind_colours: None,
+            speed_scale: None,
         };
         let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
         let pixels = picture(&ctx, &layout, &base, &o).expect("a thinned picture");

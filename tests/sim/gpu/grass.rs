@@ -477,6 +477,7 @@ fn a_grass_picture_from_a_faulted_device_is_an_error() {
         paper_literal: false,
         push: None,
         wind_colours: None,
+        speed_scale: None,
     };
     let dir = tempfile::tempdir().unwrap();
     assert!(windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).is_ok());
@@ -530,6 +531,7 @@ fn the_ground_shows_the_map_backdrop() {
         paper_literal: false,
         push: None,
         wind_colours: None,
+        speed_scale: None,
     };
     let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
     let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
@@ -682,6 +684,7 @@ fn the_default_grass_picture_shows_the_whole_level() {
         paper_literal: false,
         push: None,
         wind_colours: None,
+        speed_scale: None,
     };
     for name in ["meadow.json", "obstacles.json", "branching.json"] {
         let mut l = example(name);
