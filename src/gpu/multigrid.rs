@@ -234,7 +234,7 @@ impl GpuMultigrid {
         (pass, name): (&Pass, &'static str),
         key: (usize, usize, u8),
         buffers: &[(u32, &wgpu::Buffer)],
-        (x, y): (usize, usize),
+        workgroups: [u32; 2],
     ) {
         let mut groups = self.groups.lock().unwrap_or_else(|e| e.into_inner());
         let group = groups
@@ -260,8 +260,13 @@ impl GpuMultigrid {
             });
             cp.set_pipeline(&pass.pipeline);
             cp.set_bind_group(0, &*group, &[]);
-            cp.dispatch_workgroups((x as u32).div_ceil(8), (y as u32).div_ceil(8), 1);
+            cp.dispatch_workgroups(workgroups[0], workgroups[1], 1);
         });
+    }
+
+    /// 8 × 8 workgroups over `x × y` cells, as the level passes take them.
+    fn tiles(x: usize, y: usize) -> [u32; 2] {
+        [(x as u32).div_ceil(8), (y as u32).div_ceil(8)]
     }
 
     /// The level's `(x, tmp, b)`: the solver's own on the finest level.
@@ -321,32 +326,9 @@ impl GpuMultigrid {
             (5, &lv.az),
             (6, &lv.inv_d),
         ];
-        let pass = &self.coarsest;
-        let mut groups = self.groups.lock().unwrap_or_else(|e| e.into_inner());
-        let group = groups.entry(("mg_coarsest", l, 0, 0)).or_insert_with(|| {
-            let entries: Vec<_> = buffers
-                .iter()
-                .map(|&(binding, b)| wgpu::BindGroupEntry {
-                    binding,
-                    resource: b.as_entire_binding(),
-                })
-                .collect();
-            device.create_bind_group(&wgpu::BindGroupDescriptor {
-                label: Some("mg_coarsest"),
-                layout: &pass.layout,
-                entries: &entries,
-            })
-        });
-        (fine.stamp)("mg_coarsest", &mut |timestamp_writes| {
-            let mut cp = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
-                label: Some("mg_coarsest"),
-                timestamp_writes,
-            });
-            cp.set_pipeline(&pass.pipeline);
-            cp.set_bind_group(0, &*group, &[]);
-            cp.dispatch_workgroups(1, 1, 1);
-        });
-        drop(groups);
+        // One workgroup: the level fits its memory.
+        let pass = (&self.coarsest, "mg_coarsest");
+        self.run(device, enc, fine, pass, (l, 0, 0), &buffers, [1, 1]);
         enc.copy_buffer_to_buffer(tmp, 0, x, 0, (cells * 4) as u64);
     }
 
@@ -404,7 +386,7 @@ impl GpuMultigrid {
             (&self.smooth, "mg_smooth"),
             key,
             &buffers,
-            (lv.nx, lv.ny),
+            Self::tiles(lv.nx, lv.ny),
         );
     }
 
@@ -436,7 +418,7 @@ impl GpuMultigrid {
             (&self.restrict, "mg_restrict"),
             (l, 0, 0),
             &buffers,
-            (c.nx, c.ny),
+            Self::tiles(c.nx, c.ny),
         );
     }
 
@@ -468,7 +450,7 @@ impl GpuMultigrid {
             (&self.prolong, "mg_prolong"),
             (l, 0, 0),
             &buffers,
-            (lv.nx, lv.ny),
+            Self::tiles(lv.nx, lv.ny),
         );
     }
 

@@ -307,6 +307,16 @@ fn the_passes_chained_stay_with_the_cpu() {
     }
 }
 
+/// The largest |Δv| between two velocity fields, and the reference `b`'s peak speed.
+fn deviation(a: &[[f32; 2]], b: &[[f32; 2]]) -> (f32, f32) {
+    let peak = b.iter().fold(0.0f32, |m, v| m.max(v[0].hypot(v[1])));
+    let err = a
+        .iter()
+        .zip(b)
+        .fold(0.0f32, |m, (p, q)| m.max((p[0] - q[0]).hypot(p[1] - q[1])));
+    (err, peak)
+}
+
 fn mean_speed(f: &[[f32; 2]]) -> f64 {
     f.iter().map(|v| f64::from(v[0].hypot(v[1]))).sum::<f64>() / f.len() as f64
 }
@@ -384,11 +394,7 @@ fn whole_runs_agree_with_the_cpu() {
         gpu.finish(&ctx).unwrap();
         assert!((gpu.time - cpu.time).abs() < 1e-4);
         let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
-        let peak = b.iter().fold(0.0f32, |m, v| m.max(v[0].hypot(v[1])));
-        let err = a
-            .iter()
-            .zip(&b)
-            .fold(0.0f32, |m, (p, q)| m.max((p[0] - q[0]).hypot(p[1] - q[1])));
+        let (err, peak) = deviation(&a, &b);
         let (ea, eb) = (energy(&a), energy(&b));
         let (sa, sb) = (mean_speed(&a), mean_speed(&b));
         println!(
@@ -422,11 +428,7 @@ fn a_2048_grid_runs_on_the_gpu_and_agrees_with_the_cpu() {
     }
     gpu.finish(&ctx).unwrap();
     let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
-    let peak = b.iter().fold(0.0f32, |m, v| m.max(v[0].hypot(v[1])));
-    let err = a
-        .iter()
-        .zip(&b)
-        .fold(0.0f32, |m, (p, q)| m.max((p[0] - q[0]).hypot(p[1] - q[1])));
+    let (err, peak) = deviation(&a, &b);
     println!("2048²: 2 steps, max |Δv| {err:.2e} of peak {peak:.2}");
     assert!(peak > 0.1, "the wind blows: peak {peak}");
     assert!(err <= 1e-3 * peak, "max |Δv| {err} of peak {peak}");

@@ -75,6 +75,22 @@ pub struct PictureOptions {
     pub speed_scale: Option<f32>,
 }
 
+impl Default for PictureOptions {
+    /// `render --view grass`'s defaults: 1600 × 1000 after 6 s, the whole level framed, the
+    /// layout's own grass, no wind colours.
+    fn default() -> Self {
+        Self {
+            size: [1600, 1000],
+            time: 6.0,
+            camera: None,
+            paper_literal: false,
+            push: None,
+            wind_colours: None,
+            speed_scale: None,
+        }
+    }
+}
+
 /// A sphere of `radius` rolled from `from` to `to` (world `(x, z)`) over the second before the
 /// picture; its trail shows in it.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -261,22 +277,10 @@ pub fn bench(
         (2.0, 1.0 / FPS),
         &target,
     )?;
-    let mut times = Vec::with_capacity(frames);
-    for k in 0..frames.max(1) {
-        let ms = render_into(
-            &ctx.device,
-            &ctx.queue,
-            &mut grass,
-            &camera,
-            (2.0 + k as f32 / FPS, 1.0 / FPS),
-            &target,
-        )?;
-        times.push(ms);
-    }
-    times.sort_by(f64::total_cmp);
-    // Where the time goes: the compute passes alone, then the render pass alone (over the
-    // blades the last compute passes kept), each submitted and waited for.
-    let mut part_ms = |part| -> Result<f64, GpuError> {
+    // Whole frames, then (where the time goes) the compute passes alone and the render pass
+    // alone over the blades the last compute passes kept, each submitted and waited for:
+    // sorted milliseconds.
+    let mut timed = |part| -> Result<Vec<f64>, GpuError> {
         let mut t = Vec::with_capacity(frames.max(1));
         for k in 0..frames.max(1) {
             t.push(render_part(
@@ -290,10 +294,12 @@ pub fn bench(
             )?);
         }
         t.sort_by(f64::total_cmp);
-        Ok(t[t.len() / 2])
+        Ok(t)
     };
-    let compute_ms = part_ms(FramePart::Compute)?;
-    let draw_ms = part_ms(FramePart::Draw)?;
+    let times = timed(FramePart::Whole)?;
+    let median = |t: &[f64]| t[t.len() / 2];
+    let compute_ms = median(&timed(FramePart::Compute)?);
+    let draw_ms = median(&timed(FramePart::Draw)?);
     let (culled, _) = grass.read_cull(&ctx.device, &ctx.queue)?;
     // Frames timed on a faulted device drew nothing worth timing.
     ctx.check("drawing the grass")?;
@@ -360,11 +366,7 @@ mod tests {
         let o = PictureOptions {
             size: [96, 64],
             time: 0.5,
-            camera: None,
-            paper_literal: false,
-            push: None,
-            wind_colours: None,
-            speed_scale: None,
+            ..Default::default()
         };
         let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
         let pixels = picture(&ctx, &layout, &base, &o).expect("a thinned picture");

@@ -191,10 +191,10 @@ fn finish_timed(
     Ok(started.elapsed().as_secs_f64() * 1e3)
 }
 
-/// Half a frame into an existing target, submitted and waited for: its wall-clock
+/// A frame or half of one into an existing target, submitted and waited for: its wall-clock
 /// milliseconds. `Compute` records the compute passes alone ([`GrassRenderer::prepare`]),
 /// `Draw` the render pass alone over the blades the last compute passes kept; `bench --grass`
-/// times both to say where a frame's time goes.
+/// times all three to say where a frame's time goes.
 pub fn render_part(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
@@ -207,6 +207,7 @@ pub fn render_part(
     let started = std::time::Instant::now();
     let mut enc = device.create_command_encoder(&Default::default());
     match part {
+        FramePart::Whole => grass.record(queue, &mut enc, target, camera, time, dt),
         FramePart::Compute => {
             let [w, h] = target.size;
             grass.prepare(queue, &mut enc, camera, w as f32 / h as f32, time, dt);
@@ -216,9 +217,10 @@ pub fn render_part(
     finish_timed(device, queue, enc, started)
 }
 
-/// Which half of a frame [`render_part`] times.
+/// What of a frame [`render_part`] records.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FramePart {
+    Whole,
     Compute,
     Draw,
 }
@@ -233,8 +235,6 @@ pub fn render_into(
     (time, dt): (f32, f32),
     target: &Target,
 ) -> Result<f64, GpuError> {
-    let started = std::time::Instant::now();
-    let mut enc = device.create_command_encoder(&Default::default());
-    grass.record(queue, &mut enc, target, camera, time, dt);
-    finish_timed(device, queue, enc, started)
+    let whole = FramePart::Whole;
+    render_part(device, queue, grass, camera, (time, dt), target, whole)
 }

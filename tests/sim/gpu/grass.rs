@@ -473,11 +473,7 @@ fn a_grass_picture_from_a_faulted_device_is_an_error() {
     let options = windloom::gpu::grass::PictureOptions {
         size: [64, 48],
         time: 0.0,
-        camera: None,
-        paper_literal: false,
-        push: None,
-        wind_colours: None,
-        speed_scale: None,
+        ..Default::default()
     };
     let dir = tempfile::tempdir().unwrap();
     assert!(windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).is_ok());
@@ -528,10 +524,7 @@ fn the_ground_shows_the_map_backdrop() {
         size: [w, h],
         time: 0.0,
         camera: Some(camera),
-        paper_literal: false,
-        push: None,
-        wind_colours: None,
-        speed_scale: None,
+        ..Default::default()
     };
     let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
     let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
@@ -680,11 +673,7 @@ fn the_default_grass_picture_shows_the_whole_level() {
     let options = windloom::gpu::grass::PictureOptions {
         size: [w, h],
         time: 0.5,
-        camera: None,
-        paper_literal: false,
-        push: None,
-        wind_colours: None,
-        speed_scale: None,
+        ..Default::default()
     };
     for name in ["meadow.json", "obstacles.json", "branching.json"] {
         let mut l = example(name);
