@@ -700,3 +700,51 @@ fn the_default_grass_picture_shows_the_whole_level() {
         );
     }
 }
+
+/// `render --view grass --wind-colours A --speed-scale S`: the wind colours' top at a fixed
+/// speed. The field's own scale given as the fixed one is the default picture, byte for
+/// byte; four times it darkens the fast wind's colours, so the picture changes.
+#[test]
+fn the_grass_picture_takes_a_fixed_speed_scale() {
+    let Some(ctx) = context() else { return };
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    let mut l = example("two-winds.json");
+    l.grass.density = l.grass.density.min(4.0);
+    let time = 2.0;
+    // The scale the picture finds itself: the CPU solver's field at `time`.
+    let mut solver = windloom::sim::Solver::new(&l);
+    for _ in 0..(time / l.sim.dt).round() as usize {
+        solver.step();
+    }
+    let own = windloom::colour::speed_scale(&solver.velocity_field());
+    let picture = |speed_scale| {
+        let o = windloom::gpu::grass::PictureOptions {
+            size: [160, 100],
+            time,
+            wind_colours: Some(1.0),
+            speed_scale,
+            ..Default::default()
+        };
+        windloom::gpu::grass::picture(&ctx, &l, &dir, &o).unwrap()
+    };
+    let plain = picture(None);
+    assert!(
+        plain == picture(Some(own)),
+        "the field's own scale, fixed, is the default"
+    );
+    let wide = picture(Some(4.0 * own));
+    let changed = plain
+        .chunks(4)
+        .zip(wide.chunks(4))
+        .filter(|(a, b)| a.iter().zip(*b).any(|(x, y)| x.abs_diff(*y) > 8))
+        .count();
+    println!(
+        "{changed} of {} pixels recoloured on a {:.1} m/s scale",
+        160 * 100,
+        4.0 * own
+    );
+    assert!(
+        changed > 1_000,
+        "a wider scale recolours the wind: {changed} pixels"
+    );
+}
