@@ -316,20 +316,35 @@ impl GpuMultigrid {
             self.record_sweeps(device, enc, fine, l, self.coarsest_sweeps, 0);
             return;
         }
-        let (x, tmp, b) = self.arrays(l, fine);
-        let buffers = [
-            (0, &lv.params[0]),
-            (1, x),
-            (2, tmp),
-            (3, b),
-            (4, &lv.ax),
-            (5, &lv.az),
-            (6, &lv.inv_d),
-        ];
+        let (x, tmp, _) = self.arrays(l, fine);
+        let buffers = self.relax_buffers(l, fine, 0, false);
         // One workgroup: the level fits its memory.
         let pass = (&self.coarsest, "mg_coarsest");
         self.run(device, enc, fine, pass, (l, 0, 0), &buffers, [1, 1]);
         enc.copy_buffer_to_buffer(tmp, 0, x, 0, (cells * 4) as u64);
+    }
+
+    /// The bindings of a relaxation pass on level `l` (`mg_smooth`, `mg_coarsest`) with
+    /// parameters `params`, from `x` into `tmp` (`back`: from `tmp` into `x`).
+    fn relax_buffers<'a>(
+        &'a self,
+        l: usize,
+        fine: Fine<'a>,
+        params: usize,
+        back: bool,
+    ) -> [(u32, &'a wgpu::Buffer); 7] {
+        let lv = &self.levels[l];
+        let (x, tmp, b) = self.arrays(l, fine);
+        let (from, to) = if back { (tmp, x) } else { (x, tmp) };
+        [
+            (0, &lv.params[params]),
+            (1, from),
+            (2, to),
+            (3, b),
+            (4, &lv.ax),
+            (5, &lv.az),
+            (6, &lv.inv_d),
+        ]
     }
 
     /// Records level `l`'s damped smoothing passes before (`post` false) or after its coarse
@@ -367,17 +382,7 @@ impl GpuMultigrid {
         back: bool,
     ) {
         let lv = &self.levels[l];
-        let (x, tmp, b) = self.arrays(l, fine);
-        let (from, to) = if back { (tmp, x) } else { (x, tmp) };
-        let buffers = [
-            (0, &lv.params[params]),
-            (1, from),
-            (2, to),
-            (3, b),
-            (4, &lv.ax),
-            (5, &lv.az),
-            (6, &lv.inv_d),
-        ];
+        let buffers = self.relax_buffers(l, fine, params, back);
         let key = (l, params, u8::from(back));
         self.run(
             device,

@@ -2,7 +2,6 @@
 
 use super::{
     Camera, CullStats, FramePart, GrassRenderer, Target, max_blades, render_into, render_offscreen,
-    render_part,
 };
 use crate::doc::{GrassModel, Layout};
 use crate::gpu::GpuError;
@@ -100,18 +99,22 @@ pub struct PushPath {
     pub radius: f32,
 }
 
+/// How many blades `layout` lays out, and how many the device holds ([`max_blades`]).
+fn blade_room(ctx: &crate::gpu::GpuContext, layout: &Layout) -> (usize, usize) {
+    let (nx, nz, _) = crate::grass::strata(layout);
+    (nx * nz, max_blades(&ctx.device.limits()))
+}
+
 /// `layout`'s blades, thinned evenly to what the device can hold ([`max_blades`]), with a
 /// warning when they are.
 pub(crate) fn scatter_for(
     ctx: &crate::gpu::GpuContext,
     layout: &Layout,
 ) -> Vec<crate::grass::Blade> {
-    let most = max_blades(&ctx.device.limits());
-    let (nx, nz, _) = crate::grass::strata(layout);
-    if nx * nz > most {
+    let (wanted, most) = blade_room(ctx, layout);
+    if wanted > most {
         log::warn!(
-            "the layout's {} blades are more than {} can hold: drawing {most}, thinned evenly",
-            nx * nz,
+            "the layout's {wanted} blades are more than {} can hold: drawing {most}, thinned evenly",
             ctx.describe()
         );
     }
@@ -241,14 +244,12 @@ pub fn bench(
     let mut layout = layout.clone();
     let area = layout.world.size[0] * layout.world.size[1];
     layout.grass.density = (blades as f32 / area).max(1e-3);
-    let most = max_blades(&ctx.device.limits());
-    let (nx, nz, _) = crate::grass::strata(&layout);
-    if nx * nz > most {
+    let (wanted, most) = blade_room(ctx, &layout);
+    if wanted > most {
         return Err(GpuError::Unsupported {
             adapter: ctx.describe(),
             what: format!(
-                "hold {} blades: its storage buffers bind {} MiB, room for {most} blades",
-                nx * nz,
+                "hold {wanted} blades: its storage buffers bind {} MiB, room for {most} blades",
                 ctx.device.limits().max_storage_buffer_binding_size >> 20
             ),
         });
@@ -269,6 +270,7 @@ pub fn bench(
     let camera = camera.unwrap_or_else(|| Camera::walk(&layout));
     let target = Target::new(&ctx.device, size, ctx.downlevel);
     // One untimed frame (pipelines, first use of the buffers), then the timed ones.
+    let whole = FramePart::Whole;
     render_into(
         &ctx.device,
         &ctx.queue,
@@ -276,6 +278,7 @@ pub fn bench(
         &camera,
         (2.0, 1.0 / FPS),
         &target,
+        whole,
     )?;
     // Whole frames, then (where the time goes) the compute passes alone and the render pass
     // alone over the blades the last compute passes kept, each submitted and waited for:
@@ -283,7 +286,7 @@ pub fn bench(
     let mut timed = |part| -> Result<Vec<f64>, GpuError> {
         let mut t = Vec::with_capacity(frames.max(1));
         for k in 0..frames.max(1) {
-            t.push(render_part(
+            t.push(render_into(
                 &ctx.device,
                 &ctx.queue,
                 &mut grass,

@@ -13,9 +13,8 @@
 //! Takes `&wgpu::Device` / `&wgpu::Queue` and never egui. `camera.rs`: the glam camera and
 //! the orbit that frames the world; `cull.rs`, `bezier.rs`, `trail.rs`, `far.rs`: those
 //! passes' buffers and pipelines; `draw.rs`: the render pipelines; `backdrop.rs`: the map
-//! image on the ground; `target.rs`:
-//! the colour + depth target and whole frames into it; `headless.rs`: pictures and the
-//! benchmark for the CLI.
+//! image on the ground; `target.rs`: the colour + depth target and whole frames into it;
+//! `headless.rs`: pictures and the benchmark for the CLI.
 
 mod backdrop;
 mod bezier;
@@ -33,7 +32,7 @@ pub use camera::{Camera, FRAME_MARGIN, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
 pub use far::{FarPass, FarUniform};
 pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture, settle};
-pub use target::{FramePart, Target, render_into, render_offscreen, render_part};
+pub use target::{FramePart, Target, render_into, render_offscreen};
 
 use super::GpuError;
 use super::buffer_entry as entry;

@@ -167,35 +167,20 @@ pub fn render_offscreen(
 ) -> Result<(Vec<u8>, f64), GpuError> {
     let (device, queue) = (&ctx.device, &ctx.queue);
     let target = Target::new(device, [w, h], ctx.downlevel);
-    let ms = render_into(device, queue, grass, camera, (time, dt), &target)?;
+    let whole = FramePart::Whole;
+    let ms = render_into(device, queue, grass, camera, (time, dt), &target, whole)?;
     let pixels = crate::gpu::read_texture(device, queue, &target.texture, 4)?;
     // A picture drawn on a faulted device is not the picture: say so instead.
     ctx.check("drawing the grass")?;
     Ok((pixels, ms))
 }
 
-/// Submits `enc` and waits for the device: the milliseconds since `started`.
-fn finish_timed(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    enc: wgpu::CommandEncoder,
-    started: std::time::Instant,
-) -> Result<f64, GpuError> {
-    queue.submit([enc.finish()]);
-    device
-        .poll(wgpu::PollType::wait_indefinitely())
-        .map_err(|e| GpuError::Runtime {
-            what: "drawing the grass".into(),
-            message: e.to_string(),
-        })?;
-    Ok(started.elapsed().as_secs_f64() * 1e3)
-}
-
-/// A frame or half of one into an existing target, submitted and waited for: its wall-clock
-/// milliseconds. `Compute` records the compute passes alone ([`GrassRenderer::prepare`]),
-/// `Draw` the render pass alone over the blades the last compute passes kept; `bench --grass`
-/// times all three to say where a frame's time goes.
-pub fn render_part(
+/// A frame, or half of one, into an existing target, submitted and waited for: its
+/// wall-clock milliseconds (the benchmark times these and reads nothing back). `Compute`
+/// records the compute passes alone ([`GrassRenderer::prepare`]), `Draw` the render pass
+/// alone over the blades the last compute passes kept; `bench --grass` times all three to say
+/// where a frame's time goes.
+pub fn render_into(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
     grass: &mut GrassRenderer,
@@ -214,27 +199,20 @@ pub fn render_part(
         }
         FramePart::Draw => grass.record_draw(&mut enc, target),
     }
-    finish_timed(device, queue, enc, started)
+    queue.submit([enc.finish()]);
+    device
+        .poll(wgpu::PollType::wait_indefinitely())
+        .map_err(|e| GpuError::Runtime {
+            what: "drawing the grass".into(),
+            message: e.to_string(),
+        })?;
+    Ok(started.elapsed().as_secs_f64() * 1e3)
 }
 
-/// What of a frame [`render_part`] records.
+/// What of a frame [`render_into`] records.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum FramePart {
     Whole,
     Compute,
     Draw,
-}
-
-/// A frame into an existing target, submitted and waited for: its wall-clock milliseconds
-/// (the benchmark times these and reads nothing back).
-pub fn render_into(
-    device: &wgpu::Device,
-    queue: &wgpu::Queue,
-    grass: &mut GrassRenderer,
-    camera: &Camera,
-    (time, dt): (f32, f32),
-    target: &Target,
-) -> Result<f64, GpuError> {
-    let whole = FramePart::Whole;
-    render_part(device, queue, grass, camera, (time, dt), target, whole)
 }

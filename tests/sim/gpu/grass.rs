@@ -434,6 +434,7 @@ fn the_editor_s_view_of_the_grass_is_the_frame_with_or_without_format_views() {
             &camera,
             (0.0, 0.0),
             &target,
+            windloom::gpu::grass::FramePart::Whole,
         )
         .unwrap();
         let frame =
