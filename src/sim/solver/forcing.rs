@@ -413,7 +413,7 @@ pub(super) fn add_rows(field: &mut [f32], inc: &[f32], reach: &[Range<usize>], w
         .with_min_len(rows_per_job(w))
         .map(|((f, d), r)| {
             for (x, dx) in f[r.clone()].iter_mut().zip(&d[r.clone()]) {
-                *x = clamp_speed(*x + dx);
+                *x = flush(clamp_speed(*x + dx));
             }
             r.len()
         })

@@ -20,7 +20,7 @@ impl Solver {
         let decay = self.params.pressure_decay;
         let k = self.params.pressure_iterations as usize;
         if k == 0 {
-            self.p.par_iter_mut().for_each(|p| *p *= decay);
+            self.p.par_iter_mut().for_each(|p| *p = flush(*p * decay));
             return;
         }
         // The warm start's decay is applied as the first block reads p (×1 is exact).
@@ -188,7 +188,7 @@ impl Stencil {
     /// divergence `d`: what the flagged stencil gives there, by the fast path's arithmetic.
     #[inline(always)]
     pub(super) fn regular(&self, l: f32, r: f32, b: f32, t: f32, d: f32) -> f32 {
-        (self.wx * (l + r) + self.wz * (b + t) - d) * self.inv_regular
+        flush((self.wx * (l + r) + self.wz * (b + t) - d) * self.inv_regular)
     }
 
     /// `1 / Σw` for a cell with pressure flags `fl` (fluid and open-edge neighbours count;
@@ -382,10 +382,12 @@ impl JacobiRow<'_> {
     #[inline(always)]
     fn cell(&self, st: &Stencil, i: usize, l: f32, r: f32, damp: Option<f32>) -> f32 {
         let fl = self.f[i];
-        let v = (st.wx * (pick(fl, L, l) + pick(fl, R, r))
-            + st.wz * (pick(fl, B, self.below[i]) + pick(fl, T, self.above[i]))
-            - self.d[i])
-            * self.inv_w[i];
+        let v = flush(
+            (st.wx * (pick(fl, L, l) + pick(fl, R, r))
+                + st.wz * (pick(fl, B, self.below[i]) + pick(fl, T, self.above[i]))
+                - self.d[i])
+                * self.inv_w[i],
+        );
         match damp {
             Some(w) => damped(self.row[i], w, v),
             None => v,
@@ -424,10 +426,12 @@ impl JacobiRow<'_> {
             let (ff, iw) = (&self.f[a..b], &self.inv_w[a..b]);
             for i in 0..n {
                 let fl = ff[i];
-                o[i] = (wx * (pick(fl, L, l[i]) + pick(fl, R, r[i]))
-                    + wz * (pick(fl, B, bl[i]) + pick(fl, T, ab[i]))
-                    - dd[i])
-                    * iw[i];
+                o[i] = flush(
+                    (wx * (pick(fl, L, l[i]) + pick(fl, R, r[i]))
+                        + wz * (pick(fl, B, bl[i]) + pick(fl, T, ab[i]))
+                        - dd[i])
+                        * iw[i],
+                );
             }
             if let Some(w) = damp {
                 damp_row(o, &row[a..b], w);
@@ -674,7 +678,7 @@ fn damp_row(dst: &mut [f32], prev: &[f32], w: f32) {
 /// A damped Jacobi update: `prev + w·(jacobi − prev)`.
 #[inline(always)]
 pub(super) fn damped(prev: f32, w: f32, jacobi: f32) -> f32 {
-    prev + w * (jacobi - prev)
+    flush(prev + w * (jacobi - prev))
 }
 
 /// `levels` passes for output rows `a..b`, written to `out`, in one sweep down the band:

@@ -28,7 +28,12 @@ impl Solver {
             self.confine_vorticity_reference(dt);
             self.divergence_reference();
             let decay = self.params.pressure_decay;
-            self.p.iter_mut().for_each(|p| *p *= decay);
+            // Stored as it is only when no iteration follows (each one flushes what it
+            // writes, as the fast solve does).
+            let last = self.params.pressure_iterations == 0;
+            self.p
+                .iter_mut()
+                .for_each(|p| *p = if last { flush(*p * decay) } else { *p * decay });
             for _ in 0..self.params.pressure_iterations {
                 self.jacobi_reference();
             }
@@ -128,7 +133,7 @@ impl Solver {
         }
         for (x, d) in self.u.iter_mut().zip(&du).chain(self.v.iter_mut().zip(&dv)) {
             if *d != 0.0 {
-                *x = (*x + d).clamp(-MAX_SPEED, MAX_SPEED);
+                *x = flush((*x + d).clamp(-MAX_SPEED, MAX_SPEED));
             }
         }
         self.wrap_faces_reference();
@@ -216,7 +221,7 @@ impl Solver {
                         } else {
                             i
                         }];
-                    *u = (*u + dt * 0.5 * (a + b)).clamp(-MAX_SPEED, MAX_SPEED);
+                    *u = flush((*u + dt * 0.5 * (a + b)).clamp(-MAX_SPEED, MAX_SPEED));
                 }
             });
         self.v
@@ -238,8 +243,10 @@ impl Solver {
                     } else {
                         j
                     };
-                    *v = (*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]))
-                        .clamp(-MAX_SPEED, MAX_SPEED);
+                    *v = flush(
+                        (*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]))
+                            .clamp(-MAX_SPEED, MAX_SPEED),
+                    );
                 }
             });
         self.wrap_faces_reference();
@@ -306,7 +313,7 @@ impl Solver {
                 let (nt, pt) = neighbour(i, j, 0, 1);
                 let ws = wx * (nl + nr) + wz * (nb + nt);
                 let inv = if ws > 0.0 { 1.0 / ws } else { 0.0 };
-                out[k] = (wx * (pl + pr) + wz * (pb + pt) - self.div[k]) * inv;
+                out[k] = flush((wx * (pl + pr) + wz * (pb + pt) - self.div[k]) * inv);
             }
         }
         self.p = out;
@@ -340,7 +347,7 @@ impl Solver {
                         continue;
                     }
                     let i = i as isize;
-                    *u -= (px(i, j) - px(i - 1, j)) / hx;
+                    *u = flush(*u - (px(i, j) - px(i - 1, j)) / hx);
                 }
             });
         let pz = |i: usize, j: isize| -> f32 {
@@ -363,7 +370,7 @@ impl Solver {
                         continue;
                     }
                     let j = j as isize;
-                    *v -= (pz(i, j) - pz(i, j - 1)) / hz;
+                    *v = flush(*v - (pz(i, j) - pz(i, j - 1)) / hz);
                 }
             });
         self.wrap_faces_reference();
@@ -438,7 +445,7 @@ impl Solver {
                 let k = j * w + i;
                 if free[k] != 0 {
                     let (x, z) = self.departure_reference(i, j, is_v, dt);
-                    out[k] = self.sample_reference(src, is_v, x, z).0 * keep;
+                    out[k] = flush(self.sample_reference(src, is_v, x, z).0 * keep);
                 }
             }
         }
@@ -471,7 +478,7 @@ impl Solver {
                             }
                             let (x, z) = s.departure_reference(k % w, k / w, is_v, dt);
                             let (_, lo, hi) = s.sample_reference(f, is_v, x, z);
-                            (fwd[k] + 0.5 * (f[k] - back[k])).clamp(lo, hi) * keep
+                            flush((fwd[k] + 0.5 * (f[k] - back[k])).clamp(lo, hi) * keep)
                         })
                         .collect()
                 };

@@ -397,11 +397,11 @@ macro_rules! row_samplers {
         ) {
             let free = &free[..out.len()];
             let value = |k: usize, _, a, b, c, d, fx, fz| {
-                bit_select(free[k] != 0, bilerp(a, b, c, d, fx, fz) * keep, 0.0)
+                bit_select(free[k] != 0, flush(bilerp(a, b, c, d, fx, fz) * keep), 0.0)
             };
             let (o, open) = (offset(V), interior_free(free));
             if open {
-                let open = |_, _, a, b, c, d, fx, fz| bilerp(a, b, c, d, fx, fz) * keep;
+                let open = |_, _, a, b, c, d, fx, fz| flush(bilerp(a, b, c, d, fx, fz) * keep);
                 sample_row(f, o, j, xs, zs, out, false, value, open);
             } else {
                 sample_row(f, o, j, xs, zs, out, false, value, value);
@@ -429,12 +429,12 @@ macro_rules! row_samplers {
             let (free, fwd, orig) = (&free[..n], &fwd[..n], &orig[..n]);
             let value = |k: usize, back, a, b, c, d, _, _| {
                 let x = limited(a, b, c, d, fwd[k], orig[k], back);
-                bit_select(free[k] != 0, x * keep, 0.0)
+                bit_select(free[k] != 0, flush(x * keep), 0.0)
             };
             let (o, open) = (offset(V), interior_free(free));
             if open {
                 let open = |k: usize, back, a, b, c, d, _, _| {
-                    limited(a, b, c, d, fwd[k], orig[k], back) * keep
+                    flush(limited(a, b, c, d, fwd[k], orig[k], back) * keep)
                 };
                 sample_row(f, o, j, xs, zs, back, true, value, open);
             } else {

@@ -271,7 +271,7 @@ fn force_row(
 )]
 fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
     let nx = f.len();
-    let add = |x: f32, a: f32, b: f32| clamp_speed(x + dt * 0.5 * (a + b));
+    let add = |x: f32, a: f32, b: f32| flush(clamp_speed(x + dt * 0.5 * (a + b)));
     let (first, last) = if periodic { (nx - 1, 0) } else { (0, nx - 1) };
     if free[0] != 0 {
         row[0] = add(row[0], f[first], f[0]);
@@ -296,7 +296,7 @@ fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
     multiversion(targets = "simd", dispatcher = "static")
 )]
 fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32) {
-    let add = |x: f32, a: f32, b: f32| clamp_speed(x + dt * 0.5 * (a + b));
+    let add = |x: f32, a: f32, b: f32| flush(clamp_speed(x + dt * 0.5 * (a + b)));
     let n = row.len();
     let (free, a, b) = (&free[..n], &a[..n], &b[..n]);
     // Computed everywhere, kept where free: branch-free, so it vectorises.
