@@ -208,6 +208,9 @@ pub struct GrassView {
     /// (submission to completion).
     pub blades: u32,
     pub total_blades: u32,
+    /// About how many blades the layout lays out, when the device cannot hold them all and
+    /// `total_blades` are those thinned evenly to fit ([`crate::grass::scatter_fitted`]).
+    pub layout_blades: Option<u32>,
     pub frame_ms: std::sync::Arc<std::sync::Mutex<f32>>,
     pub controls: super::grass_controls::GrassControls,
     sample: Option<ViewSample>,
@@ -237,6 +240,7 @@ impl Default for GrassView {
             framed_for: None,
             blades: 0,
             total_blades: 0,
+            layout_blades: None,
             frame_ms: Default::default(),
             controls: Default::default(),
             sample: None,
@@ -368,8 +372,9 @@ impl GrassView {
         if self.built_for.as_ref() != Some(&key) {
             // All of them, unless the device cannot hold them: then evenly thinned.
             let most = crate::gpu::grass::max_blades(&rs.device.limits());
-            let mut blades = crate::grass::scatter_within(doc, most);
+            let (mut blades, of_layout) = crate::grass::scatter_fitted(doc, most);
             self.total_blades = blades.len() as u32;
+            self.layout_blades = of_layout.map(|n| n as u32);
             // A software rasteriser draws about 2.6 µs a blade (docs/PERFORMANCE.md): keep the
             // view interactive there by drawing a sample, dense near the camera.
             let software = crate::gpu::is_software(&rs.adapter.get_info());

@@ -92,19 +92,22 @@ impl GrassControls {
     }
 }
 
+/// `v` with its thousands grouped: 2,795,520.
+pub fn grouped(v: u32) -> String {
+    let s = v.to_string();
+    let mut out = String::new();
+    for (k, c) in s.chars().enumerate() {
+        if k > 0 && (s.len() - k) % 3 == 0 {
+            out.push(',');
+        }
+        out.push(c);
+    }
+    out
+}
+
 /// The counters line: `blades` considered, culled by each test, drawn per LOD level.
 pub fn counters(stats: &CullStats, total: u32) -> String {
-    let n = |v: u32| {
-        let s = v.to_string();
-        let mut out = String::new();
-        for (k, c) in s.chars().enumerate() {
-            if k > 0 && (s.len() - k) % 3 == 0 {
-                out.push(',');
-            }
-            out.push(c);
-        }
-        out
-    };
+    let n = grouped;
     let mut line = format!("{} blades", n(stats.total));
     if stats.total < total {
         line += &format!(" (of {})", n(total));

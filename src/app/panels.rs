@@ -249,14 +249,27 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 ui.separator();
                 let ms = app.grass_view.frame_ms.lock().map(|m| *m).unwrap_or(0.0);
                 let g = &app.grass_view;
-                if g.blades < g.total_blades {
-                    ui.label(format!(
-                        "{} of {} blades · grass {ms:.1} ms",
-                        g.blades, g.total_blades
-                    ))
-                    .on_hover_text("A software adapter draws an even sample of the blades");
+                let n = super::grass_controls::grouped;
+                let drawn = if g.blades < g.total_blades {
+                    format!("{} of {}", n(g.blades), n(g.total_blades))
                 } else {
-                    ui.label(format!("{} blades · grass {ms:.1} ms", g.blades));
+                    n(g.blades)
+                };
+                if let Some(all) = g.layout_blades {
+                    ui.label(format!(
+                        "{drawn} blades (the GPU holds {} of the layout's ~{}) · grass {ms:.1} ms",
+                        n(g.total_blades),
+                        n(all)
+                    ))
+                    .on_hover_text(
+                        "The layout has more blades than this GPU's storage buffers hold: they \
+                         are drawn evenly thinned to fit",
+                    );
+                } else if g.blades < g.total_blades {
+                    ui.label(format!("{drawn} blades · grass {ms:.1} ms"))
+                        .on_hover_text("A software adapter draws an even sample of the blades");
+                } else {
+                    ui.label(format!("{drawn} blades · grass {ms:.1} ms"));
                 }
             }
             ui.separator();

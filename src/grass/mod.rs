@@ -111,6 +111,19 @@ pub fn scatter(layout: &Layout) -> Vec<Blade> {
     scatter_within(layout, MAX_BLADES)
 }
 
+/// [`scatter_within`]`(layout, cap)`, and, when that thinned them, about how many blades the
+/// layout itself lays out: its strata times the share of the thinned strata whose blade
+/// fell outside the obstacles (counting them exactly would mean scattering them all, up to
+/// [`MAX_BLADES`], which is what a device that cannot hold them cannot afford either).
+pub fn scatter_fitted(layout: &Layout, cap: usize) -> (Vec<Blade>, Option<usize>) {
+    let (nx, nz, _) = strata(layout);
+    let (tx, tz, _) = strata_within(layout, cap);
+    let blades = scatter_within(layout, cap);
+    let of_layout = (tx * tz < nx * nz)
+        .then(|| (blades.len() as f64 / (tx * tz) as f64 * (nx * nz) as f64).round() as usize);
+    (blades, of_layout)
+}
+
 /// [`scatter`] over [`strata_within`]`(layout, cap)`: at most `cap` blades, thinned evenly
 /// (what a GPU that cannot hold them all draws).
 pub fn scatter_within(layout: &Layout, cap: usize) -> Vec<Blade> {

@@ -111,14 +111,16 @@ pub(crate) fn scatter_for(
     ctx: &crate::gpu::GpuContext,
     layout: &Layout,
 ) -> Vec<crate::grass::Blade> {
-    let (wanted, most) = blade_room(ctx, layout);
-    if wanted > most {
+    let most = max_blades(&ctx.device.limits());
+    let (blades, of_layout) = crate::grass::scatter_fitted(layout, most);
+    if let Some(wanted) = of_layout {
         log::warn!(
-            "the layout's {wanted} blades are more than {} can hold: drawing {most}, thinned evenly",
-            ctx.describe()
+            "the layout's ~{wanted} blades are more than {} can hold: drawing {}, thinned evenly",
+            ctx.describe(),
+            blades.len()
         );
     }
-    crate::grass::scatter_within(layout, most)
+    blades
 }
 
 /// A picture of `layout`'s grass in its wind after `time` seconds: RGBA8 sRGB pixels, `size`
