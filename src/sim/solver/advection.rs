@@ -13,8 +13,8 @@ impl Solver {
         let (u, v) = (&self.u, &self.v);
         match self.params.advection {
             Advection::SemiLagrangian => {
-                advect_faces(&g, u, v, u, &mut self.u_tmp, dt, keep, &self.u_free, false);
-                advect_faces(&g, u, v, v, &mut self.v_tmp, dt, keep, &self.v_free, true);
+                advect_faces::<true>(&g, u, v, u, &mut self.u_tmp, dt, keep, &self.u_free, false);
+                advect_faces::<true>(&g, u, v, v, &mut self.v_tmp, dt, keep, &self.v_free, true);
                 std::mem::swap(&mut self.u, &mut self.u_tmp);
                 std::mem::swap(&mut self.v, &mut self.v_tmp);
             }
@@ -22,8 +22,8 @@ impl Solver {
                 // Forward: φ̂ = A(φ); backward: φ̌ = A⁻¹(φ̂); φ' = φ̂ + (φ − φ̌)/2, clamped to
                 // the forward stencil's range so the correction cannot create new extrema.
                 // The backward step and the correction share one sweep (see [`maccormack`]).
-                advect_faces(&g, u, v, u, &mut self.u_tmp, dt, 1.0, &self.u_free, false);
-                advect_faces(&g, u, v, v, &mut self.v_tmp, dt, 1.0, &self.v_free, true);
+                advect_faces::<false>(&g, u, v, u, &mut self.u_tmp, dt, 1.0, &self.u_free, false);
+                advect_faces::<false>(&g, u, v, v, &mut self.v_tmp, dt, 1.0, &self.v_free, true);
                 let (u_fwd, v_fwd) = (&self.u_tmp, &self.v_tmp);
                 maccormack(
                     &g,
@@ -258,7 +258,7 @@ pub(super) fn departures_row(
 
 /// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
 #[allow(clippy::too_many_arguments)]
-pub(super) fn advect_faces(
+pub(super) fn advect_faces<const FLUSH: bool>(
     g: &Geometry,
     u: &[f32],
     v: &[f32],
@@ -279,9 +279,9 @@ pub(super) fn advect_faces(
                 departures_row(g, u, v, j, is_v, dt, xs, zs);
                 let free = &free[j * w..][..w];
                 if is_v {
-                    sample_row_of::<true>(g, src, j, xs, zs, free, keep, row);
+                    sample_row_of::<true, FLUSH>(g, src, j, xs, zs, free, keep, row);
                 } else {
-                    sample_row_of::<false>(g, src, j, xs, zs, free, keep, row);
+                    sample_row_of::<false, FLUSH>(g, src, j, xs, zs, free, keep, row);
                 }
             },
         );
@@ -290,7 +290,7 @@ pub(super) fn advect_faces(
 /// Row `j` of `src` (v faces with `V`) sampled at the departure points `xs`, `zs`, times
 /// `keep`, through the clamped or the periodic sampler.
 #[allow(clippy::too_many_arguments)]
-fn sample_row_of<const V: bool>(
+fn sample_row_of<const V: bool, const FLUSH: bool>(
     g: &Geometry,
     src: &[f32],
     j: usize,
@@ -303,9 +303,9 @@ fn sample_row_of<const V: bool>(
     let (w, h) = g.faces(V);
     if g.periodic {
         let f = Wrapped::new(src, w, h, g.nx, g.ny);
-        sample_wrapped::<V>(&f, j, xs, zs, free, keep, row);
+        sample_wrapped::<V, FLUSH>(&f, j, xs, zs, free, keep, row);
     } else {
-        sample_clamped::<V>(&Clamped::new(src, w, h), j, xs, zs, free, keep, row);
+        sample_clamped::<V, FLUSH>(&Clamped::new(src, w, h), j, xs, zs, free, keep, row);
     }
 }
 
@@ -365,7 +365,7 @@ fn maccormack_row<const V: bool>(
     let k = j * w;
     let (free, fwd_row, orig_row) = (&free[k..][..w], &fwd[k..][..w], &orig[k..][..w]);
     departures_row(g, u, v, j, V, -dt, xs, zs);
-    sample_row_of::<V>(g, fwd, j, xs, zs, free, 1.0, row);
+    sample_row_of::<V, false>(g, fwd, j, xs, zs, free, 1.0, row);
     departures_row(g, u, v, j, V, dt, xs, zs);
     if g.periodic {
         let f = Wrapped::new(orig, w, h, g.nx, g.ny);

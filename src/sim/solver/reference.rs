@@ -431,8 +431,9 @@ impl Solver {
     }
 
     /// One semi-Lagrangian step of a face field `src` (`is_v`: v faces) over `dt`, times
-    /// `keep`; faces that are not free get 0.
-    fn trace_reference(&self, src: &[f32], is_v: bool, dt: f32, keep: f32) -> Vec<f32> {
+    /// `keep`; faces that are not free get 0. `last`: the step's result, flushed (MacCormack's
+    /// intermediate traces are not).
+    fn trace_reference(&self, src: &[f32], is_v: bool, dt: f32, keep: f32, last: bool) -> Vec<f32> {
         let (nx, ny) = (self.nx, self.ny);
         let (w, h, free) = if is_v {
             (nx, ny + 1, &self.v_free)
@@ -445,7 +446,8 @@ impl Solver {
                 let k = j * w + i;
                 if free[k] != 0 {
                     let (x, z) = self.departure_reference(i, j, is_v, dt);
-                    out[k] = flush(self.sample_reference(src, is_v, x, z).0 * keep);
+                    let x = self.sample_reference(src, is_v, x, z).0 * keep;
+                    out[k] = if last { flush(x) } else { x };
                 }
             }
         }
@@ -459,13 +461,13 @@ impl Solver {
         let keep = 1.0 / (1.0 + self.params.velocity_dissipation * dt);
         let (u, v) = match self.params.advection {
             Advection::SemiLagrangian => (
-                self.trace_reference(&self.u, false, dt, keep),
-                self.trace_reference(&self.v, true, dt, keep),
+                self.trace_reference(&self.u, false, dt, keep, true),
+                self.trace_reference(&self.v, true, dt, keep, true),
             ),
             Advection::MacCormack => {
                 let corrected = |s: &Solver, f: &[f32], is_v: bool| -> Vec<f32> {
-                    let fwd = s.trace_reference(f, is_v, dt, 1.0);
-                    let back = s.trace_reference(&fwd, is_v, -dt, 1.0);
+                    let fwd = s.trace_reference(f, is_v, dt, 1.0, false);
+                    let back = s.trace_reference(&fwd, is_v, -dt, 1.0, false);
                     let (w, free) = if is_v {
                         (s.nx, &s.v_free)
                     } else {

@@ -372,7 +372,7 @@ fn limited(a: f32, b: f32, c: f32, d: f32, fwd: f32, orig: f32, back: f32) -> f3
 /// The row loops of one sampler type `$ty`, through [`sample_row`]: `$sample`
 /// (semi-Lagrangian: the bilinear sample at each departure point of row `j` of u faces, or
 /// of v faces with `V`, offset by [`offset`] into sample coordinates, times `keep`; 0 on
-/// faces that are not free) and `$correct`
+/// faces that are not free; [`flush`]ed with `FLUSH`, the step's result) and `$correct`
 /// (MacCormack: `back` holds φ̌ on entry and `(φ̂ + (φ − φ̌)/2)` clamped to the range of the
 /// four samples of φ around the departure point, times `keep`, on exit). Compiled for several
 /// SIMD levels, picked at run time; the same bits as the reference's sampler. A macro rather
@@ -386,7 +386,7 @@ macro_rules! row_samplers {
             windloom_static_simd,
             multiversion(targets = "simd", dispatcher = "static")
         )]
-        pub(super) fn $sample<const V: bool>(
+        pub(super) fn $sample<const V: bool, const FLUSH: bool>(
             f: &$ty,
             j: usize,
             xs: &[f32],
@@ -396,12 +396,14 @@ macro_rules! row_samplers {
             out: &mut [f32],
         ) {
             let free = &free[..out.len()];
+            // A final value is flushed; MacCormack's intermediate φ̂ and φ̌ need not be.
+            let fin = |x: f32| if FLUSH { flush(x) } else { x };
             let value = |k: usize, _, a, b, c, d, fx, fz| {
-                bit_select(free[k] != 0, flush(bilerp(a, b, c, d, fx, fz) * keep), 0.0)
+                bit_select(free[k] != 0, fin(bilerp(a, b, c, d, fx, fz) * keep), 0.0)
             };
             let (o, open) = (offset(V), interior_free(free));
             if open {
-                let open = |_, _, a, b, c, d, fx, fz| flush(bilerp(a, b, c, d, fx, fz) * keep);
+                let open = |_, _, a, b, c, d, fx, fz| fin(bilerp(a, b, c, d, fx, fz) * keep);
                 sample_row(f, o, j, xs, zs, out, false, value, open);
             } else {
                 sample_row(f, o, j, xs, zs, out, false, value, value);
