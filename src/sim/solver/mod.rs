@@ -588,12 +588,12 @@ fn bit_select(c: bool, a: f32, b: f32) -> f32 {
 pub const TINY: f32 = f32::from_bits(0x2180_0000);
 
 /// `x`, or 0 where `|x| < TINY` (NaN kept). Every pass that writes the faces or the
-/// pressure (forces, confinement, Jacobi and multigrid relaxation, gradient, advection)
-/// flushes what it writes, as the reference passes do, so the fields hold no subnormal
-/// numbers: without it the wind's spreading fronts and decaying tails fill 2–4 % of the
-/// cells of a 1000² grid with them in its first steps, and on Intel cores every vector
-/// instruction that meets one takes a microcode assist (the Xeon's pressure pass took 1.7×
-/// as long on the arrow layouts as on the meadow). Differences of stored values cannot be
+/// pressure (forces, confinement, the Jacobi sweeps and the multigrid's fine-grid
+/// relaxation, gradient, advection's result) flushes what it writes, as the reference passes
+/// do, so the fields hold no subnormal numbers: without it the wind's spreading fronts fill
+/// 2–6 % of a 1000² grid's values with them in its first steps, and on Intel cores every
+/// vector instruction that meets one takes a microcode assist (an Intel Xeon's pressure pass
+/// took 2–4× as long on the arrow layouts as it does now; docs/PERFORMANCE.md). Differences of stored values cannot be
 /// subnormal then (their spacing at 2⁻⁶⁰ is 2⁻⁸³), so the curl and the divergence need no
 /// flush, and 2⁻⁶⁰ rather than anything smaller keeps the squares of such values, which the
 /// confinement takes, normal too (but where two values cancel almost exactly).
