@@ -585,7 +585,7 @@ fn bit_select(c: bool, a: f32, b: f32) -> f32 {
 /// The smallest magnitude the passes store: 2⁻⁶⁰ ≈ 8.7 × 10⁻¹⁹, in m/s for the faces and in
 /// the pressure's units, so far below any wind that flushing it changes nothing a user
 /// sees. See [`flush`].
-pub const TINY: f32 = f32::from_bits(0x2180_0000);
+pub(crate) const TINY: f32 = f32::from_bits(0x2180_0000);
 
 /// `x`, or 0 where `|x| < TINY` (NaN kept). Every pass that writes the faces or the
 /// pressure (forces, confinement, the Jacobi sweeps and the multigrid's fine-grid
@@ -598,7 +598,7 @@ pub const TINY: f32 = f32::from_bits(0x2180_0000);
 /// flush, and 2⁻⁶⁰ rather than anything smaller keeps the squares of such values, which the
 /// confinement takes, normal too (but where two values cancel almost exactly).
 #[inline(always)]
-pub fn flush(x: f32) -> f32 {
+pub(crate) fn flush(x: f32) -> f32 {
     bit_select(x.abs() < TINY, 0.0, x)
 }
 
