@@ -261,6 +261,13 @@ fn force_row(
     }
 }
 
+/// A face's velocity `x` with the mean of the two confinement forces `a`, `b` beside it
+/// added over `dt`, clamped and flushed: what [`add_u_row`] and [`add_v_row`] store.
+#[inline(always)]
+fn confined(x: f32, a: f32, b: f32, dt: f32) -> f32 {
+    flush(clamp_speed(x + dt * 0.5 * (a + b)))
+}
+
 /// Adds the force `f` (cell-centred x, one row) to a row of u faces where they are free: each
 /// face gets the mean of the cells beside it (the end faces: the wrapped cell when periodic,
 /// else the one cell beside them).
@@ -271,7 +278,7 @@ fn force_row(
 )]
 fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
     let nx = f.len();
-    let add = |x: f32, a: f32, b: f32| flush(clamp_speed(x + dt * 0.5 * (a + b)));
+    let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt);
     let (first, last) = if periodic { (nx - 1, 0) } else { (0, nx - 1) };
     if free[0] != 0 {
         row[0] = add(row[0], f[first], f[0]);
@@ -296,7 +303,7 @@ fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
     multiversion(targets = "simd", dispatcher = "static")
 )]
 fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32) {
-    let add = |x: f32, a: f32, b: f32| flush(clamp_speed(x + dt * 0.5 * (a + b)));
+    let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt);
     let n = row.len();
     let (free, a, b) = (&free[..n], &a[..n], &b[..n]);
     // Computed everywhere, kept where free: branch-free, so it vectorises.
