@@ -255,21 +255,27 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 } else {
                     n(g.blades)
                 };
-                if let Some(all) = g.layout_blades {
-                    ui.label(format!(
-                        "{drawn} blades (the GPU holds {} of the layout's ~{}) · grass {ms:.1} ms",
-                        n(g.total_blades),
-                        n(all)
-                    ))
-                    .on_hover_text(
-                        "The layout has more blades than this GPU's storage buffers hold: they \
-                         are drawn evenly thinned to fit",
-                    );
-                } else if g.blades < g.total_blades {
-                    ui.label(format!("{drawn} blades · grass {ms:.1} ms"))
-                        .on_hover_text("A software adapter draws an even sample of the blades");
-                } else {
-                    ui.label(format!("{drawn} blades · grass {ms:.1} ms"));
+                let (text, hover) = match g.layout_blades {
+                    Some(all) => (
+                        format!(
+                            "{drawn} blades (the GPU holds {} of the layout's ~{})",
+                            n(g.total_blades),
+                            n(all)
+                        ),
+                        Some(
+                            "The layout has more blades than this GPU's storage buffers hold: \
+                             they are drawn evenly thinned to fit",
+                        ),
+                    ),
+                    None => (
+                        format!("{drawn} blades"),
+                        (g.blades < g.total_blades)
+                            .then_some("A software adapter draws an even sample of the blades"),
+                    ),
+                };
+                let label = ui.label(format!("{text} · grass {ms:.1} ms"));
+                if let Some(hover) = hover {
+                    label.on_hover_text(hover);
                 }
             }
             ui.separator();
