@@ -371,17 +371,23 @@ mod bezier {
     }
 }
 
+/// The obstacles example with 20 blades a square metre of the default grass.
+fn grassy_obstacles() -> windloom::doc::Layout {
+    let mut l = example("obstacles.json");
+    l.grass = GrassParams {
+        density: 20.0,
+        ..GrassParams::default()
+    };
+    l
+}
+
 /// A device that cannot hold a layout's blades draws them thinned evenly, and the editor
 /// says how many the layout has: estimated from the thinned strata's share clear of the
 /// obstacles, within 2 % of the count of all of them, on a layout whose obstacles take a
 /// good part of the world. When they fit, nothing is thinned and nothing estimated.
 #[test]
 fn thinned_grass_knows_about_how_many_blades_the_layout_has() {
-    let mut l = example("obstacles.json");
-    l.grass = GrassParams {
-        density: 20.0,
-        ..GrassParams::default()
-    };
+    let mut l = grassy_obstacles();
     // A pond over a fifth of the world besides the example's obstacles.
     l.obstacles.push(windloom::doc::Obstacle {
         id: 99,
@@ -414,11 +420,7 @@ fn thinned_grass_knows_about_how_many_blades_the_layout_has() {
 
 #[test]
 fn placement_is_deterministic_dense_as_asked_and_clear_of_obstacles() {
-    let mut l = example("obstacles.json");
-    l.grass = GrassParams {
-        density: 20.0,
-        ..GrassParams::default()
-    };
+    let mut l = grassy_obstacles();
     let a = scatter(&l);
     assert_eq!(a, scatter(&l), "the same seed gives the same blades");
     l.grass.seed += 1;
