@@ -34,6 +34,14 @@ fn gpu_available() -> bool {
     ok
 }
 
+/// Whether the adapter the GPU tests get is a software rasteriser (lavapipe).
+fn software_adapter() -> bool {
+    let instance =
+        eframe::wgpu::Instance::new(eframe::wgpu::InstanceDescriptor::new_without_display_handle());
+    pollster::block_on(instance.request_adapter(&Default::default()))
+        .is_ok_and(|a| windloom::gpu::is_software(&a.get_info()))
+}
+
 fn example(name: &str) -> Layout {
     let p = Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("layouts")
@@ -1049,8 +1057,11 @@ fn the_3d_grass_view_answers_grass_edits() {
     if !gpu_available() {
         return;
     }
+    // The wind on the CPU on every adapter, so the snapshot shows the same field: the
+    // automatic choice runs it on a hardware GPU (lavapipe measures and takes the CPU).
     let mut h = gpu_harness(example("meadow.json"), |app| {
         app.settings.central = windloom::app::Central::Grass;
+        app.settings.backend = BackendChoice::Cpu;
     });
     step_and_wait(&mut h, 60, Backend::Cpu);
     h.run_steps(3);
@@ -1078,12 +1089,29 @@ fn the_3d_grass_view_answers_grass_edits() {
         stats.drawn_total() > 0 && stats.orientation > 0,
         "{stats:?}"
     );
+    // The snapshots are of the view a software rasteriser (CI's lavapipe) draws: a sample of
+    // the blades, dense near the camera. A hardware GPU draws every blade, a different
+    // picture by design, so there the pictures are not compared.
+    let sampled = h.state().grass_view.blades < all;
+    assert_eq!(
+        sampled,
+        software_adapter(),
+        "a software adapter draws a sample of the meadow's blades, a hardware one all"
+    );
+    if !sampled {
+        eprintln!(
+            "\n!!!!! NOT COMPARED: the editor_grass snapshots are a software adapter's \
+             blade sample; this adapter draws all {all} blades !!!!!\n"
+        );
+    }
     let status = h.state().status_rect;
     h.mask(status);
     if let Some(r) = h.state().grass_view.counters_rect {
         h.mask(r);
     }
-    h.snapshot("editor_grass");
+    if sampled {
+        h.snapshot("editor_grass");
+    }
 
     // The wind colours: the grass and ground on the map view's speed scale, with its legend;
     // their slider fits the row, so the view keeps its size.
@@ -1096,7 +1124,9 @@ fn the_3d_grass_view_answers_grass_edits() {
     if let Some(r) = h.state().grass_view.counters_rect {
         h.mask(r);
     }
-    h.snapshot("editor_grass_wind_colours");
+    if sampled {
+        h.snapshot("editor_grass_wind_colours");
+    }
     h.state_mut().grass_view.controls.wind_colours = false;
 
     // The status bar reads the ground under the pointer: the view's centre is the orbit's
