@@ -67,10 +67,17 @@ impl DrawPipelines {
                     topology,
                     ..Default::default()
                 },
+                // The lines (the arrows, the map's footprint) are drawn last and over
+                // everything, as an editor draws its gizmos: on the ground, the grass would
+                // hide them wherever it is dense.
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: super::DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    depth_write_enabled: Some(fs != "fs_line"),
+                    depth_compare: Some(if fs == "fs_line" {
+                        wgpu::CompareFunction::Always
+                    } else {
+                        wgpu::CompareFunction::Less
+                    }),
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),

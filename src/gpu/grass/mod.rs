@@ -872,8 +872,8 @@ impl GrassRenderer {
             .record(queue, encoder, &self.group0, &self.group_shape, blades);
     }
 
-    /// Draws the ground, the scene and the blades (the pass needs a [`DEPTH_FORMAT`] depth
-    /// attachment): one indirect draw per LOD level.
+    /// Draws the ground, the obstacles, the blades (one indirect draw per LOD level) and the
+    /// lines over them (the pass needs a [`DEPTH_FORMAT`] depth attachment).
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group0, &[]);
         let coloured = self.scene.wind_colours > 0.0;
@@ -886,14 +886,15 @@ impl GrassRenderer {
             pass.set_vertex_buffer(0, b.slice(..));
             pass.draw(0..*n, 0..1);
         }
+        if self.scene.blades > 0 {
+            pass.set_bind_group(1, &self.group_shape, &[]);
+            self.cull.draw(pass, self.draw.blades(coloured));
+        }
+        // Last, over the blades (the lines' pipeline has no depth test).
         for (b, n) in self.lines.iter().chain(&self.footprint) {
             pass.set_pipeline(&self.draw.lines);
             pass.set_vertex_buffer(0, b.slice(..));
             pass.draw(0..*n, 0..1);
-        }
-        if self.scene.blades > 0 {
-            pass.set_bind_group(1, &self.group_shape, &[]);
-            self.cull.draw(pass, self.draw.blades(coloured));
         }
     }
 
