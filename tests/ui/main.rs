@@ -18,10 +18,17 @@ fn in_ci() -> bool {
 }
 
 /// Whether a wgpu adapter exists (lavapipe counts). In CI its absence fails the test.
-fn gpu_available() -> bool {
+/// The adapter the GPU tests get, if any.
+fn adapter_info() -> Option<eframe::wgpu::AdapterInfo> {
     let instance =
         eframe::wgpu::Instance::new(eframe::wgpu::InstanceDescriptor::new_without_display_handle());
-    let ok = pollster::block_on(instance.request_adapter(&Default::default())).is_ok();
+    pollster::block_on(instance.request_adapter(&Default::default()))
+        .ok()
+        .map(|a| a.get_info())
+}
+
+fn gpu_available() -> bool {
+    let ok = adapter_info().is_some();
     if !ok {
         assert!(
             !in_ci(),
@@ -36,10 +43,7 @@ fn gpu_available() -> bool {
 
 /// Whether the adapter the GPU tests get is a software rasteriser (lavapipe).
 fn software_adapter() -> bool {
-    let instance =
-        eframe::wgpu::Instance::new(eframe::wgpu::InstanceDescriptor::new_without_display_handle());
-    pollster::block_on(instance.request_adapter(&Default::default()))
-        .is_ok_and(|a| windloom::gpu::is_software(&a.get_info()))
+    adapter_info().is_some_and(|info| windloom::gpu::is_software(&info))
 }
 
 fn example(name: &str) -> Layout {

@@ -50,6 +50,7 @@ impl DrawPipelines {
                       topology: wgpu::PrimitiveTopology,
                       buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
             let m = module(name);
+            let overlay = fs == "fs_line";
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(name),
                 layout: Some(match name {
@@ -72,8 +73,8 @@ impl DrawPipelines {
                 // hide them wherever it is dense.
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: super::DEPTH_FORMAT,
-                    depth_write_enabled: Some(fs != "fs_line"),
-                    depth_compare: Some(if fs == "fs_line" {
+                    depth_write_enabled: Some(!overlay),
+                    depth_compare: Some(if overlay {
                         wgpu::CompareFunction::Always
                     } else {
                         wgpu::CompareFunction::Less
