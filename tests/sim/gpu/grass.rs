@@ -749,3 +749,72 @@ fn the_grass_picture_takes_a_fixed_speed_scale() {
         "a wider scale recolours the wind: {changed} pixels"
     );
 }
+
+/// The AGC arrows show whole over dense grass, as editors draw their gizmos: an arrow
+/// across a 400-blades-per-m² meadow, seen from a walker's height, covers at least 90% of
+/// the pixels it covers over bare ground (drawn on the ground with a depth test, as it
+/// once was, the blades hid most of it).
+#[test]
+fn the_arrows_show_over_dense_grass() {
+    let Some(ctx) = context() else { return };
+    let mut l = layout(400.0);
+    l.trees.truncate(1);
+    let tree = &mut l.trees[0];
+    tree.enabled = true;
+    tree.root.pos = [3.0, 5.5];
+    tree.root.children.truncate(1);
+    tree.root.children[0].pos = [9.5, 3.0];
+    tree.root.children[0].children.clear();
+    let lines = windloom::grass::scene::arrows(&l);
+    assert!(
+        lines.len() >= 6,
+        "a root's cross and an arrow with its head"
+    );
+    let camera = Camera {
+        eye: glam::Vec3::new(6.0, 1.6, 9.5),
+        target: glam::Vec3::new(6.0, 0.0, 4.0),
+        fov_y: 50f32.to_radians(),
+    };
+    // The pixels the arrows change: the picture with them against the same one without.
+    let arrow_pixels = |density: f32| {
+        let mut l = l.clone();
+        l.grass.density = density;
+        let blades = scatter(&l);
+        let mut r = GrassRenderer::new(
+            &ctx.device,
+            wgpu::TextureFormat::Rgba8UnormSrgb,
+            &l,
+            &blades,
+        );
+        r.set_wind(
+            &ctx.device,
+            &ctx.queue,
+            (24, 16),
+            [0.0, 0.0],
+            [0.5, 0.5],
+            &vec![[3.0, 0.0]; 24 * 16],
+        );
+        let mut shot = |lines: &[windloom::grass::scene::SceneVertex]| {
+            r.set_scene(&ctx.device, &[], lines);
+            render_offscreen(&ctx, &mut r, &camera, (1.0, 1.0 / 60.0), [320, 200])
+                .unwrap()
+                .0
+        };
+        let (with, without) = (shot(&lines), shot(&[]));
+        let changed = with
+            .chunks(4)
+            .zip(without.chunks(4))
+            .filter(|(a, b)| a.iter().zip(*b).any(|(x, y)| x.abs_diff(*y) > 24))
+            .count();
+        (changed, blades.len())
+    };
+    let (bare, few) = arrow_pixels(0.01);
+    let (over_grass, many) = arrow_pixels(400.0);
+    println!("arrow pixels: {bare} over bare ground ({few} blades), {over_grass} over {many}");
+    assert!(many > 30_000, "dense grass: {many} blades");
+    assert!(bare > 300, "the arrow is in the picture: {bare} pixels");
+    assert!(
+        over_grass * 10 >= bare * 9,
+        "the grass hides the arrows: {over_grass} of {bare} pixels show"
+    );
+}
