@@ -549,25 +549,26 @@ fn the_ground_shows_the_map_backdrop() {
     );
 }
 
-fn picture(ctx: &GpuContext, speed: f32, model: windloom::doc::GrassModel) -> Vec<u8> {
-    let l = layout(40.0);
-    let blades = scatter(&l);
-    let mut r = GrassRenderer::new(
-        &ctx.device,
-        wgpu::TextureFormat::Rgba8UnormSrgb,
-        &l,
-        &blades,
-    );
-    r.set_model(&ctx.device, &ctx.queue, model);
-    let wind = vec![[speed * 0.8, speed * -0.6]; 24 * 16];
+/// A renderer of `l`'s blades (on [`layout`]'s 24 × 16 wind grid) for sRGB pictures, in a
+/// wind `wind` (m/s) the same everywhere.
+fn steady_renderer(ctx: &GpuContext, l: &Layout, wind: [f32; 2]) -> (GrassRenderer, usize) {
+    let blades = scatter(l);
+    let mut r = GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8UnormSrgb, l, &blades);
+    let cells = vec![wind; 24 * 16];
     r.set_wind(
         &ctx.device,
         &ctx.queue,
         (24, 16),
         [0.0, 0.0],
         [0.5, 0.5],
-        &wind,
+        &cells,
     );
+    (r, blades.len())
+}
+
+fn picture(ctx: &GpuContext, speed: f32, model: windloom::doc::GrassModel) -> Vec<u8> {
+    let (mut r, _) = steady_renderer(ctx, &layout(40.0), [speed * 0.8, speed * -0.6]);
+    r.set_model(&ctx.device, &ctx.queue, model);
     let camera = Camera {
         eye: glam::Vec3::new(2.0, 1.4, 7.5),
         target: glam::Vec3::new(6.0, 0.2, 4.0),
@@ -779,21 +780,7 @@ fn the_arrows_show_over_dense_grass() {
     let arrow_pixels = |density: f32| {
         let mut l = l.clone();
         l.grass.density = density;
-        let blades = scatter(&l);
-        let mut r = GrassRenderer::new(
-            &ctx.device,
-            wgpu::TextureFormat::Rgba8UnormSrgb,
-            &l,
-            &blades,
-        );
-        r.set_wind(
-            &ctx.device,
-            &ctx.queue,
-            (24, 16),
-            [0.0, 0.0],
-            [0.5, 0.5],
-            &vec![[3.0, 0.0]; 24 * 16],
-        );
+        let (mut r, blades) = steady_renderer(&ctx, &l, [3.0, 0.0]);
         let mut shot = |lines: &[windloom::grass::scene::SceneVertex]| {
             r.set_scene(&ctx.device, &[], lines);
             render_offscreen(&ctx, &mut r, &camera, (1.0, 1.0 / 60.0), [320, 200])
@@ -806,7 +793,7 @@ fn the_arrows_show_over_dense_grass() {
             .zip(without.chunks(4))
             .filter(|(a, b)| a.iter().zip(*b).any(|(x, y)| x.abs_diff(*y) > 24))
             .count();
-        (changed, blades.len())
+        (changed, blades)
     };
     let (bare, few) = arrow_pixels(0.01);
     let (over_grass, many) = arrow_pixels(400.0);
