@@ -424,6 +424,36 @@ fn windloom_cli(args: &[&str]) -> std::process::Output {
         .unwrap()
 }
 
+/// A layout that is not there: `bake`, `render` and the editor each exit non-zero with one
+/// line naming the file and saying why once (it used to print the OS's reason twice).
+#[test]
+fn a_missing_layout_is_one_line_that_names_it() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("no-such-level.json");
+    let why = std::fs::read(&missing).unwrap_err().to_string();
+    let m = missing.to_str().unwrap();
+    let out = dir.path().join("out");
+    let png = dir.path().join("x.png");
+    for args in [
+        vec!["bake", m, "--out", out.to_str().unwrap()],
+        vec!["render", m, "-o", png.to_str().unwrap()],
+        vec!["validate", m],
+    ] {
+        let r = windloom_cli(&args);
+        // `validate` reports on stdout, the others on stderr.
+        let err = String::from_utf8_lossy(&r.stderr) + String::from_utf8_lossy(&r.stdout);
+        assert!(!r.status.success(), "{args:?} succeeded");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(m), "{args:?} names the file: {err}");
+        assert_eq!(
+            err.matches(&why).count(),
+            1,
+            "{args:?} says why once: {err}"
+        );
+    }
+    assert!(!out.exists() && !png.exists(), "nothing written");
+}
+
 #[test]
 fn oversized_bakes_are_refused_up_front_with_the_figure() {
     let dir = tempfile::tempdir().unwrap();
