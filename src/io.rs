@@ -119,6 +119,23 @@ pub fn load(path: &Path) -> Result<Layout, LoadError> {
     })
 }
 
+/// What the editor opens for `path`: the layout there (`false`), or, where no file is there
+/// yet but its folder is, a new layout as File → New makes it, named after the file
+/// (`true`), which Save then writes to `path`. Any other failure is the error [`load`] gives.
+pub fn load_or_new(path: &Path) -> Result<(Layout, bool), LoadError> {
+    match load(path) {
+        Err(LoadError::Io { source, .. })
+            if source.kind() == std::io::ErrorKind::NotFound && parent_dir(path).is_dir() =>
+        {
+            let name = path
+                .file_stem()
+                .map_or("Untitled".into(), |s| s.to_string_lossy());
+            Ok((Layout::untitled(&name), true))
+        }
+        other => other.map(|l| (l, false)),
+    }
+}
+
 /// Saves a layout atomically (see [`write_atomic`]).
 pub fn save(path: &Path, layout: &Layout) -> std::io::Result<()> {
     write_atomic(path, doc::to_json(layout).as_bytes())

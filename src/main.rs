@@ -13,6 +13,7 @@ const AFTER_HELP: &str = "\
 Examples:
   windloom                               open the editor on the bundled default layout
   windloom layouts/obstacles.json        open the editor on a layout
+  windloom my-new-level.json             start a new layout there (Save writes it)
   windloom validate layouts/*.json       check layout files, print every error
   windloom schema > layout.schema.json   the JSON Schema of the layout format
   windloom fmt my-level.json             rewrite a layout in canonical form
@@ -27,7 +28,8 @@ Examples:
 #[derive(Parser)]
 #[command(version, about, after_help = AFTER_HELP, args_conflicts_with_subcommands = true)]
 struct Cli {
-    /// Layout to open in the editor (the bundled default layout when omitted).
+    /// Layout to open in the editor (the bundled default layout when omitted; a new layout,
+    /// which Save writes there, when no such file exists yet in an existing folder).
     file: Option<PathBuf>,
     /// Where the editor's live wind runs, for this run (the View menu changes it later);
     /// without it, the choice last made in the View menu.
@@ -506,16 +508,26 @@ fn window_hint(e: &eframe::Error) -> &'static str {
 fn run(cli: Cli) -> anyhow::Result<ExitCode> {
     match cli.command {
         None => {
-            let doc = match &cli.file {
-                Some(path) => io::load(path)?,
-                None => doc::default_layout(),
+            let (doc, note) = match &cli.file {
+                Some(path) => match io::load_or_new(path)? {
+                    (doc, false) => (doc, None),
+                    (doc, true) => (
+                        doc,
+                        // Short: the status bar is full in the 3D view.
+                        Some(format!(
+                            "{} is new: Save creates it",
+                            path.file_name().unwrap_or_default().to_string_lossy()
+                        )),
+                    ),
+                },
+                None => (doc::default_layout(), None),
             };
             let backend = cli.backend.map(|b| match b {
                 Backend::Cpu => windloom::app::live::BackendChoice::Cpu,
                 Backend::Gpu => windloom::app::live::BackendChoice::Gpu,
                 Backend::Auto => windloom::app::live::BackendChoice::Auto,
             });
-            windloom::app::run(doc, cli.file, backend).map_err(|e| {
+            windloom::app::run(doc, cli.file, backend, note).map_err(|e| {
                 anyhow::anyhow!("could not open the editor window: {e}{}", window_hint(&e))
             })?;
             Ok(ExitCode::SUCCESS)

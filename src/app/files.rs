@@ -149,7 +149,7 @@ impl EditorApp {
     pub(super) fn run_pending(&mut self, ctx: &egui::Context, p: Pending) {
         match p {
             Pending::New => {
-                let doc = Layout::new("Untitled", [100.0, 100.0], [200, 200]);
+                let doc = Layout::untitled("Untitled");
                 self.replace_document(doc, None, true);
             }
             Pending::Open(Some(path)) => self.open_path(&path),

@@ -237,7 +237,8 @@ pub struct EditorApp {
     gesture: Option<map::Gesture>,
     polygon: Vec<doc::Vec2>,
     pub dialog: Option<Dialog>,
-    /// A short message shown in the status bar (why an edit was refused, what was saved).
+    /// A short message shown in the status bar (why an edit was refused, what was saved)
+    /// and when it was first shown (+∞ until the next frame shows it: [`Self::tell`]).
     pub message: Option<(String, f64)>,
     doc_changed: bool,
     last_autosave: f64,
@@ -433,7 +434,7 @@ impl EditorApp {
                 self.live.set_gpu(ctx, self.settings.backend);
             }
             Err(e) => {
-                self.message = Some((format!("the wind stays on the CPU: {e}"), 0.0));
+                self.tell(format!("the wind stays on the CPU: {e}"));
             }
         }
     }
@@ -511,6 +512,13 @@ impl EditorApp {
 
     fn say(&mut self, ctx: &egui::Context, text: impl Into<String>) {
         self.message = Some((text.into(), ctx.input(|i| i.time)));
+    }
+
+    /// Shows `text` in the status bar from the next frame on, for as long as [`Self::say`]
+    /// shows its messages: for what is found before the window shows (a slow first frame
+    /// would otherwise use up its time).
+    pub fn tell(&mut self, text: impl Into<String>) {
+        self.message = Some((text.into(), f64::INFINITY));
     }
 
     /// Applies an edit as one undo step.
@@ -801,6 +809,11 @@ impl eframe::App for EditorApp {
         let started = std::time::Instant::now();
         self.submit_gpu_work();
         let now = ctx.input(|i| i.time);
+        if let Some((_, at)) = &mut self.message {
+            if at.is_infinite() {
+                *at = now;
+            }
+        }
         let dt = ctx.input(|i| i.stable_dt);
         self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;
 
@@ -906,9 +919,15 @@ pub fn gesture_key(key: impl std::hash::Hash) -> u64 {
     h.finish()
 }
 
-/// Opens the editor window on `doc`. The wgpu device is created with the features and limits
-/// the simulation passes need, so one device can serve the UI and the wind.
-pub fn run(doc: Layout, path: Option<PathBuf>, backend: Option<BackendChoice>) -> eframe::Result {
+/// Opens the editor window on `doc` (read from `path`, or to be saved there), with `note` in
+/// the status bar at first. The wgpu device is created with the features and limits the
+/// simulation passes need, so one device can serve the UI and the wind.
+pub fn run(
+    doc: Layout,
+    path: Option<PathBuf>,
+    backend: Option<BackendChoice>,
+    note: Option<String>,
+) -> eframe::Result {
     let mut options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1400.0, 860.0])
@@ -924,9 +943,11 @@ pub fn run(doc: Layout, path: Option<PathBuf>, backend: Option<BackendChoice>) -
         "windloom",
         options,
         Box::new(move |cc| {
-            Ok(Box::new(EditorApp::from_creation_context(
-                cc, doc, path, backend,
-            )))
+            let mut app = EditorApp::from_creation_context(cc, doc, path, backend);
+            if let Some(note) = note {
+                app.tell(note);
+            }
+            Ok(Box::new(app))
         }),
     )
 }

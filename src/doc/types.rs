@@ -459,6 +459,11 @@ pub enum GrassModel {
 }
 
 impl Layout {
+    /// What File → New starts: an empty 100 m × 100 m world on a 200 × 200 grid.
+    pub fn untitled(name: &str) -> Self {
+        Self::new(name, [100.0, 100.0], [200, 200])
+    }
+
     /// A new, empty layout over a `width × depth` world.
     pub fn new(name: &str, size: Vec2, grid: [u32; 2]) -> Self {
         Self {

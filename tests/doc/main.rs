@@ -332,6 +332,35 @@ fn schema_file_is_up_to_date() {
     );
 }
 
+/// `windloom NEW.json` (the editor on a file not there yet, in a folder that is) starts a new
+/// layout named after the file, as File → New does, and writes nothing until Save; a file
+/// that is there loads, and a missing folder or a bad file is the error `load` gives.
+#[test]
+fn the_editor_s_file_may_be_new_but_not_its_folder() {
+    let dir = tempfile::tempdir().unwrap();
+    let new = dir.path().join("my-level.json");
+    let (layout, is_new) = windloom::io::load_or_new(&new).unwrap();
+    assert!(is_new);
+    assert_eq!(layout, Layout::untitled("my-level"));
+    assert!(layout.trees.is_empty() && layout.world.grid == [200, 200]);
+    assert!(!new.exists(), "nothing written before Save");
+    windloom::io::save(&new, &example("branching.json")).unwrap();
+    assert_eq!(
+        windloom::io::load_or_new(&new).unwrap(),
+        (example("branching.json"), false)
+    );
+    let e = windloom::io::load_or_new(&dir.path().join("no-folder/x.json")).unwrap_err();
+    assert!(
+        matches!(&e, windloom::io::LoadError::Io { source, .. } if source.kind() == std::io::ErrorKind::NotFound),
+        "{e}"
+    );
+    std::fs::write(&new, "{").unwrap();
+    assert!(matches!(
+        windloom::io::load_or_new(&new),
+        Err(windloom::io::LoadError::Invalid { .. })
+    ));
+}
+
 #[test]
 fn atomic_save_replaces_whole_files_and_leaves_nothing_behind() {
     let dir = tempfile::tempdir().unwrap();

@@ -123,6 +123,24 @@ fn a_failed_autosave_is_reported() {
 
 /// Where the system's file dialog cannot open, the editor still saves and opens: File →
 /// Save to path… takes a typed path, and Open path… opens it again.
+/// The editor on a file that is not there yet: a new layout, the path kept, the file
+/// written by the first Save (no "changed on disk" question for a file that never was).
+#[test]
+fn a_new_file_is_written_by_the_first_save() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("fresh.json");
+    let (layout, is_new) = windloom::io::load_or_new(&path).unwrap();
+    assert!(is_new);
+    let ctx = egui::Context::default();
+    let mut app = EditorApp::new(layout, Some(path.clone()), &ctx);
+    app.tell("fresh.json is new: Save creates it");
+    assert!(!app.dirty && !path.exists());
+    assert!(app.save(&ctx), "the save failed");
+    assert!(app.dialog.is_none());
+    assert_eq!(windloom::io::load(&path).unwrap(), app.doc);
+    assert_eq!(app.doc.name, "fresh");
+}
+
 #[test]
 fn a_typed_path_saves_and_opens_without_a_file_dialog() {
     if !gpu_available() {
