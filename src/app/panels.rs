@@ -283,7 +283,13 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             if let Some((msg, at)) = &app.message {
                 if ctx.input(|i| i.time) - at < 6.0 {
                     ui.separator();
-                    ui.colored_label(egui::Color32::from_rgb(255, 200, 80), msg);
+                    // Cut with "…" where the bar runs out (the whole text on hover).
+                    ui.add(
+                        egui::Label::new(
+                            egui::RichText::new(msg).color(egui::Color32::from_rgb(255, 200, 80)),
+                        )
+                        .truncate(),
+                    );
                 }
             }
         });
