@@ -124,7 +124,8 @@ fn a_failed_autosave_is_reported() {
 /// Where the system's file dialog cannot open, the editor still saves and opens: File →
 /// Save to path… takes a typed path, and Open path… opens it again.
 /// The editor on a file that is not there yet: a new layout, the path kept, the file
-/// written by the first Save (no "changed on disk" question for a file that never was).
+/// written by the first Save (no "changed on disk" question for a file that never was),
+/// unless someone else made the file meanwhile.
 #[test]
 fn a_new_file_is_written_by_the_first_save() {
     let dir = tempfile::tempdir().unwrap();
@@ -139,6 +140,14 @@ fn a_new_file_is_written_by_the_first_save() {
     assert!(app.dialog.is_none());
     assert_eq!(windloom::io::load(&path).unwrap(), app.doc);
     assert_eq!(app.doc.name, "fresh");
+    // A file that someone else makes at the path before the first Save is not overwritten
+    // unasked.
+    let other = dir.path().join("other.json");
+    let (layout, _) = windloom::io::load_or_new(&other).unwrap();
+    let mut app = EditorApp::new(layout, Some(other.clone()), &ctx);
+    windloom::io::save(&other, &example("meadow.json")).unwrap();
+    assert!(!app.save(&ctx));
+    assert_eq!(windloom::io::load(&other).unwrap(), example("meadow.json"));
 }
 
 #[test]
