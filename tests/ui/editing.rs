@@ -1,0 +1,327 @@
+//! Authoring with the mouse and the inspector: a tree drawn, edited and undone, the
+//! inspector's warnings and choices, the map under the pointer, the map image, and the
+//! toolbar's layout in a narrow window.
+
+use super::*;
+
+#[test]
+fn authoring_a_tree_with_the_mouse_then_inspector_and_undo() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(Layout::new("blank", [100.0, 80.0], [50, 40]));
+    let tol = 1.5 * metres_per_point(&h);
+
+    // Root tool: click on the map → a tree whose root is where we clicked.
+    h.get_by_label("Add root").click();
+    h.run_steps(2);
+    assert_eq!(h.state().tool, Tool::AddRoot);
+    let at = h.state().screen_pos([30.0, 40.0]);
+    click(&mut h, at);
+    let doc = &h.state().doc;
+    assert_eq!(doc.trees.len(), 1, "a click with the root tool adds a tree");
+    let root = doc.trees[0].root.clone();
+    assert!(
+        (root.pos[0] - 30.0).abs() < tol && (root.pos[1] - 40.0).abs() < tol,
+        "root at {:?}",
+        root.pos
+    );
+
+    // Drag out of the root (the tool switched to Add arrow) → a child, the arrow pointing east.
+    assert_eq!(h.state().tool, Tool::AddArrow);
+    let from = h.state().screen_pos(root.pos);
+    let to = h.state().screen_pos([60.0, 40.0]);
+    drag(&mut h, from, to);
+    let root = h.state().doc.trees[0].root.clone();
+    assert_eq!(
+        root.children.len(),
+        1,
+        "dragging from the root adds an end point"
+    );
+    let child = &root.children[0];
+    assert!(
+        (child.pos[0] - 60.0).abs() < tol && (child.pos[1] - 40.0).abs() < tol,
+        "child at {:?}",
+        child.pos
+    );
+    assert!(child.pos[0] - root.pos[0] > 25.0, "the arrow points east");
+    assert_eq!(h.state().selection, vec![Sel::Node(child.id)]);
+
+    // A second drag from the same root branches.
+    let to2 = h.state().screen_pos([55.0, 20.0]);
+    drag(&mut h, from, to2);
+    assert_eq!(
+        h.state().doc.trees[0].root.children.len(),
+        2,
+        "a second arrow branches"
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.trees[0].root.children.len(), 1);
+    h.state_mut().selection = vec![Sel::Node(child.id)];
+    h.run_steps(2);
+
+    // Inspector: the strength slider changes the node.
+    let before = child.strength;
+    let inspector_left = h.state().map_rect.right();
+    let slider = h
+        .get_all_by_role(egui::accesskit::Role::Slider)
+        .find(|s| s.rect().left() > inspector_left)
+        .expect("the inspector shows the strength slider");
+    let r = slider.rect();
+    let target = Pos2::new(r.left() + r.width() * 0.9, r.center().y);
+    click(&mut h, target);
+    let after = h.state().doc.trees[0].root.children[0].strength;
+    assert!(after > before + 10.0, "strength {before} -> {after}");
+
+    // Undo restores it, then the arrow, then the tree; redo brings the arrow back.
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.trees[0].root.children[0].strength, before);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert!(h.state().doc.trees[0].root.children.is_empty());
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert!(h.state().doc.trees.is_empty());
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, egui::Key::Z);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Y);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.trees[0].root.children.len(), 1);
+    assert!(h.state().dirty, "an edited document is marked dirty");
+}
+
+/// The inspector says when the simulation settings are known to run away (MacCormack with
+/// vorticity above 0.5), in words naming the field, and says nothing for the examples.
+#[test]
+fn the_inspector_warns_of_settings_that_run_away() {
+    if !gpu_available() {
+        return;
+    }
+    let warning = "Vorticity 2 with MacCormack advection can drive the wind";
+    let mut h = harness(example("obstacles.json"));
+    assert!(h.query_by_label_contains(warning).is_none());
+    let mut sim = h.state().doc.sim;
+    sim.advection = doc::Advection::MacCormack;
+    h.state_mut().doc.sim = sim;
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains(warning).is_some(),
+        "the inspector shows the advice"
+    );
+    // So does the export dialog, before a bake ships such wind.
+    let bake_warning = "Warning: sim.vorticity: 2 with MacCormack advection";
+    assert!(h.query_by_label_contains(bake_warning).is_none());
+    h.state_mut().export.open = true;
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains(bake_warning).is_some(),
+        "the export dialog shows the advice"
+    );
+    sim.vorticity = 0.5;
+    h.state_mut().doc.sim = sim;
+    h.run_steps(2);
+    assert!(
+        h.query_by_label_contains("MacCormack advection can drive")
+            .is_none()
+    );
+}
+
+/// The simulation's and the grass's choices read as words a designer knows (not the Rust
+/// spelling: "SemiLagrangian", "CwdQuadratic"), and picking one by clicking is one undo step.
+#[test]
+fn the_inspector_s_choices_read_as_words_and_switch_by_clicking() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.run_steps(2);
+    let shown = |h: &Harness<'_, EditorApp>, label: &str| h.get_by_label(label).value();
+    for (label, value) in [
+        ("Pressure solve", "Jacobi"),
+        ("Boundary", "Open"),
+        ("Advection", "Semi-Lagrangian"),
+    ] {
+        assert_eq!(shown(&h, label).as_deref(), Some(value), "{label}");
+    }
+    h.get_by_label("Advection").click();
+    h.run_steps(2);
+    h.get_by_label("MacCormack").click();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.advection, doc::Advection::MacCormack);
+    assert_eq!(shown(&h, "Advection").as_deref(), Some("MacCormack"));
+
+    h.get_by_label("Boundary").click();
+    h.run_steps(2);
+    h.get_by_label("Periodic (tiles)").click();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.boundary, doc::Boundary::Periodic);
+
+    // The grass model, in its collapsed section.
+    h.get_by_label("Grass").click();
+    h.run_steps(2);
+    assert_eq!(shown(&h, "Model").as_deref(), Some("CWD quadratic"));
+    // Scrolled into view as a user would (the section ends below the window).
+    for _ in 0..20 {
+        if h.get_by_label("Model").rect().bottom() < 760.0 {
+            break;
+        }
+        h.get_by_label("Model").scroll_down();
+        h.run_steps(2);
+    }
+    h.get_by_label("Model").click();
+    h.run_steps(2);
+    h.get_by_label("Bezier physics").click();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.grass.model, doc::GrassModel::BezierPhysics);
+
+    // Each pick is its own undo step, undone in turn.
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.grass.model, doc::GrassModel::CwdQuadratic);
+    assert_eq!(h.state().doc.sim.boundary, doc::Boundary::Periodic);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.boundary, doc::Boundary::Open);
+    assert_eq!(h.state().doc.sim.advection, doc::Advection::MacCormack);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.sim.advection, doc::Advection::SemiLagrangian);
+}
+
+/// The map does not move under the pointer when the selection changes: the side panels keep
+/// their widths whatever the inspector shows (a node, an obstacle, nothing), so a click that
+/// adds a root and the drag that follows from it land on the same world point.
+#[test]
+fn the_map_stays_put_when_the_selection_changes() {
+    if !gpu_available() {
+        return;
+    }
+    let doc = example("obstacles.json");
+    let node = doc.trees[0].root.children[0].id;
+    let obstacle = doc.obstacles[0].id;
+    let mut h = harness(doc);
+    let still = h.state().map_rect;
+    for sel in [
+        vec![Sel::Node(node)],
+        vec![Sel::Obstacle(obstacle)],
+        vec![Sel::Tree(h.state().doc.trees[1].id)],
+        vec![],
+    ] {
+        h.state_mut().selection = sel.clone();
+        h.run_steps(3);
+        assert_eq!(
+            h.state().map_rect,
+            still,
+            "the map moved with {sel:?} selected"
+        );
+    }
+}
+
+/// The level's picture is set from the inspector (typed, committed on Enter), as one undo
+/// step, and cleared the same way; the map then loads it from beside the layout.
+#[test]
+fn the_map_image_is_set_in_the_inspector() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let level = dir.path().join("level.json");
+    windloom::io::save(&level, &example("obstacles.json")).unwrap();
+    image::RgbaImage::from_pixel(64, 64, image::Rgba([90, 140, 60, 255]))
+        .save(dir.path().join("top-down.png"))
+        .unwrap();
+    let mut h = harness_on(windloom::io::load(&level).unwrap(), Some(level.clone()));
+    let type_in = |h: &mut Harness<'_, EditorApp>, text: &str| {
+        h.get_by_label("Map image").focus();
+        h.run_steps(1);
+        h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+        h.run_steps(1);
+        if text.is_empty() {
+            h.key_press(egui::Key::Backspace);
+        } else {
+            h.get_by_label("Map image").type_text(text);
+        }
+        h.run_steps(1);
+        h.key_press(egui::Key::Enter);
+        h.run_steps(2);
+    };
+    type_in(&mut h, "top-down.png");
+    let map = h.state().doc.world.map.clone().expect("a map image");
+    assert_eq!((map.image.as_str(), map.opacity), ("top-down.png", 1.0));
+    assert!(h.state().dirty);
+    // It loads from the layout's folder: no "could not read" message, as a missing one gets.
+    assert!(h.query_by_label_contains("shown without it").is_none());
+    type_in(&mut h, "missing.png");
+    assert!(h.query_by_label_contains("shown without it").is_some());
+    h.state_mut().undo();
+    h.run_steps(2);
+    h.state_mut().undo();
+    h.run_steps(2);
+    assert_eq!(h.state().doc.world.map, None, "one undo step");
+    h.state_mut().redo();
+    h.run_steps(2);
+    assert!(h.state().doc.world.map.is_some());
+    type_in(&mut h, "");
+    assert_eq!(h.state().doc.world.map, None, "an empty field clears it");
+}
+
+/// In a narrow window the toolbar wraps onto a row of its own under the menus instead of
+/// running off the right edge (where the view buttons were lost); in a wide one it shares the
+/// menus' row.
+#[test]
+fn a_narrow_window_wraps_the_toolbar_instead_of_hiding_it() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("obstacles.json"));
+    let row = |h: &Harness<'_, EditorApp>, label: &str| h.get_by_label(label).rect();
+    let file = row(&h, "File");
+    for label in ["Select", "Map + 3D"] {
+        assert!(
+            (row(&h, label).center().y - file.center().y).abs() < 2.0,
+            "{label} beside the menus in a wide window"
+        );
+    }
+    h.set_size(egui::vec2(900.0, 700.0));
+    h.run_steps(4);
+    for label in ["Select", "Reset", "Wind:", "3D grass", "Map + 3D"] {
+        let r = row(&h, label);
+        assert!(
+            r.right() <= 900.0 && r.top() > file.bottom() - 1.0,
+            "{label} at {r:?}: on screen, under the menus"
+        );
+    }
+    assert!(h.state().map_rect.top() > row(&h, "Map + 3D").bottom());
+    h.set_size(egui::vec2(1280.0, 800.0));
+    h.run_steps(4);
+    assert!((row(&h, "Map + 3D").center().y - file.center().y).abs() < 2.0);
+}
+
+#[test]
+fn dragging_a_node_moves_it_in_one_undo_step() {
+    if !gpu_available() {
+        return;
+    }
+    let doc = example("meadow.json");
+    let node = doc.trees[0].root.children[0].clone();
+    let mut h = harness(doc);
+    let tol = 1.5 * metres_per_point(&h);
+    let from = h.state().screen_pos(node.pos);
+    let to = h
+        .state()
+        .screen_pos([node.pos[0] + 10.0, node.pos[1] + 5.0]);
+    drag(&mut h, from, to);
+    let moved = h.state().doc.trees[0].root.children[0].pos;
+    assert!(
+        (moved[0] - node.pos[0] - 10.0).abs() < tol && (moved[1] - node.pos[1] - 5.0).abs() < tol,
+        "{moved:?}"
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(
+        h.state().doc.trees[0].root.children[0].pos,
+        node.pos,
+        "one undo undoes the whole drag"
+    );
+}
