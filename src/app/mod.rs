@@ -514,9 +514,9 @@ impl EditorApp {
         self.message = Some((text.into(), ctx.input(|i| i.time)));
     }
 
-    /// Shows `text` in the status bar from the next frame on, for as long as [`Self::say`]
-    /// shows its messages: for what is found before the window shows (a slow first frame
-    /// would otherwise use up its time).
+    /// Shows `text` in the status bar from the next frame on, for as long as every status
+    /// message shows: for what is found before the window shows (a slow first frame would
+    /// otherwise use up its time).
     pub fn tell(&mut self, text: impl Into<String>) {
         self.message = Some((text.into(), f64::INFINITY));
     }
