@@ -144,6 +144,10 @@ enum Command {
         /// (0 to 1), on the map view's scale, as the editor's "wind colours" toggle does.
         #[arg(long, value_parser = parse_opacity)]
         wind_colours: Option<f32>,
+        /// With --view grass: leave out the AGC arrows, which are otherwise drawn over the
+        /// grass as the editor's 3D view draws them (for a picture of the grass alone).
+        #[arg(long)]
+        no_arrows: bool,
         /// The speed (m/s, 0.5 to 200) at the top of the speed colours, in the map and in the
         /// grass's wind colours, as the editor's View → Fixed speed scale; default: the
         /// field's peak. Pictures of different layouts or times then use the same colours.
@@ -671,6 +675,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             model,
             push,
             wind_colours,
+            no_arrows,
             speed_scale,
         }) => {
             let mut l = io::load(&layout)?;
@@ -705,6 +710,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         }),
                         wind_colours,
                         speed_scale,
+                        arrows: !no_arrows,
                     };
                     let pixels = windloom::gpu::grass::picture(&ctx, &l, &base, &options)?;
                     let mut png = Vec::new();

@@ -72,11 +72,14 @@ pub struct PictureOptions {
     /// The speed (m/s) at the top of the wind colours (`None`: the field's peak), as the
     /// editor's fixed speed scale.
     pub speed_scale: Option<f32>,
+    /// Draw the AGC arrows over the grass, as the editor's 3D view does (`render
+    /// --no-arrows`: a picture of the grass alone).
+    pub arrows: bool,
 }
 
 impl Default for PictureOptions {
     /// `render --view grass`'s defaults: 1600 × 1000 after 6 s, the whole level framed, the
-    /// layout's own grass, no wind colours.
+    /// layout's own grass, no wind colours, the arrows drawn.
     fn default() -> Self {
         Self {
             size: [1600, 1000],
@@ -86,6 +89,7 @@ impl Default for PictureOptions {
             push: None,
             wind_colours: None,
             speed_scale: None,
+            arrows: true,
         }
     }
 }
@@ -152,11 +156,12 @@ pub fn picture(
         let opacity = layout.world.map.as_ref().map_or(1.0, |m| m.opacity);
         grass.set_backdrop(&ctx.device, &ctx.queue, Some((img.as_raw(), size, opacity)));
     }
-    grass.set_scene(
-        &ctx.device,
-        &crate::grass::scene::solids(layout),
-        &crate::grass::scene::arrows(layout),
-    );
+    let arrows = if o.arrows {
+        crate::grass::scene::arrows(layout)
+    } else {
+        Vec::new()
+    };
+    grass.set_scene(&ctx.device, &crate::grass::scene::solids(layout), &arrows);
     let peak = wind_at(ctx, &mut grass, layout, time);
     let scale = o.speed_scale.unwrap_or(peak);
     grass.set_wind_colours(o.wind_colours.map(|opacity| (opacity, scale)));

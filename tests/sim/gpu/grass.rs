@@ -805,3 +805,43 @@ fn the_arrows_show_over_dense_grass() {
         "the grass hides the arrows: {over_grass} of {bare} pixels show"
     );
 }
+
+/// `render --view grass --no-arrows`: the grass alone. The meadow framed whole has its
+/// arrow tree's blue over the grass with the arrows, and no pixel of that blue without
+/// them; nothing else changes.
+#[test]
+fn a_grass_picture_can_leave_out_the_arrows() {
+    let Some(ctx) = context() else { return };
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    let mut l = example("meadow.json");
+    l.grass.density = l.grass.density.min(4.0);
+    let (w, h) = (320u32, 200u32);
+    let shot = |arrows: bool| {
+        let options = windloom::gpu::grass::PictureOptions {
+            size: [w, h],
+            time: 1.0,
+            arrows,
+            ..Default::default()
+        };
+        windloom::gpu::grass::picture(&ctx, &l, &dir, &options).unwrap()
+    };
+    // The arrows' saturated blue; the sky is a pale blue, the grass and soil are not blue.
+    let blue = |p: &[u8]| p.chunks(4).filter(|c| c[2] > 200 && c[0] < 120).count();
+    let (with, without) = (shot(true), shot(false));
+    println!(
+        "arrow-blue pixels: {} with the arrows, {} without",
+        blue(&with),
+        blue(&without)
+    );
+    assert!(blue(&with) > 100, "the arrows show: {}", blue(&with));
+    assert_eq!(blue(&without), 0, "no arrows");
+    let changed = with
+        .chunks(4)
+        .zip(without.chunks(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        changed <= 3 * blue(&with),
+        "only the arrows' pixels change: {changed}"
+    );
+}
