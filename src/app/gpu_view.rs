@@ -193,7 +193,7 @@ pub struct GrassView {
         Vec<crate::doc::Obstacle>,
     )>,
     target: Option<(crate::gpu::grass::Target, egui::TextureId)>,
-    scene_for: Option<(Vec<crate::doc::Tree>, Vec<crate::doc::Obstacle>)>,
+    scene_for: Option<(Vec<crate::doc::Tree>, Vec<crate::doc::Obstacle>, bool)>,
     footprint_for: Option<([f32; 2], [f32; 2])>,
     wind_serial: u64,
     /// The wind colours' scale, and the snapshot and fixed scale it was found for.
@@ -442,14 +442,17 @@ impl GrassView {
         grass.set_wind_colours(colours.then_some((self.controls.wind_opacity, scale)));
         grass.set_sphere(sphere);
         grass.set_trail_lifetime(self.controls.lifetime);
-        // Obstacles and arrows: rebuilt when the trees or obstacles change.
-        let scene_key = (doc.trees.clone(), doc.obstacles.clone());
+        // Obstacles and arrows: rebuilt when the trees or obstacles change, or the arrows are
+        // switched on or off.
+        let arrows = self.controls.arrows;
+        let scene_key = (doc.trees.clone(), doc.obstacles.clone(), arrows);
         if self.scene_for.as_ref() != Some(&scene_key) {
-            grass.set_scene(
-                &rs.device,
-                &crate::grass::scene::solids(doc),
-                &crate::grass::scene::arrows(doc),
-            );
+            let lines = if arrows {
+                crate::grass::scene::arrows(doc)
+            } else {
+                Vec::new()
+            };
+            grass.set_scene(&rs.device, &crate::grass::scene::solids(doc), &lines);
             self.scene_for = Some(scene_key);
         }
         if self.footprint_for != footprint {

@@ -1,6 +1,7 @@
 //! The 3D view's own controls (egui only; the GPU side is `gpu_view.rs`): a toggle per
-//! culling test, for the LOD and for the far field, the wind colours, the pushing sphere and its
-//! trail, and the counters line — blades total, culled by each test, drawn per LOD level.
+//! culling test, for the LOD and for the far field, the wind colours, the pushing sphere and
+//! its trail, and the counters line — blades total, culled by each test, drawn per LOD level.
+//! (The arrows' toggle is in the View menu: the row has no room left.)
 
 use crate::gpu::grass::CullStats;
 use crate::grass::cull::{CullParams, LOD_SEGMENTS};
@@ -23,6 +24,9 @@ pub struct GrassControls {
     /// view shows where the wind blows; and how opaque those colours are.
     pub wind_colours: bool,
     pub wind_opacity: f32,
+    /// The AGC arrows drawn over everything; off, the grass is seen as it will look in the
+    /// game (View → Arrows in the 3D view).
+    pub arrows: bool,
 }
 
 /// The wind colours' opacity slider's range (saved settings are clamped into it).
@@ -38,6 +42,7 @@ impl Default for GrassControls {
             lifetime: crate::gpu::grass::TRAIL_LIFETIME,
             wind_colours: false,
             wind_opacity: 0.6,
+            arrows: true,
         }
     }
 }

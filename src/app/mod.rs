@@ -138,6 +138,8 @@ pub struct Settings {
     /// The 3D view's wind colours (its row of toggles): on or off, and their opacity.
     pub wind_colours: bool,
     pub wind_opacity: f32,
+    /// The 3D view's arrows (its row of toggles).
+    pub grass_arrows: bool,
     /// The speed at the top of the speed colours (map and 3D), m/s; `None`: the field's peak
     /// (View menu).
     pub speed_scale: Option<f32>,
@@ -159,6 +161,7 @@ impl Default for Settings {
             central: Central::Map,
             wind_colours: false,
             wind_opacity: grass_controls::GrassControls::default().wind_opacity,
+            grass_arrows: true,
             speed_scale: None,
         }
     }
@@ -332,10 +335,11 @@ impl EditorApp {
         }
     }
 
-    /// Takes the settings of an earlier run, the 3D view's wind colours with them.
+    /// Takes the settings of an earlier run, the 3D view's wind colours and arrows with them.
     pub fn apply_settings(&mut self, s: Settings) {
         let c = &mut self.grass_view.controls;
         c.wind_colours = s.wind_colours;
+        c.arrows = s.grass_arrows;
         let range = grass_controls::WIND_OPACITY;
         c.wind_opacity = if s.wind_opacity.is_finite() {
             s.wind_opacity.clamp(*range.start(), *range.end())
@@ -356,6 +360,7 @@ impl EditorApp {
         Settings {
             wind_colours: c.wind_colours,
             wind_opacity: c.wind_opacity,
+            grass_arrows: c.arrows,
             ..self.settings.clone()
         }
     }

@@ -97,6 +97,11 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 for c in crate::app::Central::ALL {
                     ui.radio_value(&mut app.settings.central, c, c.label());
                 }
+                ui.checkbox(&mut app.grass_view.controls.arrows, "Arrows in the 3D view")
+                    .on_hover_text(
+                        "The wind trees' arrows drawn over the grass (off: the grass as the \
+                         game will show it)",
+                    );
                 ui.separator();
                 for v in WindView::ALL {
                     ui.radio_value(&mut app.settings.wind_view, v, v.label());

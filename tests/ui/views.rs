@@ -289,17 +289,18 @@ fn a_fixed_speed_scale_holds_the_speed_colours_still() {
     assert_eq!(h.state().settings.speed_scale, Some(200.0));
 }
 
-/// The 3D view's wind colours outlast the editor: the settings it saves carry them (toggle
-/// and opacity), a new editor given those settings shows them again, settings from before
-/// they existed load with them off, and a hand-edited opacity out of range is brought back
-/// into the slider's.
+/// The 3D view's wind colours and arrows outlast the editor: the settings it saves carry
+/// them (toggles and opacity), a new editor given those settings shows them so again,
+/// settings from before they existed load with the colours off and the arrows on, and a
+/// hand-edited opacity out of range is brought back into the slider's.
 #[test]
-fn the_3d_view_s_wind_colours_are_kept_between_runs() {
+fn the_3d_view_s_wind_colours_and_arrows_are_kept_between_runs() {
     use windloom::app::Settings;
     let h = {
         let mut h = harness(example("meadow.json"));
         h.state_mut().grass_view.controls.wind_colours = true;
         h.state_mut().grass_view.controls.wind_opacity = 0.8;
+        h.state_mut().grass_view.controls.arrows = false;
         h.run();
         h
     };
@@ -309,15 +310,22 @@ fn the_3d_view_s_wind_colours_are_kept_between_runs() {
         !next.state().grass_view.controls.wind_colours,
         "off at first"
     );
+    assert!(
+        next.state().grass_view.controls.arrows,
+        "arrows on at first"
+    );
     next.state_mut()
         .apply_settings(serde_json::from_str::<Settings>(&json).unwrap());
     let c = next.state().grass_view.controls;
-    assert!(c.wind_colours && c.wind_opacity == 0.8, "{json}");
+    assert!(
+        c.wind_colours && c.wind_opacity == 0.8 && !c.arrows,
+        "{json}"
+    );
 
     let older: Settings = serde_json::from_str(r#"{"snap": true}"#).unwrap();
     next.state_mut().apply_settings(older);
     let c = next.state().grass_view.controls;
-    assert!(!c.wind_colours && c.wind_opacity == 0.6);
+    assert!(!c.wind_colours && c.wind_opacity == 0.6 && c.arrows);
     assert!(
         next.state().settings.snap,
         "the rest of the settings are taken"
