@@ -447,12 +447,7 @@ impl GrassView {
         let arrows = self.controls.arrows;
         let scene_key = (doc.trees.clone(), doc.obstacles.clone(), arrows);
         if self.scene_for.as_ref() != Some(&scene_key) {
-            let lines = if arrows {
-                crate::grass::scene::arrows(doc)
-            } else {
-                Vec::new()
-            };
-            grass.set_scene(&rs.device, &crate::grass::scene::solids(doc), &lines);
+            grass.set_layout_scene(&rs.device, doc, arrows);
             self.scene_for = Some(scene_key);
         }
         if self.footprint_for != footprint {

@@ -156,12 +156,7 @@ pub fn picture(
         let opacity = layout.world.map.as_ref().map_or(1.0, |m| m.opacity);
         grass.set_backdrop(&ctx.device, &ctx.queue, Some((img.as_raw(), size, opacity)));
     }
-    let arrows = if o.arrows {
-        crate::grass::scene::arrows(layout)
-    } else {
-        Vec::new()
-    };
-    grass.set_scene(&ctx.device, &crate::grass::scene::solids(layout), &arrows);
+    grass.set_layout_scene(&ctx.device, layout, o.arrows);
     let peak = wind_at(ctx, &mut grass, layout, time);
     let scale = o.speed_scale.unwrap_or(peak);
     grass.set_wind_colours(o.wind_colours.map(|opacity| (opacity, scale)));

@@ -533,6 +533,17 @@ impl GrassRenderer {
         self.lines = vertices(device, lines);
     }
 
+    /// [`Self::set_scene`] from `layout`: its obstacles, and its arrows unless `arrows` is
+    /// false (the editor's View → Arrows in the 3D view, `render --no-arrows`).
+    pub fn set_layout_scene(&mut self, device: &wgpu::Device, layout: &Layout, arrows: bool) {
+        let lines = if arrows {
+            crate::grass::scene::arrows(layout)
+        } else {
+            Vec::new()
+        };
+        self.set_scene(device, &crate::grass::scene::solids(layout), &lines);
+    }
+
     /// Lays the layout's map backdrop over the ground: `rgba` (sRGB, 8 bits, `size` pixels,
     /// stretched over the world as on the map) at `opacity`; `None` removes it.
     pub fn set_backdrop(
