@@ -678,6 +678,21 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             no_arrows,
             speed_scale,
         }) => {
+            if matches!(view, ViewArg::Map) {
+                // Said rather than ignored: a map picture with its arrows, say, after
+                // `--no-arrows`, would look like a bug.
+                let grass_only = [
+                    ("--camera", camera.is_some()),
+                    ("--paper-literal", paper_literal),
+                    ("--model", model.is_some()),
+                    ("--push", push.is_some()),
+                    ("--wind-colours", wind_colours.is_some()),
+                    ("--no-arrows", no_arrows),
+                ];
+                if let Some((flag, _)) = grass_only.iter().find(|(_, given)| *given) {
+                    anyhow::bail!("{flag} is for the 3D grass picture: add --view grass");
+                }
+            }
             let mut l = io::load(&layout)?;
             if let Some(m) = model {
                 l.grass.model = m.model();

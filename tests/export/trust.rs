@@ -454,6 +454,47 @@ fn a_missing_layout_is_one_line_that_names_it() {
     assert!(!out.exists() && !png.exists(), "nothing written");
 }
 
+/// `render`'s options for the 3D grass picture are refused on the map view, naming the
+/// option and what to add, rather than ignored (a map after `--no-arrows` still had them).
+#[test]
+fn grass_options_on_the_map_view_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/meadow.json");
+    let png = dir.path().join("map.png");
+    let (l, p) = (layout.to_str().unwrap(), png.to_str().unwrap());
+    for extra in [
+        vec!["--no-arrows"],
+        vec!["--paper-literal"],
+        vec!["--model", "bezier"],
+        vec!["--wind-colours", "0.5"],
+        vec!["--camera", "1,2,3,4,0,6"],
+        vec!["--push", "1,1,5,5,0.5"],
+    ] {
+        let mut args = vec!["render", l, "-o", p, "--size", "96x64"];
+        args.extend(&extra);
+        let r = windloom_cli(&args);
+        let err = String::from_utf8_lossy(&r.stderr);
+        assert!(!r.status.success(), "{extra:?} was taken");
+        assert!(
+            err.contains(extra[0]) && err.contains("--view grass"),
+            "{extra:?}: {err}"
+        );
+        assert!(!png.exists(), "{extra:?} wrote a picture");
+    }
+    // The speed scale is for both views.
+    let r = windloom_cli(&[
+        "render",
+        l,
+        "-o",
+        p,
+        "--size",
+        "96x64",
+        "--speed-scale",
+        "9",
+    ]);
+    assert!(r.status.success(), "{}", String::from_utf8_lossy(&r.stderr));
+}
+
 #[test]
 fn oversized_bakes_are_refused_up_front_with_the_figure() {
     let dir = tempfile::tempdir().unwrap();
