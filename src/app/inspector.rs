@@ -589,6 +589,18 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
         changed |= row(ui, "Arrow response", |ui| {
             ui.add(egui::Slider::new(&mut s.arrow_response, 0.1..=30.0).suffix(" /s"))
         });
+        if !app.doc.ambient.is_empty() {
+            changed |= row(ui, "Ambient pull", |ui| {
+                ui.add(egui::Slider::new(&mut s.ambient_coupling, 0.0..=20.0).suffix(" /s"))
+                    .on_hover_text(
+                        "How fast the wind relaxes toward the ambient layers' wind: everywhere, \
+                         the arrows' jets included, so it holds them below their strength (a \
+                         10 m/s arrow in a 4 m/s breeze settles near 8.8 m/s at 1 /s against \
+                         an arrow response of 4 /s). Lower it, or raise Arrow response, to \
+                         keep the jets at their strength.",
+                    )
+            });
+        }
         changed |= choice(ui, "Boundary", &mut s.boundary);
         changed |= choice(ui, "Advection", &mut s.advection);
     });

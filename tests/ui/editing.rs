@@ -127,6 +127,22 @@ fn the_inspector_warns_of_settings_that_run_away() {
     );
 }
 
+/// The ambient layers' pull on the wind is a slider beside the arrows' response, shown only
+/// where there are ambient layers to pull (a layout without them has nothing it would do).
+#[test]
+fn the_ambient_pull_is_in_the_inspector_where_there_are_ambient_layers() {
+    if !gpu_available() {
+        return;
+    }
+    let shown = |name: &str| {
+        let h = harness(example(name));
+        assert!(h.query_all_by_label("Arrow response").count() > 0);
+        h.query_all_by_label("Ambient pull").count() > 0
+    };
+    assert!(!shown("branching.json"), "no ambient layer");
+    assert!(shown("breeze-fft.json"), "an FFT layer");
+}
+
 /// The simulation's and the grass's choices read as words a designer knows (not the Rust
 /// spelling: "SemiLagrangian", "CwdQuadratic"), and picking one by clicking is one undo step.
 #[test]
