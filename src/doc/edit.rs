@@ -303,6 +303,10 @@ impl Edit {
 struct Entry {
     /// The edit that undoes this step.
     inverse: Edit,
+    /// What the step did ([`Edit::label`] of the edit that made it, the first of a gesture),
+    /// for the Undo menu item: not the inverse's (undoing an added obstacle read "Undo
+    /// Delete obstacle").
+    label: &'static str,
     /// Continuous gestures (a slider drag) share a key and collapse into one step.
     merge_key: Option<u64>,
 }
@@ -321,9 +325,11 @@ impl History {
 
     /// Applies an edit as a new undo step.
     pub fn apply(&mut self, doc: &mut Layout, edit: Edit) -> Result<(), EditError> {
+        let label = edit.label();
         let inverse = edit.apply(doc)?;
         self.undo.push(Entry {
             inverse,
+            label,
             merge_key: None,
         });
         self.redo.clear();
@@ -338,11 +344,13 @@ impl History {
         edit: Edit,
         key: u64,
     ) -> Result<(), EditError> {
+        let label = edit.label();
         let inverse = edit.apply(doc)?;
         match self.undo.last() {
             Some(top) if top.merge_key == Some(key) => {}
             _ => self.undo.push(Entry {
                 inverse,
+                label,
                 merge_key: Some(key),
             }),
         }
@@ -367,7 +375,7 @@ impl History {
 
     /// What the next undo would undo, for menus.
     pub fn undo_label(&self) -> Option<&'static str> {
-        self.undo.last().map(|e| e.inverse.label())
+        self.undo.last().map(|e| e.label)
     }
 
     pub fn redo_label(&self) -> Option<&'static str> {
@@ -392,11 +400,13 @@ impl History {
         let Some(edit) = self.redo.pop() else {
             return false;
         };
+        let label = edit.label();
         let inverse = edit
             .apply_unchecked(doc)
             .expect("a redo applies to the document it was undone from");
         self.undo.push(Entry {
             inverse,
+            label,
             merge_key: None,
         });
         true

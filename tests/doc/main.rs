@@ -466,6 +466,56 @@ fn a_gesture_is_one_undo_step() {
     assert_eq!(l.trees[0].root.children[0].strength, 14.0);
 }
 
+/// The Edit menu names what Undo and Redo would do to the document: the step as the user
+/// took it ("Undo Add obstacle", "Redo Add obstacle"), not the edit that reverses it (it
+/// read "Undo Delete obstacle" after adding a rock, and "Undo Delete node" after drawing an
+/// arrow).
+#[test]
+fn undo_and_redo_are_named_after_the_step() {
+    let mut l = example("meadow.json");
+    let mut h = History::new();
+    assert_eq!((h.undo_label(), h.redo_label()), (None, None));
+    let rock = doc::Obstacle {
+        id: 77,
+        name: "Rock".into(),
+        shape: Shape::Circle {
+            center: [10.0, 10.0],
+            radius: 2.0,
+        },
+    };
+    let index = l.obstacles.len();
+    let add = Edit::AddObstacle {
+        index,
+        obstacle: rock,
+    };
+    h.apply(&mut l, add).unwrap();
+    assert_eq!(h.undo_label(), Some("Add obstacle"));
+    let id = l.trees[0].root.children[0].id;
+    for strength in [6.0, 7.0] {
+        let e = Edit::SetNode {
+            id,
+            strength,
+            radius: 5.0,
+        };
+        h.apply_merged(&mut l, e, 7).unwrap();
+    }
+    assert_eq!(h.undo_label(), Some("Change node"));
+    assert!(h.undo(&mut l));
+    assert_eq!(
+        (h.undo_label(), h.redo_label()),
+        (Some("Add obstacle"), Some("Change node"))
+    );
+    assert!(h.undo(&mut l));
+    assert_eq!(
+        (h.undo_label(), h.redo_label()),
+        (None, Some("Add obstacle"))
+    );
+    assert!(h.redo(&mut l));
+    assert_eq!(h.undo_label(), Some("Add obstacle"));
+    h.apply(&mut l, Edit::RemoveNode { id }).unwrap();
+    assert_eq!(h.undo_label(), Some("Delete node"));
+}
+
 /// A random user action, resolved against the current document when applied.
 #[derive(Debug, Clone)]
 enum Op {
