@@ -229,6 +229,13 @@ impl Drop for LiveSim {
     }
 }
 
+/// Whether two layouts have the same grid over the same world, so one's field fits the other.
+fn same_grid(old: &Layout, new: &Layout) -> bool {
+    old.world.size == new.world.size
+        && old.world.origin == new.world.origin
+        && old.world.grid == new.world.grid
+}
+
 /// Whether a layout change needs a new solver (grid, world, obstacles or boundary changed).
 fn needs_rebuild(old: &Layout, new: &Layout) -> bool {
     old.world.size != new.world.size
@@ -459,6 +466,36 @@ impl Engine {
         on_gpu
     }
 
+    /// A new solver for changed obstacles or boundary on the same grid ([`same_grid`]), the
+    /// running wind carried over into it (zero in the new solids and wherever the new
+    /// boundary says; the next projection fits the rest), so that placing or moving a rock
+    /// does not calm the whole level. Where the field runs is kept, without measuring again:
+    /// the grid's cost has not changed.
+    fn carry_over(&mut self, layout: &Layout) {
+        let on_gpu = self.gpu.is_some();
+        // The field as it is now: on the GPU, read back first.
+        self.move_to(Backend::Cpu, layout);
+        // A field that blew up is not carried (it was zeroed); the new solver runs, as after
+        // a rebuild.
+        let halted = std::mem::take(&mut self.halted);
+        if halted {
+            self.notice = None;
+        }
+        let mut next = Solver::new(layout);
+        next.time = self.cpu.time;
+        if !halted {
+            let (u, v) = self.cpu.faces_mut();
+            let (nu, nv) = next.faces_mut();
+            nu.copy_from_slice(u);
+            nv.copy_from_slice(v);
+            next.enforce_boundaries();
+        }
+        self.cpu = next;
+        if on_gpu {
+            self.move_to(Backend::Gpu, layout);
+        }
+    }
+
     fn set_layout(&mut self, layout: &Layout) {
         self.cpu.set_layout(layout);
         if let Some(g) = &mut self.gpu {
@@ -635,7 +672,9 @@ fn worker(
             }
         }
         if let Some(l) = newest.take() {
-            if needs_rebuild(&layout, &l) {
+            if needs_rebuild(&layout, &l) && same_grid(&layout, &l) {
+                engine.carry_over(&l);
+            } else if needs_rebuild(&layout, &l) {
                 engine.rebuild_showing(&l, true, show);
             } else {
                 engine.set_layout(&l);
@@ -724,6 +763,62 @@ mod tests {
             snap.velocity.iter().flatten().any(|x| *x != 0.0),
             "the wind runs again"
         );
+    }
+
+    /// A rock placed (or moved) in a running wind keeps the wind: the field carries over into
+    /// the new solver, zero in the rock, at the same time, on the CPU and on the GPU alike,
+    /// where a new grid still starts at rest.
+    #[test]
+    fn an_obstacle_edit_keeps_the_running_wind() {
+        let rock = |l: &Layout| {
+            let mut l = l.clone();
+            l.obstacles.push(crate::doc::Obstacle {
+                id: 9_999,
+                name: "Rock".into(),
+                shape: crate::doc::Shape::Circle {
+                    center: [l.world.size[0] * 0.5, l.world.size[1] * 0.5],
+                    radius: l.world.size[0] * 0.08,
+                },
+            });
+            l
+        };
+        let check = |e: &mut Engine, layout: &Layout, on_gpu: bool| {
+            for _ in 0..30 {
+                e.step();
+            }
+            e.move_to(Backend::Cpu, layout);
+            let before = e.cpu.kinetic_energy();
+            let t = e.cpu.time;
+            if on_gpu {
+                e.move_to(Backend::Gpu, layout);
+            }
+            let with_rock = rock(layout);
+            assert!(needs_rebuild(layout, &with_rock) && same_grid(layout, &with_rock));
+            e.carry_over(&with_rock);
+            assert_eq!(e.gpu.is_some(), on_gpu, "where the wind runs is kept");
+            e.move_to(Backend::Cpu, &with_rock);
+            let after = e.cpu.kinetic_energy();
+            assert_eq!(e.cpu.time, t, "the time is kept");
+            assert!(
+                after > 0.5 * before && before > 0.0,
+                "the wind is kept: energy {before} before, {after} after"
+            );
+            let centre = e
+                .cpu
+                .cell_at([with_rock.world.size[0] * 0.5, with_rock.world.size[1] * 0.5]);
+            let (i, j) = centre.expect("the rock's centre is on the grid");
+            assert!(e.cpu.is_solid(i, j));
+            assert_eq!(e.cpu.cell_velocity(i, j), [0.0, 0.0], "no wind in the rock");
+        };
+        let layout = small_layout(64);
+        let mut cpu = Engine::new(&layout);
+        check(&mut cpu, &layout, false);
+        let Some(ctx) = test_context(|_| {}) else {
+            return;
+        };
+        let mut gpu = gpu_engine(&ctx, &layout);
+        assert!(gpu.gpu.is_some(), "{:?}", gpu.notice);
+        check(&mut gpu, &layout, true);
     }
 
     /// An engine asked to run `layout` on `ctx`'s GPU (it may end up on the CPU: the tests
