@@ -143,7 +143,18 @@ impl Edit {
             Self::SetSim(_) => "Change simulation",
             Self::SetGrass(_) => "Change grass",
             Self::Rename(_) => "Rename layout",
-            Self::Batch(_) => "Edit",
+            // A batch is named after what it does where that is one thing: the edits' own
+            // name when they share it, "Delete selection" for a mixed deletion.
+            Self::Batch(edits) => match edits.split_first() {
+                Some((first, rest)) if rest.iter().all(|e| e.label() == first.label()) => {
+                    first.label()
+                }
+                Some(_) if edits.iter().all(|e| e.label().starts_with("Delete")) => {
+                    "Delete selection"
+                }
+                Some(_) if edits.iter().all(|e| e.label().starts_with("Add")) => "Add selection",
+                _ => "Edit",
+            },
         }
     }
 

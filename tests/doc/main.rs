@@ -514,6 +514,21 @@ fn undo_and_redo_are_named_after_the_step() {
     assert_eq!(h.undo_label(), Some("Add obstacle"));
     h.apply(&mut l, Edit::RemoveNode { id }).unwrap();
     assert_eq!(h.undo_label(), Some("Delete node"));
+    // A batch is named after what it does: a deletion of several kinds of thing, or the
+    // shared name of its edits.
+    let tree = l.trees[0].id;
+    let both = Edit::Batch(vec![
+        Edit::RemoveObstacle { id: 77 },
+        Edit::RemoveTree { id: tree },
+    ]);
+    h.apply(&mut l, both).unwrap();
+    assert_eq!(h.undo_label(), Some("Delete selection"));
+    assert!(h.undo(&mut l));
+    assert_eq!(h.redo_label(), Some("Delete selection"));
+    let props = doc::TreeProps::of(&l.trees[0]);
+    let same = Edit::Batch(vec![Edit::SetTreeProps { id: tree, props }]);
+    h.apply(&mut l, same).unwrap();
+    assert_eq!(h.undo_label(), Some("Change tree"));
 }
 
 /// A random user action, resolved against the current document when applied.
