@@ -766,8 +766,8 @@ mod tests {
     }
 
     /// A rock placed (or moved) in a running wind keeps the wind: the field carries over into
-    /// the new solver, zero in the rock, at the same time, on the CPU and on the GPU alike,
-    /// where a new grid still starts at rest.
+    /// the new solver, zero in the rock, at the same time, on the CPU and on the GPU alike (a
+    /// new grid still starts at rest: `a_rebuild_shows_the_new_field_before_measuring_again`).
     #[test]
     fn an_obstacle_edit_keeps_the_running_wind() {
         let rock = |l: &Layout| {
