@@ -715,6 +715,9 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "Ctrl+N / Ctrl+O / Ctrl+S / Ctrl+Shift+S",
         "New, Open, Save, Save As",
     ),
+    // egui's own quit shortcut: it asks to close the window, which asks first when there
+    // are unsaved changes.
+    ("Ctrl+Q", "Quit (asks first when there are unsaved changes)"),
     (
         "3D view: drag, arrow keys",
         "Orbit (Ctrl+drag while Push is on)",
