@@ -682,6 +682,9 @@ impl EditorApp {
                 Sel::Obstacle(id) => {
                     if let Some(o) = self.doc.obstacles.iter().find(|o| o.id == id) {
                         let mut o = o.clone();
+                        // Named apart from the original in the Layers list, as a tree's
+                        // copy is.
+                        o.name = format!("{} copy", o.name);
                         match &mut o.shape {
                             doc::Shape::Circle { center, .. } => {
                                 center[0] += offset;

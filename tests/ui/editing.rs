@@ -143,6 +143,35 @@ fn the_ambient_pull_is_in_the_inspector_where_there_are_ambient_layers() {
     assert!(shown("breeze-fft.json"), "an FFT layer");
 }
 
+/// Ctrl+D copies the selection beside it, 3 m off, with new ids and names that tell the
+/// copy from the original in the Layers list ("Boulder copy", as a tree's copy was already
+/// named); one undo step takes the copies away.
+#[test]
+fn a_duplicate_is_named_apart_from_its_original() {
+    let ctx = egui::Context::default();
+    let mut app = EditorApp::new(example("obstacles.json"), None, &ctx);
+    let before = doc::to_json(&app.doc);
+    let rock = app.doc.obstacles[1].clone();
+    let tree = app.doc.trees[0].clone();
+    app.selection = vec![Sel::Obstacle(rock.id), Sel::Node(tree.root.id)];
+    app.duplicate_selection(&ctx);
+    let copy = app.doc.obstacles.last().unwrap().clone();
+    assert_eq!(copy.name, format!("{} copy", rock.name));
+    assert_ne!(copy.id, rock.id);
+    match (&rock.shape, &copy.shape) {
+        (doc::Shape::Circle { center: a, .. }, doc::Shape::Circle { center: b, .. }) => {
+            assert_eq!([b[0] - a[0], b[1] - a[1]], [3.0, 3.0]);
+        }
+        (a, b) => panic!("{a:?} copied as {b:?}"),
+    }
+    let tree_copy = app.doc.trees.last().unwrap();
+    assert_eq!(tree_copy.name, format!("{} copy", tree.name));
+    assert_ne!(tree_copy.root.id, tree.root.id);
+    assert!(doc::validate(&app.doc).is_empty(), "ids stay unique");
+    app.undo();
+    assert_eq!(doc::to_json(&app.doc), before, "one undo step");
+}
+
 /// The simulation's and the grass's choices read as words a designer knows (not the Rust
 /// spelling: "SemiLagrangian", "CwdQuadratic"), and picking one by clicking is one undo step.
 #[test]
