@@ -238,11 +238,7 @@ fn same_grid(old: &Layout, new: &Layout) -> bool {
 
 /// Whether a layout change needs a new solver (grid, world, obstacles or boundary changed).
 fn needs_rebuild(old: &Layout, new: &Layout) -> bool {
-    old.world.size != new.world.size
-        || old.world.origin != new.world.origin
-        || old.world.grid != new.world.grid
-        || old.obstacles != new.obstacles
-        || old.sim.boundary != new.sim.boundary
+    !same_grid(old, new) || old.obstacles != new.obstacles || old.sim.boundary != new.sim.boundary
 }
 
 /// The solver in use: the CPU's always exists (on the GPU it holds the last read-back, and
@@ -473,24 +469,20 @@ impl Engine {
     /// the grid's cost has not changed.
     fn carry_over(&mut self, layout: &Layout) {
         let on_gpu = self.gpu.is_some();
-        // The field as it is now: on the GPU, read back first.
+        // The field as it is now: on the GPU, read back first. A field that blew up is not
+        // carried (it was zeroed); the new solver runs, as after a rebuild.
         self.move_to(Backend::Cpu, layout);
-        // A field that blew up is not carried (it was zeroed); the new solver runs, as after
-        // a rebuild.
-        let halted = std::mem::take(&mut self.halted);
-        if halted {
-            self.notice = None;
-        }
-        let mut next = Solver::new(layout);
-        next.time = self.cpu.time;
-        if !halted {
+        let field = (!self.halted).then(|| {
             let (u, v) = self.cpu.faces_mut();
-            let (nu, nv) = next.faces_mut();
-            nu.copy_from_slice(u);
-            nv.copy_from_slice(v);
-            next.enforce_boundaries();
+            (u.to_vec(), v.to_vec())
+        });
+        self.new_solver(layout, true);
+        if let Some((u, v)) = field {
+            let (nu, nv) = self.cpu.faces_mut();
+            nu.copy_from_slice(&u);
+            nv.copy_from_slice(&v);
+            self.cpu.enforce_boundaries();
         }
-        self.cpu = next;
         if on_gpu {
             self.move_to(Backend::Gpu, layout);
         }
@@ -672,12 +664,12 @@ fn worker(
             }
         }
         if let Some(l) = newest.take() {
-            if needs_rebuild(&layout, &l) && same_grid(&layout, &l) {
-                engine.carry_over(&l);
-            } else if needs_rebuild(&layout, &l) {
-                engine.rebuild_showing(&l, true, show);
-            } else {
+            if !needs_rebuild(&layout, &l) {
                 engine.set_layout(&l);
+            } else if same_grid(&layout, &l) {
+                engine.carry_over(&l);
+            } else {
+                engine.rebuild_showing(&l, true, show);
             }
             layout = *l;
             changed = true;
