@@ -33,24 +33,16 @@ impl<'a> Clamped<'a> {
         }
     }
 
-    /// `(x, z, i, j)`: the point clamped to the field and its coordinates truncated (a NaN
-    /// coordinate is 0): `cell` and the row loop's `row_cell`, but for their index clamps.
+    /// `(i0, j0, fx, fz)`: the point clamped to the field, its lower-left sample and the
+    /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (a NaN coordinate is 0).
     #[inline(always)]
-    fn clamped(&self, x: f32, z: f32) -> (f32, f32, i32, i32) {
+    pub(super) fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
         // One clamp that also sends NaN to 0, which `index` then need not repeat: a `clamp`
         // (NaN kept) and `index`'s own made four min/max a face.
         let (x, z) = (clamp_to(x, self.xmax), clamp_to(z, self.zmax));
         // SAFETY: x, z are finite and in [0, 2³¹) (`new`: the field has fewer than 2³¹
         // samples), so their truncations fit an i32.
-        let (i, j) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
-        (x, z, i, j)
-    }
-
-    /// `(i0, j0, fx, fz)`: the point clamped to the field, its lower-left sample and the
-    /// fractions. `0 ≤ i0 ≤ w − 2`, `0 ≤ j0 ≤ h − 2` (a NaN coordinate is 0).
-    #[inline(always)]
-    pub(super) fn cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        let (x, z, i0, j0) = self.clamped(x, z);
+        let (i0, j0) = unsafe { (x.to_int_unchecked::<i32>(), z.to_int_unchecked::<i32>()) };
         let (i0, j0) = (i0.min(self.imax), j0.min(self.jmax));
         (i0, j0, x - i0 as f32, z - j0 as f32)
     }
@@ -147,19 +139,13 @@ impl Wrapped<'_> {
     }
 }
 
-/// What the samplers' row driver needs of a field: the cell a point near a face falls in,
-/// the four samples around any point, and the row stride.
+/// What the samplers' row driver needs of a field: the four samples around any point, and
+/// the row stride.
 pub(super) trait Field {
     /// Faces at each end of a row's interior, and rows at the field's bottom, that the row
-    /// loop leaves to the point-by-point path besides the row's ends and the edge rows (see
-    /// [`Self::row_cell`]).
+    /// loop leaves to the point-by-point path besides the row's ends and the edge rows: those
+    /// whose near cells (see [`sample_row`]) [`Self::corners`] would not take as they lie.
     const RIM: usize;
-    /// `(i0, j0, fx, fz)`: the lower-left sample of the point and the fractions, as
-    /// [`Self::corners`] finds them wherever the point lies within a cell of a face the row
-    /// loop samples (in cell `(k − 1 or k, j − 1 or j)` of face `(k, j)`); elsewhere a cell
-    /// more than a cell from the face, so the loop sends it point by point. Cheaper than
-    /// `corners`: no index clamp, no wrap (which divides).
-    fn row_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32);
     /// `(a, b, c, d, fx, fz)`: the samples at `(i0, j0)`, `(i1, j0)`, `(i0, j1)`, `(i1, j1)`
     /// and the fractions.
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32);
@@ -168,17 +154,8 @@ pub(super) trait Field {
 }
 
 impl Field for Clamped<'_> {
+    /// A near cell lies inside the field, where [`Clamped::cell`]'s clamps change nothing.
     const RIM: usize = 0;
-    #[inline(always)]
-    fn row_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        // `cell` without its index clamp: it only moves a point on the field's last column
-        // or row (x = w − 1, z = h − 1) into the cell below, and such a point lies more
-        // than a cell from every interior face the row loop asks about, so that face is
-        // sampled point by point whichever cell this gives. Two fewer operations and
-        // constants in the loop, which AVX2's sixteen registers feel.
-        let (x, z, i0, j0) = self.clamped(x, z);
-        (i0, j0, x - i0 as f32, z - j0 as f32)
-    }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
         Clamped::corners(self, x, z)
@@ -191,19 +168,10 @@ impl Field for Clamped<'_> {
 
 impl Field for Wrapped<'_> {
     /// The loop leaves out the first and last interior faces and the second row, so every
-    /// cell it can take for near is inside the period without wrapping: a point left of
-    /// the period (or NaN, index 0) is then more than a cell from every face it samples,
-    /// and the only faces whose cell could cross the seam (the last u face, whose next
-    /// column is the period's first) are not among them.
+    /// near cell lies in `[1, p − 1)` along each axis, where the wrap changes nothing
+    /// (`t − p·⌊t/p⌋` is `t` for `0 ≤ t < p − 1`) and the next sample is not across the
+    /// seam (the last u face, whose next column is the period's first, is left out).
     const RIM: usize = 1;
-    #[inline(always)]
-    fn row_cell(&self, x: f32, z: f32) -> (i32, i32, f32, f32) {
-        // For 0 ≤ t < p − 1, `wrap_coordinate(t) = t − p·⌊t/p⌋` is `t` itself (⌊t/p⌋ = 0),
-        // so where the point is near these are `wrap`'s numbers, but for −0.0, which the
-        // wrap turns into +0.0 (a zero fraction of either sign gives the same sample).
-        let (i0, j0) = (index(x, self.px), index(z, self.pz));
-        (i0, j0, x - i0 as f32, z - j0 as f32)
-    }
     #[inline(always)]
     fn corners(&self, x: f32, z: f32) -> (f32, f32, f32, f32, f32, f32) {
         Wrapped::corners(self, x, z)
@@ -270,24 +238,29 @@ pub(super) fn sample_row<F: Field>(
     let ((bl, bc, br), (hl, hc, hr)) = (three(below, m), three(here, m));
     let (al, ac, ar) = three(above, m);
     let (xi, zi) = (&xs[1..][..m], &zs[1..][..m]);
-    // How far the departure point of face `k = q + 1` lies from the face: its cell's offset
-    // `(dx, dz)` from `(k − 1, j − 1)`, each 0 or 1 when the cell is one of
-    // `(k − 1 or k, j − 1 or j)` ([`Field::row_cell`]); the spread, their bits or-ed, is at
-    // most 1 then and more when it is not (then the face is sampled point by point).
-    // Offsets from the lower corner, so the spread needs no `+ 1`.
-    let j_below = j as i32 - 1;
+    // Where the departure point of face `k = q + 1` lies from the face: its cell's offset
+    // `(dx, dz)` from `(k − 1, j − 1)`, from the point's floors, and its fractions. Where
+    // the cell is near, one of `(k − 1 or k, j − 1 or j)`, each offset is +0.0 or 1.0 and
+    // the point lies inside the field (or the period, past its rim), so these are the
+    // numbers `corners` finds after its clamps, truncation or wrap. An integer-valued float
+    // whose bits lie within 1.0's is +0.0 or 1.0, so the spread, the offsets' bits or-ed,
+    // lies within 1.0's just when the cell is near; a NaN, infinite, −0.0 or other offset
+    // sets a bit outside (a far face, sampled point by point). In floats, with no clamp and
+    // no conversion to and from integers: three operations an axis where those took six,
+    // and three fewer constants for AVX2's sixteen registers.
+    let j_below = (j - 1) as f32;
     let spread = |q: i32, x: f32, z: f32| {
-        let (i0, j0, fx, fz) = f.row_cell(x - ox, z - oz);
-        let (dx, dz) = (i0 - q, j0 - j_below);
-        let s = (dx as u32) | (dz as u32);
-        (s, dx, dz, fx, fz)
+        let (x, z) = (x - ox, z - oz);
+        let (fl_x, fl_z) = (x.floor(), z.floor());
+        let (dx, dz) = (fl_x - q as f32, fl_z - j_below);
+        (dx.to_bits() | dz.to_bits(), dx, dz, x - fl_x, z - fl_z)
     };
+    let near = |s: u32| s & !ONE == 0;
     // The interior faces the loops below sample: all but the field's rim (`q` is face
     // `q + 1`).
     let qs = F::RIM..m - F::RIM;
-    // The largest spread in the row: a max per lane, where or-ing the lanes' booleans made
-    // AVX2 pack them to bytes every eight faces.
-    let mut worst = 0u32;
+    // Every spread of the row or-ed: outside 1.0's bits where any face is far.
+    let mut spreads = 0u32;
     {
         let inner = &mut out[1..][..m];
         // The face index as an i32 counter of its own: from `q as i32`, LLVM kept the
@@ -295,11 +268,12 @@ pub(super) fn sample_row<F: Field>(
         // iteration (62 instructions a vector of faces; 50 with this).
         for (qi, q) in (F::RIM as i32..).zip(qs.clone()) {
             let (s, dx, dz, fx, fz) = spread(qi, xi[q], zi[q]);
-            worst = worst.max(s);
-            let near = s <= 1;
-            // Compared as i32 (the window's indices fit: `Clamped::new`, `Wrapped::new`):
-            // as usize, AVX2 widened every lane to 64 bits and packed the masks back.
-            let (left, down) = (dx == 0, dz == 0);
+            spreads |= s;
+            // Compared as bits, not as floats: with `dz == 0.0` LLVM gave the AVX-512
+            // clone's open-row loop three masked loads of the row above, which wait for
+            // the mask where a plain load need not, and that loop ran 8–14% slower at
+            // 1000² on one thread (see docs/PERFORMANCE.md). Near, the two are the same.
+            let (left, down) = (dx.to_bits() == 0, dz.to_bits() == 0);
             // The point's lower and upper rows, then its column and the next.
             let (t0, t1, t2) = (
                 bit_select(down, bl[q], hl[q]),
@@ -317,7 +291,7 @@ pub(super) fn sample_row<F: Field>(
             // reads it (MacCormack's correction).
             let v = interior(q + 1, inner[q], a, b, c, d, fx, fz);
             inner[q] = if reads_old {
-                bit_select(near, v, inner[q])
+                bit_select(near(s), v, inner[q])
             } else {
                 v
             };
@@ -328,20 +302,23 @@ pub(super) fn sample_row<F: Field>(
     for k in (1..1 + F::RIM).chain(m + 1 - F::RIM..m + 1) {
         by_point(k, out);
     }
-    if worst > 1 {
+    if !near(spreads) {
         // The far faces (0.9–1.4% of the faces where arrows are strong, in runs along the
         // jets) sampled point by point in a second vector pass over the row, which beat
         // finding them in blocks and sampling each one in scalar code.
         let inner = &mut out[1..][..m];
         for (qi, q) in (F::RIM as i32..).zip(qs) {
             let (x, z) = (xi[q], zi[q]);
-            let far = spread(qi, x, z).0 > 1;
+            let far = !near(spread(qi, x, z).0);
             let (a, b, c, d, fx, fz) = f.corners(x - ox, z - oz);
             let v = interior(q + 1, inner[q], a, b, c, d, fx, fz);
             inner[q] = bit_select(far, v, inner[q]);
         }
     }
 }
+
+/// 1.0's bits: see the spread in [`sample_row`].
+const ONE: u32 = 0x3f80_0000;
 
 /// Whether every face of a row but its two ends is free (no obstacle, no wall: every row of
 /// a layout without obstacles), so [`sample_row`]'s interior loops can leave out the mask.
