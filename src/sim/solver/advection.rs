@@ -199,9 +199,12 @@ pub(super) fn departure(
     (x - vel[0] * (dt / g.hx), z - vel[1] * (dt / g.hz))
 }
 
-/// Departure points (grid units) of the faces of row `j` (`is_v`: a row of v faces) into
-/// `xs`, `zs`: exactly [`departure`] face by face, but with the row's neighbour rows chosen
-/// once and the interior faces in one vectorisable loop.
+/// Departure points of the faces of row `j` (`is_v`: a row of v faces) into `xs`, `zs`, in
+/// the field's sample coordinates: exactly [`departure`] face by face less the offset
+/// [`sample_u`] or [`sample_v`] takes off (½ cell along z for u faces, along x for v faces),
+/// so the same numbers those sample at, but with the row's neighbour rows chosen once and
+/// the interior faces in one vectorisable loop. The offset taken off here, in a loop that
+/// waits on memory, rather than in the samplers' arithmetic-bound loops.
 #[allow(clippy::too_many_arguments)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
@@ -231,7 +234,7 @@ pub(super) fn departures_row(
         for i in 0..nx {
             let ux = 0.25 * (ub[i] + ub[i + 1] + ut[i] + ut[i + 1]);
             // The index as i32: AVX2 has no vector conversion from 64-bit integers.
-            xs[i] = ((i as i32) as f32 + 0.5) - ux * cx;
+            xs[i] = (((i as i32) as f32 + 0.5) - ux * cx) - 0.5;
             zs[i] = z - vr[i] * cz;
         }
     } else {
@@ -243,7 +246,7 @@ pub(super) fn departures_row(
         for i in [0, nx] {
             let (x, zz) = departure(g, u, v, i, j, false, dt);
             xs[i] = x;
-            zs[i] = zz;
+            zs[i] = zz - 0.5;
         }
         let (xs, zs) = (&mut xs[1..nx], &mut zs[1..nx]);
         let (ui, vbl, vbr, vtl, vtr) =
@@ -251,7 +254,7 @@ pub(super) fn departures_row(
         for k in 0..nx - 1 {
             let vz = 0.25 * (vbl[k] + vbr[k] + vtl[k] + vtr[k]);
             xs[k] = (k as i32 + 1) as f32 - ui[k] * cx;
-            zs[k] = z - vz * cz;
+            zs[k] = (z - vz * cz) - 0.5;
         }
     }
 }

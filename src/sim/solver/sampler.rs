@@ -183,7 +183,8 @@ impl Field for Wrapped<'_> {
 }
 
 /// The value of every face `k` of row `j` of a field sampled at departure points
-/// `(xs[k] − ox, zs[k] − oz)`: `out[k] = value(k, out[k], a, b, c, d, fx, fz)`, with the
+/// `(xs[k], zs[k])`, in the field's sample coordinates (the face `(k, j)` at `(k, j)`;
+/// [`super::advection::departures_row`]): `out[k] = value(k, out[k], a, b, c, d, fx, fz)`, with the
 /// four samples around the point and its fractions (`reads_old`: `value` uses `out[k]`).
 ///
 /// A face's departure point is within one cell of the face itself almost everywhere (all
@@ -202,7 +203,6 @@ impl Field for Wrapped<'_> {
 #[allow(clippy::too_many_arguments)]
 pub(super) fn sample_row<F: Field>(
     f: &F,
-    [ox, oz]: [f32; 2],
     j: usize,
     xs: &[f32],
     zs: &[f32],
@@ -215,7 +215,7 @@ pub(super) fn sample_row<F: Field>(
     let (xs, zs) = (&xs[..n], &zs[..n]);
     let (src, w, rows) = f.window();
     let by_point = |k: usize, out: &mut [f32]| {
-        let (a, b, c, d, fx, fz) = f.corners(xs[k] - ox, zs[k] - oz);
+        let (a, b, c, d, fx, fz) = f.corners(xs[k], zs[k]);
         out[k] = value(k, out[k], a, b, c, d, fx, fz);
     };
     // Rows j − 1 ..= j + 1 inside the window, and a row of the field's own width.
@@ -223,7 +223,7 @@ pub(super) fn sample_row<F: Field>(
         // `by_point`'s body written out, so this loop's vectorisation does not hang on the
         // closure being inlined (its calls below are not).
         for k in 0..n {
-            let (a, b, c, d, fx, fz) = f.corners(xs[k] - ox, zs[k] - oz);
+            let (a, b, c, d, fx, fz) = f.corners(xs[k], zs[k]);
             out[k] = value(k, out[k], a, b, c, d, fx, fz);
         }
         return;
@@ -250,7 +250,6 @@ pub(super) fn sample_row<F: Field>(
     // and three fewer constants for AVX2's sixteen registers.
     let j_below = (j - 1) as f32;
     let spread = |q: i32, x: f32, z: f32| {
-        let (x, z) = (x - ox, z - oz);
         let (fl_x, fl_z) = (x.floor(), z.floor());
         let (dx, dz) = (fl_x - q as f32, fl_z - j_below);
         (dx.to_bits() | dz.to_bits(), dx, dz, x - fl_x, z - fl_z)
@@ -265,7 +264,8 @@ pub(super) fn sample_row<F: Field>(
         let inner = &mut out[1..][..m];
         // The face index as an i32 counter of its own: from `q as i32`, LLVM kept the
         // MacCormack clones' AVX2 counter as two vectors of i64 and narrowed them every
-        // iteration (62 instructions a vector of faces; 50 with this).
+        // iteration (62 instructions a vector of faces; 50 with this). A float ramp read
+        // from memory instead made the AVX-512 clones 5–12% slower at 1000².
         for (qi, q) in (F::RIM as i32..).zip(qs.clone()) {
             let (s, dx, dz, fx, fz) = spread(qi, xi[q], zi[q]);
             spreads |= s;
@@ -310,7 +310,7 @@ pub(super) fn sample_row<F: Field>(
         for (qi, q) in (F::RIM as i32..).zip(qs) {
             let (x, z) = (xi[q], zi[q]);
             let far = !near(spread(qi, x, z).0);
-            let (a, b, c, d, fx, fz) = f.corners(x - ox, z - oz);
+            let (a, b, c, d, fx, fz) = f.corners(x, z);
             let v = interior(q + 1, inner[q], a, b, c, d, fx, fz);
             inner[q] = bit_select(far, v, inner[q]);
         }
@@ -351,7 +351,7 @@ fn limited(a: f32, b: f32, c: f32, d: f32, fwd: f32, orig: f32, back: f32) -> f3
 
 /// The row loops of one sampler type `$ty`, through [`sample_row`]: `$sample`
 /// (semi-Lagrangian: the bilinear sample at each departure point of row `j` of u faces, or
-/// of v faces with `V`, offset by [`offset`] into sample coordinates, times `keep`; 0 on
+/// of v faces with `V`, given in the field's sample coordinates, times `keep`; 0 on
 /// faces that are not free; [`flush`]ed with `FLUSH`, the step's result) and `$correct`
 /// (MacCormack: `back` holds φ̌ on entry and `(φ̂ + (φ − φ̌)/2)` clamped to the range of the
 /// four samples of φ around the departure point, times `keep`, on exit). Compiled for several
@@ -381,12 +381,12 @@ macro_rules! row_samplers {
             let value = |k: usize, _, a, b, c, d, fx, fz| {
                 bit_select(free[k] != 0, fin(bilerp(a, b, c, d, fx, fz) * keep), 0.0)
             };
-            let (o, open) = (offset(V), interior_free(free));
+            let open = interior_free(free);
             if open {
                 let open = |_, _, a, b, c, d, fx, fz| fin(bilerp(a, b, c, d, fx, fz) * keep);
-                sample_row(f, o, j, xs, zs, out, false, value, open);
+                sample_row(f, j, xs, zs, out, false, value, open);
             } else {
-                sample_row(f, o, j, xs, zs, out, false, value, value);
+                sample_row(f, j, xs, zs, out, false, value, value);
             }
         }
 
@@ -413,24 +413,17 @@ macro_rules! row_samplers {
                 let x = limited(a, b, c, d, fwd[k], orig[k], back);
                 bit_select(free[k] != 0, flush(x * keep), 0.0)
             };
-            let (o, open) = (offset(V), interior_free(free));
+            let open = interior_free(free);
             if open {
                 let open = |k: usize, back, a, b, c, d, _, _| {
                     flush(limited(a, b, c, d, fwd[k], orig[k], back) * keep)
                 };
-                sample_row(f, o, j, xs, zs, back, true, value, open);
+                sample_row(f, j, xs, zs, back, true, value, open);
             } else {
-                sample_row(f, o, j, xs, zs, back, true, value, value);
+                sample_row(f, j, xs, zs, back, true, value, value);
             }
         }
     };
-}
-
-/// Where a face's samples sit from its grid point, in cells: v faces (`v`) half a cell along
-/// x, u faces half a cell along z. A constant in each sampler, so its zero folds away.
-#[inline(always)]
-pub(super) const fn offset(v: bool) -> [f32; 2] {
-    if v { [0.5, 0.0] } else { [0.0, 0.5] }
 }
 
 row_samplers!(Clamped, sample_clamped, correct_clamped);
