@@ -238,23 +238,9 @@ pub(super) fn sample_row<F: Field>(
     let ((bl, bc, br), (hl, hc, hr)) = (three(below, m), three(here, m));
     let (al, ac, ar) = three(above, m);
     let (xi, zi) = (&xs[1..][..m], &zs[1..][..m]);
-    // Where the departure point of face `k = q + 1` lies from the face: its cell's offset
-    // `(dx, dz)` from `(k − 1, j − 1)`, from the point's floors, and its fractions. Where
-    // the cell is near, one of `(k − 1 or k, j − 1 or j)`, each offset is +0.0 or 1.0 and
-    // the point lies inside the field (or the period, past its rim), so these are the
-    // numbers `corners` finds after its clamps, truncation or wrap. An integer-valued float
-    // whose bits lie within 1.0's is +0.0 or 1.0, so the spread, the offsets' bits or-ed,
-    // lies within 1.0's just when the cell is near; a NaN, infinite, −0.0 or other offset
-    // sets a bit outside (a far face, sampled point by point). In floats, with no clamp and
-    // no conversion to and from integers: three operations an axis where those took six,
-    // and three fewer constants for AVX2's sixteen registers.
+    // Where the departure point of face `k = q + 1` lies from the face: [`Spread`].
     let j_below = (j - 1) as f32;
-    let spread = |q: i32, x: f32, z: f32| {
-        let (fl_x, fl_z) = (x.floor(), z.floor());
-        let (dx, dz) = (fl_x - q as f32, fl_z - j_below);
-        (dx.to_bits() | dz.to_bits(), dx, dz, x - fl_x, z - fl_z)
-    };
-    let near = |s: u32| s & !ONE == 0;
+    let spread = |q: i32, x: f32, z: f32| Spread::of(x, z, q as f32, j_below);
     // The interior faces the loops below sample: all but the field's rim (`q` is face
     // `q + 1`).
     let qs = F::RIM..m - F::RIM;
@@ -267,7 +253,7 @@ pub(super) fn sample_row<F: Field>(
         // iteration (62 instructions a vector of faces; 50 with this). A float ramp read
         // from memory instead made the AVX-512 clones 5–12% slower at 1000².
         for (qi, q) in (F::RIM as i32..).zip(qs.clone()) {
-            let (s, dx, dz, fx, fz) = spread(qi, xi[q], zi[q]);
+            let Spread { s, dx, dz, fx, fz } = spread(qi, xi[q], zi[q]);
             spreads |= s;
             // Compared as bits, not as floats: with `dz == 0.0` LLVM gave the AVX-512
             // clone's open-row loop three masked loads of the row above, which wait for
@@ -291,7 +277,7 @@ pub(super) fn sample_row<F: Field>(
             // reads it (MacCormack's correction).
             let v = interior(q + 1, inner[q], a, b, c, d, fx, fz);
             inner[q] = if reads_old {
-                bit_select(near(s), v, inner[q])
+                bit_select(Spread::near(s), v, inner[q])
             } else {
                 v
             };
@@ -302,14 +288,14 @@ pub(super) fn sample_row<F: Field>(
     for k in (1..1 + F::RIM).chain(m + 1 - F::RIM..m + 1) {
         by_point(k, out);
     }
-    if !near(spreads) {
+    if !Spread::near(spreads) {
         // The far faces (0.9–1.4% of the faces where arrows are strong, in runs along the
         // jets) sampled point by point in a second vector pass over the row, which beat
         // finding them in blocks and sampling each one in scalar code.
         let inner = &mut out[1..][..m];
         for (qi, q) in (F::RIM as i32..).zip(qs) {
             let (x, z) = (xi[q], zi[q]);
-            let far = !near(spread(qi, x, z).0);
+            let far = !Spread::near(spread(qi, x, z).s);
             let (a, b, c, d, fx, fz) = f.corners(x, z);
             let v = interior(q + 1, inner[q], a, b, c, d, fx, fz);
             inner[q] = bit_select(far, v, inner[q]);
@@ -317,7 +303,49 @@ pub(super) fn sample_row<F: Field>(
     }
 }
 
-/// 1.0's bits: see the spread in [`sample_row`].
+/// Where a departure point `(x, z)` (sample coordinates) lies from the cell `(k − 1, j − 1)`
+/// to the lower left of its face `(k, j)`, for [`sample_row`]'s interior loops.
+///
+/// The cell's offset `(dx, dz)` is found from the point's floors, in floats. Where the
+/// cell is near, one of `(k − 1 or k, j − 1 or j)`, each offset is +0.0 or 1.0 and the
+/// point lies inside the field (or inside the period, past its rim), so these are the
+/// numbers `corners` finds after its clamps, truncation or wrap. An integer-valued float
+/// whose bits lie within 1.0's is +0.0 or 1.0, so the spread `s`, the offsets' bits or-ed,
+/// lies within 1.0's just when the cell is near; a NaN, infinite, −0.0 or other offset
+/// sets a bit outside (a far face, sampled point by point). Three operations an axis where
+/// a clamp, a truncation and a conversion back took six, and no constants for AVX2's
+/// sixteen registers to hold.
+struct Spread {
+    s: u32,
+    dx: f32,
+    dz: f32,
+    fx: f32,
+    fz: f32,
+}
+
+impl Spread {
+    /// The offsets of `(x, z)` from `(k − 1, j − 1)` = `(q, j_below)` and its fractions.
+    #[inline(always)]
+    fn of(x: f32, z: f32, q: f32, j_below: f32) -> Self {
+        let (fl_x, fl_z) = (x.floor(), z.floor());
+        let (dx, dz) = (fl_x - q, fl_z - j_below);
+        Spread {
+            s: dx.to_bits() | dz.to_bits(),
+            dx,
+            dz,
+            fx: x - fl_x,
+            fz: z - fl_z,
+        }
+    }
+
+    /// Whether a spread (or several or-ed) says near: its bits within 1.0's.
+    #[inline(always)]
+    fn near(s: u32) -> bool {
+        s & !ONE == 0
+    }
+}
+
+/// 1.0's bits: see [`Spread`].
 const ONE: u32 = 0x3f80_0000;
 
 /// Whether every face of a row but its two ends is free (no obstacle, no wall: every row of
@@ -473,6 +501,87 @@ mod tests {
                 assert_eq!(i1, (i0 + 1) % n);
                 assert_eq!(f.to_bits(), (w - i0 as f32).to_bits(), "{t} by {m}");
             }
+        }
+    }
+
+    /// The row loops' cell test is sound: wherever [`Spread`] says a face's point is near,
+    /// `corners` takes the cell the loop reads (`(k − 1 + dx, j − 1 + dz)`, among the
+    /// 3 × 3 around the face) and the same fractions, bit for bit, on the clamped field and,
+    /// past its rim, on the periodic one. Points on and beside cell edges, off the field,
+    /// far away, ±0, infinite and NaN; both offsets seen near, and far points seen.
+    #[test]
+    fn a_near_spread_is_the_cell_corners_takes() {
+        let (w, h) = (9usize, 7usize);
+        // Distinct samples, so the four `corners` returns name their cell.
+        let src: Vec<f32> = (0..w * h).map(|i| i as f32).collect();
+        let mut ts = vec![
+            f32::NAN,
+            f32::INFINITY,
+            f32::NEG_INFINITY,
+            -0.0,
+            1e30,
+            -1e30,
+        ];
+        for t in -2..=(w as i32 + 2) {
+            let t = t as f32;
+            for d in [-0.5, -1e-6, 0.0, 1e-6, 0.25, 0.5, 0.999_999] {
+                ts.push(t + d);
+            }
+            // The floats either side of the integer.
+            ts.push(f32::from_bits(t.to_bits().wrapping_sub(1)));
+            ts.push(f32::from_bits(t.to_bits() + 1));
+        }
+        let clamped = Clamped::new(&src, w, h);
+        let wrapped = Wrapped::new(&src, w, h, w - 1, h - 1);
+        // A field's `corners` as an array, its rim and its rows.
+        type Sampler<'a> = (&'a dyn Fn(f32, f32) -> [f32; 6], usize, usize);
+        let fields: [Sampler; 2] = [
+            (&|x, z| clamped.corners(x, z).into(), Clamped::RIM, h),
+            (&|x, z| wrapped.corners(x, z).into(), Wrapped::RIM, h - 1),
+        ];
+        for (corners, rim, rows) in fields {
+            let (mut near, mut far, mut offsets) = (0, 0, [false; 4]);
+            // The faces the row loop samples: rows `1 + rim ..= rows − 2`, faces
+            // `1 + rim ..= w − 2 − rim`.
+            for j in 1 + rim..rows - 1 {
+                for k in 1 + rim..w - 1 - rim {
+                    for &x in &ts {
+                        for &z in &ts {
+                            let sp = Spread::of(x, z, (k - 1) as f32, (j - 1) as f32);
+                            if !Spread::near(sp.s) {
+                                far += 1;
+                                continue;
+                            }
+                            near += 1;
+                            let (dx, dz) = (sp.dx.to_bits(), sp.dz.to_bits());
+                            assert!(dx == 0 || dx == ONE, "dx {} at {x}, {z}", sp.dx);
+                            assert!(dz == 0 || dz == ONE, "dz {} at {x}, {z}", sp.dz);
+                            let (i0, j0) =
+                                (k - 1 + (dx == ONE) as usize, j - 1 + (dz == ONE) as usize);
+                            offsets[(dx == ONE) as usize * 2 + (dz == ONE) as usize] = true;
+                            let want = [
+                                src[j0 * w + i0],
+                                src[j0 * w + i0 + 1],
+                                src[(j0 + 1) * w + i0],
+                                src[(j0 + 1) * w + i0 + 1],
+                                sp.fx,
+                                sp.fz,
+                            ];
+                            let got = corners(x, z);
+                            assert_eq!(
+                                got.map(f32::to_bits),
+                                want.map(f32::to_bits),
+                                "face ({k}, {j}), point ({x}, {z}), rim {rim}"
+                            );
+                        }
+                    }
+                }
+            }
+            assert!(
+                near > 1000 && far > 1000,
+                "rim {rim}: {near} near, {far} far"
+            );
+            assert_eq!(offsets, [true; 4], "rim {rim}: every near offset seen");
         }
     }
 }
