@@ -184,8 +184,9 @@ impl Field for Wrapped<'_> {
 
 /// The value of every face `k` of row `j` of a field sampled at departure points
 /// `(xs[k], zs[k])`, in the field's sample coordinates (the face `(k, j)` at `(k, j)`;
-/// [`super::advection::departures_row`]): `out[k] = value(k, out[k], a, b, c, d, fx, fz)`, with the
-/// four samples around the point and its fractions (`reads_old`: `value` uses `out[k]`).
+/// [`super::advection::departures_row`]): `out[k] = value(k, out[k], a, b, c, d, fx, fz)`,
+/// with the four samples around the point and its fractions (`reads_old`: `value` uses
+/// `out[k]`).
 ///
 /// A face's departure point is within one cell of the face itself almost everywhere (all
 /// but 0.9–1.4% of the faces on the examples with strong arrows at 1000², all of them at
