@@ -138,7 +138,7 @@ pub struct Settings {
     /// The 3D view's wind colours (its row of toggles): on or off, and their opacity.
     pub wind_colours: bool,
     pub wind_opacity: f32,
-    /// The 3D view's arrows (its row of toggles).
+    /// The 3D view's arrows (View → Arrows in the 3D view).
     pub grass_arrows: bool,
     /// The speed at the top of the speed colours (map and 3D), m/s; `None`: the field's peak
     /// (View menu).

@@ -252,7 +252,8 @@ pub(super) fn sample_row<F: Field>(
         // The face index as an i32 counter of its own: from `q as i32`, LLVM kept the
         // MacCormack clones' AVX2 counter as two vectors of i64 and narrowed them every
         // iteration (62 instructions a vector of faces; 50 with this). A float ramp read
-        // from memory instead made the AVX-512 clones 5–12% slower at 1000².
+        // from memory instead made the AVX-512 clones' advection 1.04–1.24× as slow at
+        // 1000² (docs/PERFORMANCE.md).
         for (qi, q) in (F::RIM as i32..).zip(qs.clone()) {
             let Spread { s, dx, dz, fx, fz } = spread(qi, xi[q], zi[q]);
             spreads |= s;
