@@ -29,7 +29,8 @@ struct Params {
     max_speed: f32,
     // Rate (1/s) at which an arrow brings the wind up to its strength.
     response: f32,
-    _pad1: f32,
+    // 1 for open boundaries: the confinement leaves the cells along the edges alone.
+    open: u32,
     // World position of the grid's minimum corner, metres.
     origin: vec2<f32>,
     // Ambient layers: the pull toward their wind per substep, 1 − e^(−coupling·dt), and how

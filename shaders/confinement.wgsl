@@ -1,6 +1,7 @@
 // Step 3: vorticity confinement, f = ε h w (N_z, −N_x) with N the unit gradient of |w|, first
-// at cell centres (`force`), then averaged onto the free faces (`apply_u`, `apply_v`), each
-// clamped to ±max_speed. CPU twin: `Solver::confine_vorticity`.
+// at cell centres (`force`; zero in the cells along an open edge, whose inflow would feed it
+// back), then averaged onto the free faces (`apply_u`, `apply_v`), each clamped to
+// ±max_speed. CPU twin: `Solver::confine_vorticity`.
 
 @group(0) @binding(1) var<storage, read> curl: array<f32>;
 @group(0) @binding(2) var<storage, read_write> fx: array<f32>;
@@ -18,6 +19,11 @@ fn force(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let nx = P.nx;
+    if (P.open != 0u && (i == 0u || j == 0u || i == nx - 1u || j == P.ny - 1u)) {
+        fx[j * nx + i] = 0.0;
+        fz[j * nx + i] = 0.0;
+        return;
+    }
     let ni = neighbours(i, nx);
     let nj = neighbours(j, P.ny);
     let w = curl[j * nx + i];

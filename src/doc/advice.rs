@@ -5,14 +5,16 @@
 use super::types::*;
 use super::validate::Issue;
 
-/// Above this vorticity factor MacCormack advection lets confinement run away: on
-/// `layouts/obstacles.json` (arrows of 12–15 m/s) the peak is 16.4 m/s after 60 s at 0.5,
-/// 51 m/s at 1 and 77 m/s after 25 s at 2.
-pub const VORTICITY_MACCORMACK_ADVISED: f32 = 0.5;
+/// Above this vorticity factor MacCormack advection lets confinement push the wind past the
+/// arrows' strengths. The fastest cell over 60 s of the arrow examples at their own grids,
+/// against the same run without confinement: 1.0–1.06× at 1, 1.2–1.45× at 2 and 1.8–3.8× at
+/// 3 (`layouts/branching.json`, arrows ≤ 10 m/s: 10.7, 15.4 and 40.5 m/s).
+pub const VORTICITY_MACCORMACK_ADVISED: f32 = 1.0;
 
 /// Above this vorticity factor confinement drives the wind several times past the arrows'
-/// strengths even with semi-Lagrangian advection: `layouts/two-winds.json` (arrows ≤ 12.5
-/// m/s) peaks at 33–55 m/s at 5 and at hundreds of m/s from about 10.
+/// strengths even with semi-Lagrangian advection: `layouts/two-winds.json` (arrows ≤ 11.25
+/// m/s) peaks over 60 s at 17–20 m/s at 2, 19–28 at 5, 27–125 at 10 and hundreds of m/s
+/// from about 20 (grids of 32² and 128²).
 pub const VORTICITY_ADVISED: f32 = 5.0;
 
 /// The advice for a valid layout (empty when there is none), each with the JSON path of its
@@ -24,9 +26,10 @@ pub fn advise(layout: &Layout) -> Vec<Issue> {
         out.push(Issue {
             path: "sim.vorticity".into(),
             message: format!(
-                "{} with MacCormack advection can drive the wind far past the arrows' \
-                 strengths (obstacles.json: 51 m/s at 1, from arrows of at most 15 m/s); keep it at \
-                 {VORTICITY_MACCORMACK_ADVISED} or below, or use semi-Lagrangian advection",
+                "{} with MacCormack advection can drive the wind past the arrows' strengths \
+                 (branching.json: 15 m/s at 2 and 40 m/s at 3, from arrows of at most 10 m/s); \
+                 keep it at {VORTICITY_MACCORMACK_ADVISED} or below, or use semi-Lagrangian \
+                 advection",
                 s.vorticity
             ),
         });
@@ -35,8 +38,8 @@ pub fn advise(layout: &Layout) -> Vec<Issue> {
             path: "sim.vorticity".into(),
             message: format!(
                 "{} drives the wind several times past the arrows' strengths \
-                 (two-winds.json: 33–55 m/s from 12.5 m/s arrows at 5, hundreds of m/s from \
-                 about 10); keep it at {VORTICITY_ADVISED} or below",
+                 (two-winds.json: 27–125 m/s from 11.25 m/s arrows at 10, hundreds of m/s from \
+                 about 20); keep it at {VORTICITY_ADVISED} or below",
                 s.vorticity
             ),
         });

@@ -33,7 +33,8 @@ pub struct Params {
     pub decay: f32,
     pub max_speed: f32,
     pub response: f32,
-    pub _pad1: f32,
+    /// 1 for open boundaries (the confinement leaves the edge cells alone).
+    pub open: u32,
     pub origin: [f32; 2],
     pub coupling: f32,
     pub layers: u32,
@@ -240,7 +241,7 @@ impl GpuFluid {
             decay: sp.warm_start(),
             max_speed: MAX_SPEED,
             response: sp.arrow_response,
-            _pad1: 0.0,
+            open: u32::from(sp.boundary == crate::doc::Boundary::Open),
             origin: solver.origin,
             coupling: 0.0,
             layers: 0,

@@ -763,7 +763,7 @@ fn cli_validate_reports_every_file_and_fails_on_any_error() {
 }
 
 /// Valid settings known to make bad wind are named, not refused: confinement that runs away
-/// with MacCormack advection (above 0.5) or overshoots the arrows several times with either
+/// with MacCormack advection (above 1) or overshoots the arrows several times with either
 /// scheme (above 5). The bundled examples draw no advice; `validate` prints it after "ok"
 /// and still exits 0, and `bake` says it on stderr and bakes.
 #[test]
@@ -781,11 +781,11 @@ fn settings_that_run_away_are_advised_against_not_refused() {
     };
     use doc::Advection::{MacCormack, SemiLagrangian};
     assert!(advice(&l, doc::VORTICITY_MACCORMACK_ADVISED, MacCormack).is_empty());
-    let a = advice(&l, 1.0, MacCormack);
+    let a = advice(&l, 2.0, MacCormack);
     assert_eq!(a.len(), 1, "{a:?}");
     assert_eq!(a[0].path, "sim.vorticity");
     assert!(
-        a[0].message.starts_with("1 with MacCormack") && a[0].message.contains("0.5 or below"),
+        a[0].message.starts_with("2 with MacCormack") && a[0].message.contains("1 or below"),
         "{}",
         a[0]
     );

@@ -44,13 +44,18 @@ fn kinetic_energy_decays_monotonically_without_forces() {
 
 /// A Gaussian vortex at the centre of a periodic box.
 fn vortex_solver(vorticity: f32) -> Solver {
+    vortex_at([32.0, 32.0], Boundary::Periodic, vorticity)
+}
+
+/// A Gaussian vortex centred at `c` (cells) in a 64 × 64 box with `boundary`.
+fn vortex_at(c: [f32; 2], boundary: Boundary, vorticity: f32) -> Solver {
     let mut l = Layout::new("vortex", [64.0, 64.0], [64, 64]);
-    l.sim.boundary = Boundary::Periodic;
+    l.sim.boundary = boundary;
     l.sim.vorticity = vorticity;
     let mut s = Solver::new(&l);
     let (nx, ny) = (s.nx, s.ny);
     let omega = |x: f32, z: f32| {
-        let (dx, dz) = (x - 32.0, z - 32.0);
+        let (dx, dz) = (x - c[0], z - c[1]);
         // Counter-clockwise in (x, z): u = -dz·g, v = dx·g.
         let g = 2.0 * (-(dx * dx + dz * dz) / 36.0).exp();
         (-dz * g, dx * g)
@@ -93,6 +98,45 @@ fn vorticity_confinement_does_not_lower_peak_vorticity() {
     run(&mut with, 1.0);
     run(&mut without, 1.0);
     assert!(peak_curl(&mut with) > peak_curl(&mut without) * 1.05);
+}
+
+/// On an open grid confinement pushes no cell along the edge: a vortex straddling the west
+/// edge leaves the faces there (the u faces on the edge, the v faces of the edge column)
+/// as they were, while one cell in it pushes, and on a closed grid the same v faces are
+/// pushed. (An open edge's inflow keeps the edge's velocity, so a force there was fed back
+/// into every later step's inflow; the 10,000-step test in `stability.rs` is what that did.)
+#[test]
+fn confinement_leaves_the_cells_along_an_open_edge_alone() {
+    let at = [1.0, 32.0];
+    let dt = 1.0 / 60.0;
+    let mut open = vortex_at(at, Boundary::Open, 30.0);
+    let (nx, ny) = (open.nx, open.ny);
+    let (u0, v0) = (open.u.clone(), open.v.clone());
+    open.compute_curl();
+    assert!(
+        open.curl[32 * nx].abs() > 1.0,
+        "the edge cell spins: {}",
+        open.curl[32 * nx]
+    );
+    open.confine_vorticity(dt);
+    let edge_u = |u: &[f32]| (0..ny).map(|j| u[j * (nx + 1)]).collect::<Vec<_>>();
+    let edge_v = |v: &[f32]| (0..=ny).map(|j| v[j * nx]).collect::<Vec<_>>();
+    assert_eq!(edge_u(&open.u), edge_u(&u0), "u faces on the open edge");
+    assert_eq!(edge_v(&open.v), edge_v(&v0), "v faces of the edge column");
+    let moved = |a: &[f32], b: &[f32]| a.iter().zip(b).filter(|(x, y)| x != y).count();
+    assert!(
+        moved(&open.v, &v0) > 100,
+        "the vortex one cell in is pushed"
+    );
+
+    let mut closed = vortex_at(at, Boundary::Closed, 30.0);
+    let v1 = closed.v.clone();
+    closed.compute_curl();
+    closed.confine_vorticity(dt);
+    assert!(
+        moved(&edge_v(&closed.v), &edge_v(&v1)) > 10,
+        "a closed grid's edge column is pushed"
+    );
 }
 
 #[test]

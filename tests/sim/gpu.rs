@@ -330,7 +330,9 @@ fn energy(f: &[[f32; 2]]) -> f64 {
 /// 200 whole steps of the example layouts the GPU covers, from rest, on the GPU and on the
 /// CPU: the kinetic energy and the mean speed agree within 2%. Eddies amplify a last-bit
 /// difference (the pressure solve's fused multiply-adds) into a different but equally
-/// likely flow, so the fields are compared point by point only where the flow is steady.
+/// likely flow, so the fields are compared point by point only at step 100, before that
+/// (obstacles' relative difference at 48², multigrid: 3e-6 after 25 steps, 5e-5 after 100,
+/// 1.5e-3 after 200 and 5e-3 after 250, growing in bursts as eddies shed).
 #[test]
 fn whole_runs_agree_with_the_cpu() {
     let Some(ctx) = context() else { return };
@@ -387,22 +389,26 @@ fn whole_runs_agree_with_the_cpu() {
         l.sim.pressure = pressure;
         let mut cpu = Solver::new(&l);
         let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
-        for _ in 0..200 {
-            cpu.step();
-            gpu.step(&ctx);
-        }
-        gpu.finish(&ctx).unwrap();
-        assert!((gpu.time - cpu.time).abs() < 1e-4);
-        let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
+        let mut steps = |n: usize| {
+            for _ in 0..n {
+                cpu.step();
+                gpu.step(&ctx);
+            }
+            gpu.finish(&ctx).unwrap();
+            assert!((gpu.time - cpu.time).abs() < 1e-4);
+            (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field())
+        };
+        // At 100 steps the flows have not yet diverged: point by point.
+        let (a, b) = steps(100);
         let (err, peak) = deviation(&a, &b);
+        assert!(peak > 1.0, "{name}: the wind blows");
+        assert!(err <= 1e-3 * peak, "{name}: max |Δv| {err} of peak {peak}");
+        let (a, b) = steps(100);
         let (ea, eb) = (energy(&a), energy(&b));
         let (sa, sb) = (mean_speed(&a), mean_speed(&b));
         println!(
-            "{name} ({advection:?}, {pressure:?}): 200 steps, max |Δv| {err:.2e} of peak {peak:.2}, energy {ea:.1} vs {eb:.1}, mean speed {sa:.3} vs {sb:.3}"
+            "{name} ({advection:?}, {pressure:?}): 100 steps, max |Δv| {err:.2e} of peak {peak:.2}; 200 steps, energy {ea:.1} vs {eb:.1}, mean speed {sa:.3} vs {sb:.3}"
         );
-        assert!(peak > 1.0, "{name}: the wind blows");
-        // At these grids and lengths the flows have not yet diverged: point by point too.
-        assert!(err <= 1e-3 * peak, "{name}: max |Δv| {err} of peak {peak}");
         assert!((ea / eb - 1.0).abs() < 0.02, "{name}: energy {ea} vs {eb}");
         assert!(
             (sa / sb - 1.0).abs() < 0.02,

@@ -148,10 +148,12 @@ fn run_10000_steps(s: &mut Solver, bound: f32, what: &str) -> f32 {
 }
 
 /// Every example layout, run for 10,000 steps (on half its grid, so the test stays quick),
-/// stays finite and bounded: checked every 500 steps, no cell ever faster than twenty times
-/// the strongest arrow (or 10 m/s) — a blow-up grows past any such bound within a few steps.
-/// (Not a plausibility bound: the branching and obstacles layouts' fastest cells spike to
-/// 4–8× their strongest arrow and fall back — recorded in docs/RELIABILITY.md as a finding.)
+/// stays finite and near its arrows: checked every 500 steps, no cell ever faster than 2.5
+/// times the strongest arrow (or than 25 m/s). The peaks are 7.1 (meadow), 11.2
+/// (branching, arrows ≤ 10 m/s), 6.2 (breeze-fft), 14.4 (obstacles, ≤ 12.5) and 21.1 m/s
+/// (two-winds, ≤ 11.25, where its jets meet). While confinement still pushed the cells
+/// along open edges, thin jets grew there and branching and obstacles spiked to 55–77 m/s
+/// (docs/RELIABILITY.md, "Findings").
 #[test]
 fn every_example_runs_10000_steps_finite_and_bounded() {
     for name in [
@@ -164,7 +166,7 @@ fn every_example_runs_10000_steps_finite_and_bounded() {
         let mut l = example(name);
         let g = l.world.grid;
         l.world.grid = [(g[0] / 2).max(8), (g[1] / 2).max(8)];
-        let bound = 20.0
+        let bound = 2.5
             * l.trees
                 .iter()
                 .map(|t| strongest(&t.root))

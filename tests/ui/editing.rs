@@ -92,7 +92,7 @@ fn authoring_a_tree_with_the_mouse_then_inspector_and_undo() {
 }
 
 /// The inspector says when the simulation settings are known to run away (MacCormack with
-/// vorticity above 0.5), in words naming the field, and says nothing for the examples.
+/// vorticity above 1), in words naming the field, and says nothing for the examples.
 #[test]
 fn the_inspector_warns_of_settings_that_run_away() {
     if !gpu_available() {

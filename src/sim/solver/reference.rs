@@ -169,7 +169,9 @@ impl Solver {
     }
 
     /// Step 3: vorticity confinement, `f = ε h w (N_z, −N_x)` with `N` the unit gradient of
-    /// `|w|`, pushing along the rotation so small eddies survive advection.
+    /// `|w|`, pushing along the rotation so small eddies survive advection. The cells along
+    /// an open edge get no force: the air entering there keeps the edge's velocity, so a
+    /// force there would be fed back into every later step's inflow (docs/SOLVER.md).
     fn confine_vorticity_reference(&mut self, dt: f32) {
         let eps = self.params.vorticity;
         if eps <= 0.0 {
@@ -177,6 +179,7 @@ impl Solver {
         }
         let (nx, ny) = (self.nx, self.ny);
         let periodic = self.params.boundary == Boundary::Periodic;
+        let open = self.params.boundary == Boundary::Open;
         let h = self.hx.min(self.hz);
         let curl = &self.curl;
         // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
@@ -188,6 +191,11 @@ impl Solver {
             .for_each(|(j, (fx_row, fz_row))| {
                 let (jb, jt) = lower_upper(j, ny, periodic);
                 for i in 0..nx {
+                    if open && (i == 0 || j == 0 || i == nx - 1 || j == ny - 1) {
+                        fx_row[i] = 0.0;
+                        fz_row[i] = 0.0;
+                        continue;
+                    }
                     let (il, ir) = lower_upper(i, nx, periodic);
                     let w = curl[j * nx + i];
                     let gx = 0.5 * (curl[j * nx + ir].abs() - curl[j * nx + il].abs());

@@ -24,6 +24,7 @@ impl Solver {
             hz: self.hz,
             eps_h: (eps, self.hx.min(self.hz)),
             dt,
+            boundary: self.params.boundary,
             periodic: self.params.boundary == Boundary::Periodic,
             u: &self.u,
             v: &self.v,
@@ -55,7 +56,8 @@ impl Solver {
             let j = ny - 1;
             let (jb, jt) = neighbours(j, ny, false);
             let c = |r: usize| &self.curl[r * nx..][..nx];
-            force_row(&mut fx, &mut fz, c(j), c(jb), c(jt), ctx.eps_h, false);
+            let rows = (c(j), c(jb), c(jt));
+            cell_forces(&mut fx, &mut fz, rows, ctx.eps_h, ctx.boundary, j, ny);
             v_last.copy_from_slice(&self.v[ny * nx..]);
             add_v_row(v_last, &self.v_free[ny * nx..], &fz, &fz, dt);
         }
@@ -79,14 +81,16 @@ impl Solver {
     }
 
     /// Step 3: vorticity confinement, `f = ε h w (N_z, −N_x)` with `N` the unit gradient of
-    /// `|w|`, pushing along the rotation so small eddies survive advection.
+    /// `|w|`, pushing along the rotation so small eddies survive advection; none in the cells
+    /// along an open edge (docs/SOLVER.md, step 3).
     pub fn confine_vorticity(&mut self, dt: f32) {
         let eps = self.params.vorticity;
         if eps <= 0.0 {
             return;
         }
         let (nx, ny) = (self.nx, self.ny);
-        let periodic = self.params.boundary == Boundary::Periodic;
+        let boundary = self.params.boundary;
+        let periodic = boundary == Boundary::Periodic;
         let eps_h = (eps, self.hx.min(self.hz));
         let curl = &self.curl;
         // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
@@ -98,7 +102,7 @@ impl Solver {
             .for_each(|(j, (fx, fz))| {
                 let (jb, jt) = neighbours(j, ny, periodic);
                 let c = |r: usize| &curl[r * nx..][..nx];
-                force_row(fx, fz, c(j), c(jb), c(jt), eps_h, periodic);
+                cell_forces(fx, fz, (c(j), c(jb), c(jt)), eps_h, boundary, j, ny);
             });
         let (fx, fz) = (&self.p_tmp, &self.div);
         let (u_free, v_free) = (&self.u_free, &self.v_free);
@@ -231,8 +235,36 @@ fn force(eps_h: (f32, f32), w: f32, l: f32, r: f32, b: f32, t: f32) -> (f32, f32
     (s * gz, -s * gx)
 }
 
+/// The cell-centred confinement force `(fx, fz)` of cell row `j` of `ny`, from the curl
+/// rows `(c, cb, ct)`: the row's own, and those below and above it ([`force_row`]).
+///
+/// Along an open edge (its first and last rows, and every row's first and last cell) the
+/// force is zero. The air that enters through an open edge keeps the edge's velocity
+/// (zero-gradient advection), so a force there is fed back into each later step's inflow
+/// instead of being carried away, and the curl's one-sided differences there push along the
+/// edge: at ε = 2, thin jets grew at the inflow edges and ran into the map, to 10× the
+/// arrows' strength on `branching.json` (docs/RELIABILITY.md). Closed and periodic edges are
+/// pushed as before.
+fn cell_forces(
+    fx: &mut [f32],
+    fz: &mut [f32],
+    (c, cb, ct): (&[f32], &[f32], &[f32]),
+    eps_h: (f32, f32),
+    boundary: Boundary,
+    j: usize,
+    ny: usize,
+) {
+    let open = boundary == Boundary::Open;
+    if open && (j == 0 || j + 1 == ny) {
+        fx.fill(0.0);
+        fz.fill(0.0);
+    } else {
+        force_row(fx, fz, c, cb, ct, eps_h, boundary);
+    }
+}
+
 /// The cell-centred confinement force of a row, `(fx, fz)`, from its curl `c` and the curl
-/// rows below and above it.
+/// rows below and above it; zero in its end cells on an open grid (see [`cell_forces`]).
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -245,12 +277,17 @@ fn force_row(
     cb: &[f32],
     ct: &[f32],
     eps_h: (f32, f32),
-    periodic: bool,
+    boundary: Boundary,
 ) {
     let nx = c.len();
+    let periodic = boundary == Boundary::Periodic;
     for i in row_ends(nx) {
         let (il, ir) = neighbours(i, nx, periodic);
-        (fx[i], fz[i]) = force(eps_h, c[i], c[il], c[ir], cb[i], ct[i]);
+        (fx[i], fz[i]) = if boundary == Boundary::Open {
+            (0.0, 0.0)
+        } else {
+            force(eps_h, c[i], c[il], c[ir], cb[i], ct[i])
+        };
     }
     let Some(n) = nx.checked_sub(2) else { return };
     let (fxi, fzi) = (&mut fx[1..=n], &mut fz[1..=n]);
@@ -344,6 +381,7 @@ struct Fused<'a> {
     hz: f32,
     eps_h: (f32, f32),
     dt: f32,
+    boundary: Boundary,
     periodic: bool,
     u: &'a [f32],
     v: &'a [f32],
@@ -416,14 +454,15 @@ impl Fused<'_> {
                 continue;
             }
             let (tb, tt) = side(t);
-            force_row(
+            let c = |s: isize| &curl[slot(s)..][..nx];
+            cell_forces(
                 &mut fx[slot(t)..][..nx],
                 &mut fz[slot(t)..][..nx],
-                &curl[slot(t)..][..nx],
-                &curl[slot(tb)..][..nx],
-                &curl[slot(tt)..][..nx],
+                (c(t), c(tb), c(tt)),
                 self.eps_h,
-                per,
+                self.boundary,
+                real(t),
+                ny,
             );
             if (a..b).contains(&t) {
                 let r = real(t);
