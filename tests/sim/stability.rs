@@ -176,6 +176,60 @@ fn every_example_runs_10000_steps_finite_and_bounded() {
     }
 }
 
+/// Arrows at the edges of an open map (wind blowing in from the border, out of it, along
+/// it, and a strong one out across it), 100 s each on a 100 × 100 m map at 1 m cells: no
+/// cell ever faster than twice the arrow. The peaks (every 300 steps) are 11.9–14.1 m/s
+/// from the 10 m/s arrows and 19.7 from the 20 m/s one; while confinement still pushed the
+/// cells along open edges they were 26.7–44.8 and 194 (docs/RELIABILITY.md, "Findings").
+#[test]
+fn arrows_at_an_open_edge_keep_the_wind_near_their_strength() {
+    for (what, points, strength, radius) in [
+        (
+            "in from the west edge",
+            [[0.5, 50.0], [30.0, 50.0], [60.0, 50.0]],
+            10.0,
+            5.0,
+        ),
+        (
+            "out of the east edge",
+            [[40.0, 50.0], [70.0, 50.0], [99.5, 50.0]],
+            10.0,
+            5.0,
+        ),
+        (
+            "along the north edge",
+            [[5.0, 1.0], [50.0, 1.0], [95.0, 1.0]],
+            10.0,
+            5.0,
+        ),
+        (
+            "out across the east edge",
+            [[80.0, 50.0], [90.0, 50.0], [99.9, 50.0]],
+            20.0,
+            10.0,
+        ),
+    ] {
+        let mut l = Layout::new("edge", [100.0, 100.0], [100, 100]);
+        l.sim.boundary = Boundary::Open;
+        l.trees.push(tree(1, chain(10, &points, strength, radius)));
+        assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
+        let mut s = Solver::new(&l);
+        let mut peak = 0.0f32;
+        for k in 1..=6000 {
+            s.step();
+            if k % 300 == 0 {
+                let m = max_speed(&s);
+                peak = peak.max(m);
+                assert!(
+                    m <= 2.0 * strength,
+                    "{what}: {m} m/s after {k} steps from a {strength} m/s arrow"
+                );
+            }
+        }
+        println!("{what}: peak {peak:.1} m/s from {strength} m/s");
+    }
+}
+
 /// The extremes the validator allows, 10,000 steps each: arrows of 500 m/s whose radius
 /// covers the whole map, one-cell obstacles, every boundary, both advection schemes — finite
 /// and bounded throughout.
