@@ -128,10 +128,16 @@ fn max_speed(s: &Solver) -> f32 {
 /// Steps `s` 10,000 times, checking every 500 steps that the field is finite and no cell is
 /// faster than `bound`; returns the fastest speed seen.
 fn run_10000_steps(s: &mut Solver, bound: f32, what: &str) -> f32 {
+    run_checked(s, 10_000, 500, bound, what)
+}
+
+/// Steps `s` `steps` times, checking every `every` steps that the field is finite and no
+/// cell is faster than `bound`; returns the fastest speed seen.
+fn run_checked(s: &mut Solver, steps: usize, every: usize, bound: f32, what: &str) -> f32 {
     let mut peak = 0.0f32;
-    for k in 1..=10_000 {
+    for k in 1..=steps {
         s.step();
-        if k % 500 == 0 {
+        if k % every == 0 {
             assert!(
                 s.u.iter().chain(&s.v).chain(&s.p).all(|x| x.is_finite()),
                 "{what}: non-finite after {k} steps"
@@ -213,19 +219,7 @@ fn arrows_at_an_open_edge_keep_the_wind_near_their_strength() {
         l.sim.boundary = Boundary::Open;
         l.trees.push(tree(1, chain(10, &points, strength, radius)));
         assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
-        let mut s = Solver::new(&l);
-        let mut peak = 0.0f32;
-        for k in 1..=6000 {
-            s.step();
-            if k % 300 == 0 {
-                let m = max_speed(&s);
-                peak = peak.max(m);
-                assert!(
-                    m <= 2.0 * strength,
-                    "{what}: {m} m/s after {k} steps from a {strength} m/s arrow"
-                );
-            }
-        }
+        let peak = run_checked(&mut Solver::new(&l), 6000, 300, 2.0 * strength, what);
         println!("{what}: peak {peak:.1} m/s from {strength} m/s");
     }
 }

@@ -25,7 +25,6 @@ impl Solver {
             eps_h: (eps, self.hx.min(self.hz)),
             dt,
             boundary: self.params.boundary,
-            periodic: self.params.boundary == Boundary::Periodic,
             u: &self.u,
             v: &self.v,
             solid: &self.solid,
@@ -51,7 +50,7 @@ impl Solver {
             });
         // The last row of v faces: a copy of the first when periodic (below); otherwise its
         // force is the last cell row's, made again from the finished curl.
-        if !ctx.periodic {
+        if ctx.boundary != Boundary::Periodic {
             let (mut fx, mut fz) = (vec![0.0; nx], vec![0.0; nx]);
             let j = ny - 1;
             let (jb, jt) = neighbours(j, ny, false);
@@ -382,7 +381,6 @@ struct Fused<'a> {
     eps_h: (f32, f32),
     dt: f32,
     boundary: Boundary,
-    periodic: bool,
     u: &'a [f32],
     v: &'a [f32],
     solid: &'a [u8],
@@ -407,7 +405,7 @@ impl Fused<'_> {
     /// real rows); curl and forces live in three-row rings, and rows beyond the band are
     /// computed but not written.
     fn band(&self, a: usize, b: usize, out: Out) {
-        let (nx, ny, per) = (self.nx, self.ny, self.periodic);
+        let (nx, ny, per) = (self.nx, self.ny, self.boundary == Boundary::Periodic);
         let (a, b, n) = (a as isize, b as isize, ny as isize);
         let real = |s: isize| s.rem_euclid(n) as usize;
         // The rows either side of virtual row `s` (clamped at non-periodic ends).
