@@ -39,7 +39,7 @@ struct Params {
     layers: u32,
 }
 
-@group(0) @binding(0) var<uniform> P: Params;
+@group(0) @binding(0) var<storage, read> P: Params;
 
 // Neighbour indices (lower, upper) of `i` on an axis of `n` cells: wrapped or clamped.
 fn neighbours(i: u32, n: u32) -> vec2<u32> {

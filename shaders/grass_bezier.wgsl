@@ -14,7 +14,7 @@ struct Physics {
 }
 
 @group(1) @binding(0) var<storage, read_write> states: array<BezierState>;
-@group(1) @binding(1) var<uniform> PH: Physics;
+@group(1) @binding(1) var<storage, read> PH: Physics;
 
 const GRAVITY: f32 = 9.81;
 const LENGTH_CHORDS: u32 = 8u;

@@ -15,8 +15,8 @@ struct Level {
 }
 
 @group(2) @binding(0) var<storage, read> visible: array<u32>;
-@group(2) @binding(1) var<uniform> C: Cull;
-@group(2) @binding(2) var<uniform> L: Level;
+@group(2) @binding(1) var<storage, read> C: Cull;
+@group(2) @binding(2) var<storage, read> L: Level;
 
 struct BladeOut {
     @builtin(position) clip: vec4<f32>,

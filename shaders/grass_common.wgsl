@@ -115,7 +115,7 @@ struct Pose {
 const LENGTH_SEGMENTS: u32 = 16u;
 const TAU: f32 = 6.283185307179586;
 
-@group(0) @binding(0) var<uniform> S: Scene;
+@group(0) @binding(0) var<storage, read> S: Scene;
 @group(0) @binding(1) var<storage, read> blades: array<Blade>;
 // The wind grid: cell-centred velocity (x, z), m/s, row-major.
 @group(0) @binding(2) var<storage, read> wind: array<vec2<f32>>;

@@ -6,7 +6,7 @@
 // `grass::cull::classify`.
 
 @group(2) @binding(0) var<storage, read_write> visible: array<u32>;
-@group(2) @binding(1) var<uniform> C: Cull;
+@group(2) @binding(1) var<storage, read> C: Cull;
 // Per level: draw_indirect's (vertex_count, instance_count, first_vertex, first_instance);
 // then blades culled by orientation, frustum and distance, and one word spare; then the far
 // level once more as one draw of its triangles without instancing, (3 × count, 1, 0, 0):

@@ -5,7 +5,7 @@
 // of the whole world, where every blade is culled, shows its grass and its wind, and near
 // blades stand on plain ground. CPU twin: `grass::far::texel` and `grass::far::cover`.
 
-@group(1) @binding(0) var<uniform> F: Far;
+@group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far: texture_storage_2d<rgba16float, write>;
 
 // `far::PROBES`, `far::POINTS`.

@@ -6,7 +6,7 @@
 // With the wind colours on (`fs_wind_colours`), the map view's speed colour of the wind there
 // goes over it all.
 
-@group(1) @binding(0) var<uniform> F: Far;
+@group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far_image: texture_2d<f32>;
 @group(1) @binding(2) var far_sampler: sampler;
 @group(2) @binding(0) var backdrop_image: texture_2d<f32>;

@@ -9,7 +9,7 @@ struct Grid {
     _pad: vec2<u32>,
 }
 
-@group(0) @binding(0) var<uniform> G: Grid;
+@group(0) @binding(0) var<storage, read> G: Grid;
 @group(0) @binding(1) var<storage, read> u: array<f32>;
 @group(0) @binding(2) var<storage, read> v: array<f32>;
 @group(0) @binding(3) var<storage, read_write> cells: array<vec2<f32>>;

@@ -55,7 +55,7 @@ struct Particle {
 // Points a streak's trail keeps (the CPU view's `TRAIL`).
 const TRAIL: u32 = 14u;
 
-@group(0) @binding(0) var<uniform> V: View;
+@group(0) @binding(0) var<storage, read> V: View;
 @group(0) @binding(1) var<storage, read> u: array<f32>;
 @group(0) @binding(2) var<storage, read> v: array<f32>;
 @group(0) @binding(3) var<storage, read> p: array<f32>;

@@ -26,7 +26,7 @@ struct Mg {
     _pad: f32,
 }
 
-@group(0) @binding(0) var<uniform> M: Mg;
+@group(0) @binding(0) var<storage, read> M: Mg;
 @group(0) @binding(1) var<storage, read> x: array<f32>;
 @group(0) @binding(4) var<storage, read> ax: array<f32>;
 @group(0) @binding(5) var<storage, read> az: array<f32>;

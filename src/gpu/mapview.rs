@@ -225,7 +225,7 @@ impl MapRenderer {
         let field_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("map field"),
             entries: &[
-                entry(0, all, wgpu::BufferBindingType::Uniform),
+                entry(0, all, wgpu::BufferBindingType::Storage { read_only: true }),
                 entry(1, all, ro),
                 entry(2, all, ro),
                 entry(3, all, ro),
@@ -312,7 +312,7 @@ impl MapRenderer {
             view_buf: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("map view"),
                 size: std::mem::size_of::<View>() as u64,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             lut: device.create_buffer_init(&wgpu::util::BufferInitDescriptor {

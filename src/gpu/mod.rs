@@ -36,6 +36,70 @@ pub(crate) fn test_context(limits: impl FnOnce(&mut wgpu::Limits)) -> Option<Gpu
     Some(GpuContext::from_parts(&adapter, device, queue).unwrap())
 }
 
+/// How many of each kind of wgpu resource the program holds, from wgpu's own report: what a
+/// view that runs for hours must keep constant (a resource made per frame and kept shows
+/// here as a count that climbs).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct LiveResources {
+    pub buffers: usize,
+    pub textures: usize,
+    pub texture_views: usize,
+    pub samplers: usize,
+    pub bind_groups: usize,
+    pub bind_group_layouts: usize,
+    pub pipelines: usize,
+    pub shader_modules: usize,
+    pub query_sets: usize,
+    pub command_encoders: usize,
+    pub command_buffers: usize,
+}
+
+impl LiveResources {
+    /// The resources `instance` holds for its user (`None` where wgpu has no report: a
+    /// WebGPU instance).
+    pub fn of(instance: &wgpu::Instance) -> Option<Self> {
+        let report = instance.generate_report()?;
+        let hub = report.hub_report();
+        Some(Self {
+            buffers: hub.buffers.num_kept_from_user,
+            textures: hub.textures.num_kept_from_user,
+            texture_views: hub.texture_views.num_kept_from_user,
+            samplers: hub.samplers.num_kept_from_user,
+            bind_groups: hub.bind_groups.num_kept_from_user,
+            bind_group_layouts: hub.bind_group_layouts.num_kept_from_user,
+            pipelines: hub.render_pipelines.num_kept_from_user
+                + hub.compute_pipelines.num_kept_from_user,
+            shader_modules: hub.shader_modules.num_kept_from_user,
+            query_sets: hub.query_sets.num_kept_from_user,
+            command_encoders: hub.command_encoders.num_kept_from_user,
+            command_buffers: hub.command_buffers.num_kept_from_user,
+        })
+    }
+
+    /// Whether `later` holds no more than `slack` more of any kind than `self`.
+    pub fn at_most_plus(&self, later: &Self, slack: usize) -> bool {
+        let kinds = |r: &Self| {
+            [
+                r.buffers,
+                r.textures,
+                r.texture_views,
+                r.samplers,
+                r.bind_groups,
+                r.bind_group_layouts,
+                r.pipelines,
+                r.shader_modules,
+                r.query_sets,
+                r.command_encoders,
+                r.command_buffers,
+            ]
+        };
+        kinds(later)
+            .iter()
+            .zip(kinds(self))
+            .all(|(&l, e)| l <= e + slack)
+    }
+}
+
 /// Bind-group-layout entries for a filterable 2D float texture at `binding` and a filtering
 /// sampler at `binding + 1`, for fragment shaders (the grass ground's images).
 pub(crate) fn sampled_texture_entries(binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {

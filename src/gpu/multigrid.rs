@@ -175,7 +175,7 @@ impl GpuMultigrid {
                     device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
                         label: Some("multigrid level"),
                         contents: bytemuck::bytes_of(&p),
-                        usage: wgpu::BufferUsages::UNIFORM,
+                        usage: wgpu::BufferUsages::STORAGE,
                     })
                 });
                 let params = params.collect();

@@ -49,7 +49,7 @@ impl BezierPass {
         let physics = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("bezier physics"),
             size: std::mem::size_of::<Physics>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let layout1 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -63,7 +63,7 @@ impl BezierPass {
                 crate::gpu::buffer_entry(
                     1,
                     wgpu::ShaderStages::COMPUTE,
-                    wgpu::BufferBindingType::Uniform,
+                    wgpu::BufferBindingType::Storage { read_only: true },
                 ),
             ],
         });

@@ -131,6 +131,8 @@ pub struct CullPass {
     readback: wgpu::Buffer,
     readback_state: Arc<AtomicU8>,
     last: Option<CullStats>,
+    /// How many read-backs have arrived.
+    reads: u64,
     last_total: u32,
 }
 
@@ -148,7 +150,6 @@ impl CullPass {
         use wgpu::ShaderStages as S;
         let rw = wgpu::BufferBindingType::Storage { read_only: false };
         let ro = wgpu::BufferBindingType::Storage { read_only: true };
-        let uni = wgpu::BufferBindingType::Uniform;
         // Each level's list starts on a 256-byte boundary so it can be bound on its own.
         let capacity = blades.max(1).div_ceil(64) * 64;
         let buffer = |label, size: u64, usage| {
@@ -163,7 +164,7 @@ impl CullPass {
         let uniform = buffer(
             "grass cull",
             std::mem::size_of::<CullUniform>() as u64,
-            wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         );
         let slice = u64::from(capacity) * 4;
         let visible = buffer("grass visible", 3 * slice, storage);
@@ -188,7 +189,7 @@ impl CullPass {
             label: Some("grass cull"),
             entries: &[
                 entry(0, S::COMPUTE, rw),
-                entry(1, S::COMPUTE, uni),
+                entry(1, S::COMPUTE, ro),
                 entry(2, S::COMPUTE, rw),
                 entry(3, S::COMPUTE, rw),
                 entry(4, S::COMPUTE, rw),
@@ -198,8 +199,8 @@ impl CullPass {
             label: Some("grass level"),
             entries: &[
                 entry(0, S::VERTEX, ro),
-                entry(1, S::VERTEX, uni),
-                entry(2, S::VERTEX, uni),
+                entry(1, S::VERTEX, ro),
+                entry(2, S::VERTEX, ro),
             ],
         });
         fn whole(b: &wgpu::Buffer) -> wgpu::BindingResource<'_> {
@@ -219,7 +220,7 @@ impl CullPass {
                     level: l,
                     _pad: [0; 2],
                 }),
-                usage: wgpu::BufferUsages::UNIFORM,
+                usage: wgpu::BufferUsages::STORAGE,
             });
             device.create_bind_group(&wgpu::BindGroupDescriptor {
                 label: Some("grass level"),
@@ -275,6 +276,7 @@ impl CullPass {
             readback,
             readback_state: Arc::new(AtomicU8::new(IDLE)),
             last: None,
+            reads: 0,
             last_total: 0,
         }
     }
@@ -373,6 +375,7 @@ impl CullPass {
                 if let Ok(data) = self.readback.slice(..).get_mapped_range() {
                     let words: &[u32] = bytemuck::cast_slice(&data);
                     self.last = Some(CullStats::from_words(words, self.last_total));
+                    self.reads += 1;
                 }
                 self.readback.unmap();
                 self.readback_state.store(IDLE, Ordering::Release);
@@ -380,6 +383,12 @@ impl CullPass {
             _ => {}
         }
         self.last
+    }
+
+    /// How many read-backs of the counters have arrived: two more than now, and counters of
+    /// a frame recorded from now on have arrived.
+    pub fn stats_reads(&self) -> u64 {
+        self.reads
     }
 
     /// The far level's draw arguments `(vertex_count, instance_count, first_vertex,

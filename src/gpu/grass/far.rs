@@ -90,7 +90,7 @@ impl FarPass {
         let uniform_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("grass far"),
             size: std::mem::size_of::<FarUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let texels = texel_texture(device, (1, 1));
@@ -103,7 +103,11 @@ impl FarPass {
         let compute_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass far (compute)"),
             entries: &[
-                entry(0, S::COMPUTE, wgpu::BufferBindingType::Uniform),
+                entry(
+                    0,
+                    S::COMPUTE,
+                    wgpu::BufferBindingType::Storage { read_only: true },
+                ),
                 wgpu::BindGroupLayoutEntry {
                     binding: 1,
                     visibility: S::COMPUTE,
@@ -120,7 +124,11 @@ impl FarPass {
         let ground_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass far (ground)"),
             entries: &[
-                entry(0, S::FRAGMENT, wgpu::BufferBindingType::Uniform),
+                entry(
+                    0,
+                    S::FRAGMENT,
+                    wgpu::BufferBindingType::Storage { read_only: true },
+                ),
                 image,
                 filter,
             ],

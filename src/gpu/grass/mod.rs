@@ -361,7 +361,7 @@ impl GrassRenderer {
         let scene_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("grass scene"),
             contents: bytemuck::bytes_of(&scene),
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         });
         let blades_buf = storage(device, "grass blades", blade_bytes);
         let wind = storage(device, "grass wind", &[0; 8]);
@@ -378,7 +378,7 @@ impl GrassRenderer {
         let layout0 = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass scene"),
             entries: &[
-                entry(0, all, wgpu::BufferBindingType::Uniform),
+                entry(0, all, wgpu::BufferBindingType::Storage { read_only: true }),
                 entry(1, all, ro),
                 entry(2, all, ro),
                 entry(3, all, ro),
@@ -502,7 +502,7 @@ impl GrassRenderer {
             wind_grid: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("grass wind grid"),
                 size: 16,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             wind_group: None,
@@ -907,6 +907,17 @@ impl GrassRenderer {
             pass.set_vertex_buffer(0, b.slice(..));
             pass.draw(0..*n, 0..1);
         }
+    }
+
+    /// Whether the view still changes with no change to its inputs: a pushed trail still
+    /// fading (the Bezier blades' settling is the caller's to time).
+    pub fn trail_active(&self) -> bool {
+        self.trail_left > 0.0
+    }
+
+    /// How many read-backs of the cull counters have arrived ([`CullPass::stats_reads`]).
+    pub fn cull_stats_reads(&self) -> u64 {
+        self.cull.stats_reads()
     }
 
     /// The latest cull counters the GPU has sent back, starting the next read-back (call after
