@@ -13,6 +13,7 @@ const AFTER_HELP: &str = "\
 Examples:
   windloom                               open the editor on the bundled default layout
   windloom layouts/obstacles.json        open the editor on a layout
+  windloom layouts/meadow.json --view 3d open the editor on the grass in 3D
   windloom my-new-level.json             start a new layout there (Save writes it)
   windloom validate layouts/*.json       check layout files, print every error
   windloom schema > layout.schema.json   the JSON Schema of the layout format
@@ -35,6 +36,10 @@ struct Cli {
     /// without it, the choice last made in the View menu.
     #[arg(long, value_enum)]
     backend: Option<Backend>,
+    /// The view the editor opens on: the map, the grass in 3D, or both side by side (the
+    /// View menu changes it later); without it, the view last used.
+    #[arg(long, value_enum)]
+    view: Option<windloom::app::Central>,
     #[command(subcommand)]
     command: Option<Command>,
 }
@@ -531,7 +536,13 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                 Backend::Gpu => windloom::app::live::BackendChoice::Gpu,
                 Backend::Auto => windloom::app::live::BackendChoice::Auto,
             });
-            windloom::app::run(doc, cli.file, backend, note).map_err(|e| {
+            let launch = windloom::app::Launch {
+                path: cli.file,
+                backend,
+                view: cli.view,
+                note,
+            };
+            windloom::app::run(doc, launch).map_err(|e| {
                 anyhow::anyhow!("could not open the editor window: {e}{}", window_hint(&e))
             })?;
             Ok(ExitCode::SUCCESS)

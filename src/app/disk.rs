@@ -22,7 +22,7 @@ pub enum Change {
 pub struct Watch {
     path: PathBuf,
     /// Modification time and length when last looked at (`None`: no file).
-    stamp: Option<(Option<SystemTime>, u64)>,
+    stamp: Stamp,
     /// Hash of the content the editor knows (`None`: no file).
     content: Option<u64>,
 }
@@ -33,7 +33,10 @@ fn hash(bytes: &[u8]) -> u64 {
     h.finish()
 }
 
-fn stamp(path: &Path) -> Option<(Option<SystemTime>, u64)> {
+/// A file's modification time and length (`None`: no file).
+type Stamp = Option<(Option<SystemTime>, u64)>;
+
+fn stamp(path: &Path) -> Stamp {
     let m = std::fs::metadata(path).ok()?;
     Some((m.modified().ok(), m.len()))
 }
@@ -57,6 +60,11 @@ impl Watch {
         }
     }
 
+    /// The file watched.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
     /// Looks at the file: a change not seen before, if any. A rewrite with the same content
     /// (a `touch`, a save of identical text) is not a change. Each change is reported once.
     pub fn check(&mut self) -> Option<Change> {
@@ -74,6 +82,80 @@ impl Watch {
             Some(_) => Change::Modified,
             None => Change::Deleted,
         })
+    }
+}
+
+/// Looks at the watched file's stamp every [`CHECK_SECONDS`] on a thread of its own and calls
+/// `wake` when it changes, so an idle editor draws no frames to notice a change on disk (the
+/// editor then [`Watch::check`]s it).
+pub struct Poller {
+    path: std::sync::Arc<std::sync::Mutex<Option<PathBuf>>>,
+    poked: std::sync::Arc<std::sync::atomic::AtomicBool>,
+    stop: Option<std::sync::mpsc::Sender<()>>,
+    thread: Option<std::thread::JoinHandle<()>>,
+}
+
+impl Poller {
+    /// Starts polling nothing; [`Poller::watch`] names the file.
+    pub fn start(wake: impl Fn() + Send + 'static) -> Self {
+        use std::sync::atomic::Ordering;
+        let path = std::sync::Arc::new(std::sync::Mutex::new(None::<PathBuf>));
+        let poked = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        let (stop, stopped) = std::sync::mpsc::channel::<()>();
+        let thread = {
+            let (path, poked) = (path.clone(), poked.clone());
+            std::thread::Builder::new()
+                .name("windloom disk watch".into())
+                .spawn(move || {
+                    let mut seen: Option<(PathBuf, Stamp)> = None;
+                    let every = std::time::Duration::from_secs_f64(CHECK_SECONDS);
+                    while let Err(std::sync::mpsc::RecvTimeoutError::Timeout) =
+                        stopped.recv_timeout(every)
+                    {
+                        let Some(p) = path.lock().ok().and_then(|p| p.clone()) else {
+                            seen = None;
+                            continue;
+                        };
+                        let now = stamp(&p);
+                        match &seen {
+                            Some((q, s)) if *q == p && *s != now => {
+                                poked.store(true, Ordering::Release);
+                                wake();
+                            }
+                            _ => {}
+                        }
+                        seen = Some((p, now));
+                    }
+                })
+                .ok()
+        };
+        Self {
+            path,
+            poked,
+            stop: Some(stop),
+            thread,
+        }
+    }
+
+    /// Polls `path` from now on (`None`: nothing).
+    pub fn watch(&self, path: Option<&Path>) {
+        if let Ok(mut p) = self.path.lock() {
+            *p = path.map(Path::to_path_buf);
+        }
+    }
+
+    /// Whether the file's stamp changed since the last call.
+    pub fn poked(&self) -> bool {
+        self.poked.swap(false, std::sync::atomic::Ordering::AcqRel)
+    }
+}
+
+impl Drop for Poller {
+    fn drop(&mut self) {
+        drop(self.stop.take());
+        if let Some(t) = self.thread.take() {
+            let _ = t.join();
+        }
     }
 }
 
@@ -101,5 +183,24 @@ mod tests {
         let mut mine = Watch::written(&f, b"mine");
         std::fs::write(&f, b"mine").unwrap();
         assert_eq!(mine.check(), None, "what the editor wrote is no change");
+    }
+
+    #[test]
+    fn the_poller_wakes_the_editor_when_the_file_changes_and_not_before() {
+        let dir = tempfile::tempdir().unwrap();
+        let f = dir.path().join("level.json");
+        std::fs::write(&f, b"one").unwrap();
+        let (tx, rx) = std::sync::mpsc::channel();
+        let poller = Poller::start(move || {
+            let _ = tx.send(());
+        });
+        poller.watch(Some(&f));
+        let wait = std::time::Duration::from_secs_f64(CHECK_SECONDS * 2.5);
+        assert!(rx.recv_timeout(wait).is_err(), "no change, no wake");
+        assert!(!poller.poked());
+        std::fs::write(&f, b"two, longer").unwrap();
+        assert!(rx.recv_timeout(wait * 2).is_ok(), "woken by the change");
+        assert!(poller.poked());
+        assert!(!poller.poked(), "told once");
     }
 }

@@ -100,6 +100,26 @@ pub const SOFTWARE_BLADE_BUDGET: u32 = 40_000;
 /// Seconds the camera must rest before the software adapter's sample follows it.
 const RESAMPLE_AFTER: f64 = 0.2;
 
+/// Seconds the Bezier blades are drawn after the last change to what the view shows (the
+/// wind, the camera, the settings): their physics settles over a few seconds; the CWD
+/// blades' pose follows the wind at once.
+const BEZIER_SETTLE: f64 = 4.0;
+
+/// What the 3D view shows, as far as it can change between frames: while it stays the same
+/// and nothing animates, the view asks for no frames.
+#[derive(Debug, Clone, PartialEq)]
+struct Shown {
+    wind: u64,
+    eye: glam::Vec3,
+    target: glam::Vec3,
+    size: [u32; 2],
+    controls: super::grass_controls::GrassControls,
+    model: crate::doc::GrassModel,
+    speed_scale: Option<f32>,
+    beside: Option<MapBeside>,
+    sphere: bool,
+}
+
 /// The software adapter's sample: every blade of the layout, the one in each uploaded slot,
 /// the camera it was chosen for, and when the camera last moved.
 struct ViewSample {
@@ -223,6 +243,11 @@ pub struct GrassView {
     pub hover_ground: Option<[f32; 2]>,
     /// Where the map's pointer was marked on the view last frame (beside the map).
     pub mark: Option<egui::Pos2>,
+    /// What the last frame showed, and when that last changed (editor seconds).
+    shown: Option<Shown>,
+    changed_at: f64,
+    /// The read-back of the counters that shows the last change.
+    stats_due: u64,
 }
 
 impl Default for GrassView {
@@ -249,6 +274,9 @@ impl Default for GrassView {
             rect: None,
             hover_ground: None,
             mark: None,
+            shown: None,
+            changed_at: 0.0,
+            stats_due: 0,
         }
     }
 }
@@ -534,8 +562,43 @@ impl GrassView {
         let started = std::time::Instant::now();
         rs.queue.submit([enc.finish()]);
         self.stats = grass.poll_cull_stats().or(self.stats);
-        // Bezier blades settle, a trail fades and the counters arrive over the next frames.
-        ui.ctx().request_repaint();
+        // Frames only while the picture can change: Bezier blades settling after a change, a
+        // trail fading, the counters on their way back, the software sample due to follow a
+        // resting camera. A paused, untouched view draws nothing (new wind, input and edits
+        // wake it).
+        let now = ui.input(|i| i.time);
+        let shown = Shown {
+            wind: snap.serial,
+            eye: camera.eye,
+            target: camera.target,
+            size,
+            controls: self.controls,
+            model: doc.grass.model,
+            speed_scale: self.speed_scale,
+            beside,
+            sphere: sphere.is_some(),
+        };
+        if self.shown.as_ref() != Some(&shown) {
+            self.shown = Some(shown);
+            self.changed_at = now;
+            self.stats_due = grass.cull_stats_reads() + 2;
+        }
+        let settling = doc.grass.model == crate::doc::GrassModel::BezierPhysics
+            && now - self.changed_at < BEZIER_SETTLE;
+        if settling || sphere.is_some() || grass.trail_active() {
+            ui.ctx().request_repaint();
+        } else if grass.cull_stats_reads() < self.stats_due {
+            ui.ctx()
+                .request_repaint_after(std::time::Duration::from_millis(30));
+        }
+        if let Some(sample) = &self.sample {
+            let (eye, target, aspect) = sample.seen;
+            if (eye, target, aspect) != sample.for_camera {
+                let wait = (sample.moved_at + RESAMPLE_AFTER - now).max(0.0);
+                ui.ctx()
+                    .request_repaint_after(std::time::Duration::from_secs_f64(wait));
+            }
+        }
         let slot = self.frame_ms.clone();
         rs.queue.on_submitted_work_done(move || {
             if let Ok(mut ms) = slot.lock() {

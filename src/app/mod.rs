@@ -97,13 +97,24 @@ pub enum Sel {
 type GpuSubmissions =
     std::sync::mpsc::Receiver<(eframe::wgpu::CommandBuffer, std::sync::mpsc::SyncSender<()>)>;
 
-/// What the central area shows.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+/// What the central area shows (View menu, toolbar; `windloom FILE --view map|3d|split`).
+#[derive(
+    Debug,
+    Clone,
+    Copy,
+    PartialEq,
+    Eq,
+    Default,
+    serde::Serialize,
+    serde::Deserialize,
+    clap::ValueEnum,
+)]
 pub enum Central {
     /// The top-down map (authoring).
     #[default]
     Map,
     /// The grass in 3D in the live wind.
+    #[value(name = "3d")]
     Grass,
     /// Both, side by side.
     Split,
@@ -171,6 +182,12 @@ const SETTINGS_KEY: &str = "windloom-settings";
 /// The fixed speed scale's range, m/s.
 pub const SPEED_SCALE: (f32, f32) = crate::colour::FIXED_SCALE_RANGE;
 const AUTOSAVE_SECONDS: f64 = 20.0;
+/// Longest press that still counts as a click, in frame time (egui's default is 0.8 s).
+const CLICK_SECONDS: f64 = 10.0;
+/// Seconds a status message shows.
+pub const MESSAGE_SECONDS: f64 = 6.0;
+/// Seconds between two frames beyond which the editor counts as having rested.
+const IDLE_GAP: f64 = 1.0;
 
 /// A modal question or message.
 pub enum Dialog {
@@ -255,8 +272,15 @@ pub struct EditorApp {
     /// A change to that file made by someone else, not yet answered (Reload / Keep mine).
     pub disk_change: Option<disk::Change>,
     last_disk_check: f64,
+    /// Wakes the editor when the file's stamp changes, and the file it was last told to poll.
+    disk_poller: disk::Poller,
+    polled: Option<PathBuf>,
     pub adapter: String,
     frame_ms: f32,
+    /// When the last frame began (editor seconds), and whether this one came after a rest
+    /// (the status bar then says "idle" rather than a frame rate of frames long gone).
+    last_frame_at: f64,
+    pub idle: bool,
     /// CPU milliseconds the last frames spent building the UI (smoothed).
     ui_ms: f32,
     /// Whether the map can draw a GPU field (the map renderer is installed on eframe's
@@ -284,6 +308,11 @@ pub struct EditorApp {
 impl EditorApp {
     /// An editor on `doc` (read from `path`, if any), with the simulation running.
     pub fn new(doc: Layout, path: Option<PathBuf>, ctx: &egui::Context) -> Self {
+        // egui times a press by the frames it arrives in: a quick click whose release comes
+        // in the frame after a slow one (a 3D view's first frame on a software adapter, a
+        // big grid rebuilt) counted as a long press past 0.8 s and was lost. A still press is
+        // a click however long (drags start by moving, and nothing here is press-and-hold).
+        ctx.options_mut(|o| o.input_options.max_click_duration = CLICK_SECONDS);
         let repaint_ctx = ctx.clone();
         let live = LiveSim::start(&doc, move || repaint_ctx.request_repaint());
         let saved_json = doc::to_json(&doc);
@@ -318,8 +347,15 @@ impl EditorApp {
             disk,
             disk_change: None,
             last_disk_check: 0.0,
+            disk_poller: {
+                let ctx = ctx.clone();
+                disk::Poller::start(move || ctx.request_repaint())
+            },
+            polled: None,
             adapter: "no GPU adapter".into(),
             frame_ms: 0.0,
+            last_frame_at: 0.0,
+            idle: false,
             ui_ms: 0.0,
             gpu_view: false,
             render_state: None,
@@ -370,18 +406,15 @@ impl EditorApp {
     pub fn from_creation_context(
         cc: &eframe::CreationContext<'_>,
         doc: Layout,
-        path: Option<PathBuf>,
-        backend: Option<BackendChoice>,
+        launch: Launch,
     ) -> Self {
-        let mut app = Self::new(doc, path, &cc.egui_ctx);
+        let mut app = Self::new(doc, launch.path.clone(), &cc.egui_ctx);
         if let Some(storage) = cc.storage {
             if let Some(s) = eframe::get_value::<Settings>(storage, SETTINGS_KEY) {
                 app.apply_settings(s);
             }
         }
-        if let Some(b) = backend {
-            app.settings.backend = b;
-        }
+        app.launch(&launch);
         if let Some(rs) = &cc.wgpu_render_state {
             app.attach_gpu(rs);
         }
@@ -402,6 +435,24 @@ impl EditorApp {
             app.set_recovery_dir(Some(dir.join("recovery")));
         }
         app
+    }
+
+    /// What the command line asked for, over the settings of the last run: where the wind
+    /// runs, the view, the first status message; a layout file that exists goes into Open
+    /// Recent as one opened from the menu does.
+    pub fn launch(&mut self, launch: &Launch) {
+        if let Some(b) = launch.backend {
+            self.settings.backend = b;
+        }
+        if let Some(v) = launch.view {
+            self.settings.central = v;
+        }
+        if let Some(note) = &launch.note {
+            self.tell(note.clone());
+        }
+        if let Some(p) = launch.path.as_deref().filter(|p| p.is_file()) {
+            self.remember_recent(p);
+        }
     }
 
     /// Gives the live wind eframe's device: the map renderer is installed on it and the
@@ -442,6 +493,11 @@ impl EditorApp {
                 self.tell(format!("the wind stays on the CPU: {e}"));
             }
         }
+    }
+
+    /// The wgpu resources the editor's device holds now (`None` without a GPU device).
+    pub fn gpu_resources(&self) -> Option<crate::gpu::LiveResources> {
+        crate::gpu::LiveResources::of(&self.render_state.as_ref()?.instance)
     }
 
     /// The 3D grass view, or why there is none.
@@ -824,6 +880,8 @@ impl eframe::App for EditorApp {
         }
         let dt = ctx.input(|i| i.stable_dt);
         self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;
+        self.idle = now - self.last_frame_at > IDLE_GAP;
+        self.last_frame_at = now;
 
         // Closing the window with unsaved changes asks first.
         if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.dirty {
@@ -882,15 +940,40 @@ impl eframe::App for EditorApp {
             self.sent_title = Some(title);
         }
         self.autosave(&ctx, now);
-        if self.disk.is_some() {
-            if now - self.last_disk_check >= disk::CHECK_SECONDS {
-                self.last_disk_check = now;
-                self.check_disk();
+        // A resting editor still autosaves unsaved work, and takes a status message down
+        // when its time is up.
+        let wake = |at: f64| {
+            let wait = (at - now).max(0.0);
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(wait));
+        };
+        if self.dirty {
+            wake(self.last_autosave + AUTOSAVE_SECONDS);
+        }
+        if let Some((_, at)) = &self.message {
+            if now - at < MESSAGE_SECONDS {
+                wake(at + MESSAGE_SECONDS);
             }
-            ctx.request_repaint_after(std::time::Duration::from_secs_f64(disk::CHECK_SECONDS));
+        }
+        // The file on disk: looked at on the frames there are (at most once a second), and
+        // by the poller's thread, which wakes an idle editor only when the file changed.
+        let watched = self.disk.as_ref().map(|w| w.path().to_path_buf());
+        if watched != self.polled {
+            self.disk_poller.watch(watched.as_deref());
+            self.polled = watched;
+        }
+        if self.disk.is_some()
+            && (self.disk_poller.poked() || now - self.last_disk_check >= disk::CHECK_SECONDS)
+        {
+            self.last_disk_check = now;
+            self.check_disk();
         }
         if self.live.playing {
             ctx.request_repaint();
+        }
+        if !self.idle {
+            // Should this be the last frame for a while, one more once the editor has rested,
+            // so the status bar says so (frames that come sooner make this one moot).
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(IDLE_GAP * 1.1));
         }
         self.submit_gpu_work();
         let ui_ms = started.elapsed().as_secs_f32() * 1e3;
@@ -927,15 +1010,23 @@ pub fn gesture_key(key: impl std::hash::Hash) -> u64 {
     h.finish()
 }
 
-/// Opens the editor window on `doc` (read from `path`, or to be saved there), with `note` in
-/// the status bar at first. The wgpu device is created with the features and limits the
-/// simulation passes need, so one device can serve the UI and the wind.
-pub fn run(
-    doc: Layout,
-    path: Option<PathBuf>,
-    backend: Option<BackendChoice>,
-    note: Option<String>,
-) -> eframe::Result {
+/// How the command line starts the editor.
+#[derive(Debug, Clone, Default)]
+pub struct Launch {
+    /// The layout's file (read from it, or to be saved there when it does not exist yet).
+    pub path: Option<PathBuf>,
+    /// Where the live wind runs, for this run (`--backend`).
+    pub backend: Option<BackendChoice>,
+    /// The view to open on (`--view`).
+    pub view: Option<Central>,
+    /// Shown in the status bar at first.
+    pub note: Option<String>,
+}
+
+/// Opens the editor window on `doc` as `launch` says. The wgpu device is created with the
+/// features and limits the simulation passes need, so one device can serve the UI and the
+/// wind.
+pub fn run(doc: Layout, launch: Launch) -> eframe::Result {
     let mut options = eframe::NativeOptions {
         viewport: egui::ViewportBuilder::default()
             .with_inner_size([1400.0, 860.0])
@@ -950,13 +1041,7 @@ pub fn run(
     eframe::run_native(
         "windloom",
         options,
-        Box::new(move |cc| {
-            let mut app = EditorApp::from_creation_context(cc, doc, path, backend);
-            if let Some(note) = note {
-                app.tell(note);
-            }
-            Ok(Box::new(app))
-        }),
+        Box::new(move |cc| Ok(Box::new(EditorApp::from_creation_context(cc, doc, launch)))),
     )
 }
 

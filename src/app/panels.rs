@@ -234,11 +234,15 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             ui.separator();
             let snap = app.live.snapshot();
             ui.label(format!("t = {:.2} s", snap.time));
+            let rate = if app.idle {
+                "idle".to_string()
+            } else {
+                format!("{:.0} fps", 1000.0 / app.frame_ms.max(0.1))
+            };
             let timing = ui.label(format!(
-                "{} {:.1} ms/step · {:.0} fps",
+                "{} {:.1} ms/step · {rate}",
                 snap.backend.label(),
                 snap.ms_per_step,
-                1000.0 / app.frame_ms.max(0.1)
             ));
             timing.on_hover_ui(|ui| frame_times(app, &snap, ui));
             if let Some(n) = &snap.notice {
@@ -286,7 +290,7 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             ui.separator();
             ui.label(&app.adapter);
             if let Some((msg, at)) = &app.message {
-                if ctx.input(|i| i.time) - at < 6.0 {
+                if ctx.input(|i| i.time) - at < super::MESSAGE_SECONDS {
                     ui.separator();
                     // Cut with "…" where the bar runs out (the whole text on hover).
                     ui.add(

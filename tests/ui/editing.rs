@@ -370,3 +370,89 @@ fn dragging_a_node_moves_it_in_one_undo_step() {
         "one undo undoes the whole drag"
     );
 }
+
+/// The pointer moving onto `pos`, pressed and released there, all within one frame (a quick
+/// click while frames are slow).
+fn click_in_one_frame(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
+    let button = |pressed| Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    h.input_mut()
+        .events
+        .extend([Event::PointerMoved(pos), button(true), button(false)]);
+    h.step();
+    h.run_steps(2);
+}
+
+/// A quick click across one slow frame: pressed in one frame, released in the next, which
+/// began `secs` later (egui times a press by the frames it arrives in).
+fn click_across_a_slow_frame(h: &mut Harness<'_, EditorApp>, pos: Pos2, secs: f64) {
+    let button = |pressed| Event::PointerButton {
+        pos,
+        button: PointerButton::Primary,
+        pressed,
+        modifiers: Modifiers::NONE,
+    };
+    let now = h.ctx.input(|i| i.time);
+    h.input_mut().time = Some(now + 0.02);
+    h.input_mut()
+        .events
+        .extend([Event::PointerMoved(pos), button(true)]);
+    h.step();
+    h.input_mut().time = Some(now + 0.02 + secs);
+    h.input_mut().events.push(button(false));
+    h.step();
+    h.run_steps(2);
+}
+
+/// A press and a release that arrive in one slow frame, or either side of one, still act: a
+/// toolbar button, a menu item, a click on the map with the root tool.
+#[test]
+fn a_click_within_one_frame_is_not_lost() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(Layout::new("blank", [100.0, 80.0], [50, 40]));
+    // The toolbar.
+    let at = h.get_by_label("3D grass").rect().center();
+    click_in_one_frame(&mut h, at);
+    assert_eq!(h.state().settings.central, windloom::app::Central::Grass);
+    let at = h.get_by_label("Map").rect().center();
+    click_in_one_frame(&mut h, at);
+    assert_eq!(h.state().settings.central, windloom::app::Central::Map);
+    // A menu item: the View menu opened, then its item clicked within a frame.
+    let at = h.get_by_label("View").rect().center();
+    click_in_one_frame(&mut h, at);
+    let item = h
+        .get_all_by_label("Map + 3D")
+        .map(|n| n.rect())
+        .find(|r| r.top() > 30.0)
+        .expect("the View menu's item");
+    click_in_one_frame(&mut h, item.center());
+    assert_eq!(h.state().settings.central, windloom::app::Central::Split);
+    h.state_mut().settings.central = windloom::app::Central::Map;
+    h.run_steps(2);
+    // The map, with the root tool.
+    let at = h.get_by_label("Add root").rect().center();
+    click_in_one_frame(&mut h, at);
+    assert_eq!(h.state().tool, Tool::AddRoot);
+    let at = h.state().screen_pos([30.0, 40.0]);
+    click_in_one_frame(&mut h, at);
+    assert_eq!(h.state().doc.trees.len(), 1, "the map click added a tree");
+
+    // Released in the frame after a 1.5 s frame (the 3D view's first frame on a software
+    // adapter, a big grid's rebuild): still a click.
+    let at = h.get_by_label("3D grass").rect().center();
+    click_across_a_slow_frame(&mut h, at, 1.5);
+    assert_eq!(h.state().settings.central, windloom::app::Central::Grass);
+    let at = h.get_by_label("Map").rect().center();
+    click_across_a_slow_frame(&mut h, at, 1.5);
+    assert_eq!(h.state().settings.central, windloom::app::Central::Map);
+    h.state_mut().tool = Tool::AddRoot;
+    let at = h.state().screen_pos([60.0, 40.0]);
+    click_across_a_slow_frame(&mut h, at, 1.5);
+    assert_eq!(h.state().doc.trees.len(), 2, "the map click added a tree");
+}

@@ -78,8 +78,17 @@ fn gpu_harness(
     doc: Layout,
     set: impl FnOnce(&mut EditorApp) + 'static,
 ) -> Harness<'static, EditorApp> {
+    gpu_harness_sized(doc, egui::vec2(1280.0, 800.0), set)
+}
+
+/// [`gpu_harness`] in a window of `size` points.
+fn gpu_harness_sized(
+    doc: Layout,
+    size: egui::Vec2,
+    set: impl FnOnce(&mut EditorApp) + 'static,
+) -> Harness<'static, EditorApp> {
     Harness::builder()
-        .with_size(egui::vec2(1280.0, 800.0))
+        .with_size(size)
         .with_max_steps(16)
         .wgpu_setup(windloom_wgpu_setup())
         .build_eframe(move |cc| {
@@ -200,6 +209,8 @@ fn wait_for<T>(secs: u64, mut f: impl FnMut() -> Option<T>) -> Option<T> {
 
 /// Authoring with the mouse and the inspector.
 mod editing;
+/// An editor left open: memory and wgpu resources flat over hundreds of frames.
+mod endurance;
 /// Export / Bake from the editor.
 mod export;
 /// Files: bad files, autosave and recovery, a typed path without a dialog, changes on disk,
