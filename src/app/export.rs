@@ -255,10 +255,10 @@ impl ExportDialog {
                         let l = ui.label("Output folder");
                         ui.horizontal(|ui| {
                             ui.text_edit_singleline(&mut self.out).labelled_by(l.id);
-                            if ui.button("Choose…").clicked() {
-                                if let Some(dir) = rfd::FileDialog::new().pick_folder() {
-                                    self.out = dir.display().to_string();
-                                }
+                            if ui.button("Choose…").clicked()
+                                && let Some(dir) = rfd::FileDialog::new().pick_folder()
+                            {
+                                self.out = dir.display().to_string();
                             }
                         });
                         ui.end_row();

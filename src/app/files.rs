@@ -215,11 +215,11 @@ impl EditorApp {
 
     /// Shows the next recovery copy left by an editor that is gone, if any.
     pub(crate) fn next_recovery(&mut self) {
-        if self.dialog.is_none() {
-            if let Some(found) = self.recover_queue.pop() {
-                let text = found.offer(self.path.as_deref());
-                self.dialog = Some(Dialog::Recover { found, text });
-            }
+        if self.dialog.is_none()
+            && let Some(found) = self.recover_queue.pop()
+        {
+            let text = found.offer(self.path.as_deref());
+            self.dialog = Some(Dialog::Recover { found, text });
         }
     }
 
@@ -229,10 +229,10 @@ impl EditorApp {
         }
         self.last_autosave = now;
         let failing = self.recovery_error.is_some();
-        if let Err(e) = self.write_recovery() {
-            if !failing {
-                self.say(ctx, format!("Autosave failed: {e}"));
-            }
+        if let Err(e) = self.write_recovery()
+            && !failing
+        {
+            self.say(ctx, format!("Autosave failed: {e}"));
         }
     }
 

@@ -407,10 +407,10 @@ impl Engine {
                 }
             }
             (Backend::Cpu, true, _) => {
-                if let (Some(g), Some(ctx)) = (self.gpu.take(), &self.ctx) {
-                    if let Err(e) = g.read_into(ctx, &mut self.cpu) {
-                        self.notice = Some(format!("could not read the field back: {e}"));
-                    }
+                if let (Some(g), Some(ctx)) = (self.gpu.take(), &self.ctx)
+                    && let Err(e) = g.read_into(ctx, &mut self.cpu)
+                {
+                    self.notice = Some(format!("could not read the field back: {e}"));
                 }
                 self.ms = 0.0;
                 self.gpu_ms = None;
@@ -504,11 +504,12 @@ impl Engine {
             if !force && self.last_readback.elapsed().as_secs_f64() < READBACK_SECONDS {
                 return false;
             }
-            if let Ok(times) = g.pass_times(ctx) {
-                if !times.is_empty() && self.steps_since_readback > 0 {
-                    let total: f64 = times.values().sum();
-                    self.gpu_ms = Some((total / self.steps_since_readback as f64) as f32);
-                }
+            if let Ok(times) = g.pass_times(ctx)
+                && !times.is_empty()
+                && self.steps_since_readback > 0
+            {
+                let total: f64 = times.values().sum();
+                self.gpu_ms = Some((total / self.steps_since_readback as f64) as f32);
             }
             if let Err(e) = g.read_into(ctx, &mut self.cpu) {
                 self.fall_back(format!("GPU read-back failed: {e}"));

@@ -86,10 +86,10 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     interact(app, &ctx, &response, rect, &cam, &painter);
     draw_legend(&painter, rect, app.settings.wind_view, max_speed);
     // Beside the 3D view: where its pointer is on the ground (last frame's).
-    if app.settings.central == super::Central::Split {
-        if let Some(p) = app.grass_view.hover_ground {
-            view::draw_pointer_mark(&painter, cam.to_screen(rect, p));
-        }
+    if app.settings.central == super::Central::Split
+        && let Some(p) = app.grass_view.hover_ground
+    {
+        view::draw_pointer_mark(&painter, cam.to_screen(rect, p));
     }
 
     // Hint for the current tool, wrapped to the map's width (narrow beside the 3D view).
@@ -184,18 +184,16 @@ fn draw_wind(
     let fixed = app.settings.speed_scale;
     let key = (snap.serial, mode, fixed);
     let stale = app.field_texture.as_ref().is_none_or(|(k, _, _)| *k != key);
-    if stale {
-        if let Some((img, scale)) = view::field_image(snap, mode, fixed) {
-            match &mut app.field_texture {
-                Some((k, tex, s)) => {
-                    tex.set(img, egui::TextureOptions::LINEAR);
-                    *k = key;
-                    *s = scale;
-                }
-                None => {
-                    let tex = ctx.load_texture("wind", img, egui::TextureOptions::LINEAR);
-                    app.field_texture = Some((key, tex, scale));
-                }
+    if stale && let Some((img, scale)) = view::field_image(snap, mode, fixed) {
+        match &mut app.field_texture {
+            Some((k, tex, s)) => {
+                tex.set(img, egui::TextureOptions::LINEAR);
+                *k = key;
+                *s = scale;
+            }
+            None => {
+                let tex = ctx.load_texture("wind", img, egui::TextureOptions::LINEAR);
+                app.field_texture = Some((key, tex, scale));
             }
         }
     }
@@ -408,30 +406,30 @@ fn interact(
     match app.tool {
         Tool::Select => select_tool(app, ctx, response, rect, cam, painter, shift),
         Tool::AddRoot => {
-            if response.clicked_by(egui::PointerButton::Primary) {
-                if let Some(p) = pointer {
-                    let pos = app.snap(cam.to_world(rect, p));
-                    let id = app.doc.next_id();
-                    let tree = doc::Tree {
-                        id,
-                        name: format!("Wind {}", app.doc.trees.len() + 1),
-                        enabled: true,
-                        window: doc::TimeWindow::Always,
-                        emission: doc::Emission::Continuous,
-                        propagation_speed: 20.0,
-                        root: Node::new(id + 1, pos, 8.0, 5.0),
-                    };
-                    if app.edit(
-                        ctx,
-                        Edit::AddTree {
-                            index: app.doc.trees.len(),
-                            tree,
-                        },
-                    ) {
-                        app.selection = vec![Sel::Node(id + 1)];
-                        // Next: drag arrows out of it.
-                        app.tool = Tool::AddArrow;
-                    }
+            if response.clicked_by(egui::PointerButton::Primary)
+                && let Some(p) = pointer
+            {
+                let pos = app.snap(cam.to_world(rect, p));
+                let id = app.doc.next_id();
+                let tree = doc::Tree {
+                    id,
+                    name: format!("Wind {}", app.doc.trees.len() + 1),
+                    enabled: true,
+                    window: doc::TimeWindow::Always,
+                    emission: doc::Emission::Continuous,
+                    propagation_speed: 20.0,
+                    root: Node::new(id + 1, pos, 8.0, 5.0),
+                };
+                if app.edit(
+                    ctx,
+                    Edit::AddTree {
+                        index: app.doc.trees.len(),
+                        tree,
+                    },
+                ) {
+                    app.selection = vec![Sel::Node(id + 1)];
+                    // Next: drag arrows out of it.
+                    app.tool = Tool::AddArrow;
                 }
             }
         }
@@ -491,13 +489,13 @@ fn interact(
             }
         }
         Tool::Circle => {
-            if response.drag_started_by(egui::PointerButton::Primary) {
-                if let Some(p) = response.interact_pointer_pos() {
-                    let start = p - response.drag_delta();
-                    app.gesture = Some(Gesture::Circle {
-                        center: app.snap(cam.to_world(rect, start)),
-                    });
-                }
+            if response.drag_started_by(egui::PointerButton::Primary)
+                && let Some(p) = response.interact_pointer_pos()
+            {
+                let start = p - response.drag_delta();
+                app.gesture = Some(Gesture::Circle {
+                    center: app.snap(cam.to_world(rect, start)),
+                });
             }
             if let (Some(Gesture::Circle { center }), Some(p)) = (app.gesture.clone(), pointer) {
                 let w = cam.to_world(rect, p);
@@ -595,46 +593,46 @@ fn select_tool(
             .map(Sel::Node)
             .or_else(|| view::hit_obstacle(&app.doc, cam, rect, p).map(Sel::Obstacle))
     };
-    if response.clicked_by(egui::PointerButton::Primary) {
-        if let Some(p) = response.interact_pointer_pos() {
-            match hit_at(app, p) {
-                Some(s) if shift => {
-                    if let Some(k) = app.selection.iter().position(|x| *x == s) {
-                        app.selection.remove(k);
-                    } else {
-                        app.selection.push(s);
-                    }
+    if response.clicked_by(egui::PointerButton::Primary)
+        && let Some(p) = response.interact_pointer_pos()
+    {
+        match hit_at(app, p) {
+            Some(s) if shift => {
+                if let Some(k) = app.selection.iter().position(|x| *x == s) {
+                    app.selection.remove(k);
+                } else {
+                    app.selection.push(s);
                 }
-                Some(s) => app.selection = vec![s],
-                None if !shift => app.selection.clear(),
-                None => {}
             }
+            Some(s) => app.selection = vec![s],
+            None if !shift => app.selection.clear(),
+            None => {}
         }
     }
-    if response.drag_started_by(egui::PointerButton::Primary) {
-        if let Some(p) = response.interact_pointer_pos() {
-            let start = p - response.drag_delta();
-            match hit_at(app, start) {
-                Some(s) => {
-                    if !app.selection.contains(&s) {
-                        if shift {
-                            app.selection.push(s);
-                        } else {
-                            app.selection = vec![s];
-                        }
+    if response.drag_started_by(egui::PointerButton::Primary)
+        && let Some(p) = response.interact_pointer_pos()
+    {
+        let start = p - response.drag_delta();
+        match hit_at(app, start) {
+            Some(s) => {
+                if !app.selection.contains(&s) {
+                    if shift {
+                        app.selection.push(s);
+                    } else {
+                        app.selection = vec![s];
                     }
-                    let key = super::gesture_key(("move", ctx.input(|i| i.time).to_bits()));
-                    app.gesture = Some(Gesture::Move {
-                        last: cam.to_world(rect, start),
-                        key,
-                    });
                 }
-                None => {
-                    app.gesture = Some(Gesture::Box {
-                        start,
-                        additive: shift,
-                    })
-                }
+                let key = super::gesture_key(("move", ctx.input(|i| i.time).to_bits()));
+                app.gesture = Some(Gesture::Move {
+                    last: cam.to_world(rect, start),
+                    key,
+                });
+            }
+            None => {
+                app.gesture = Some(Gesture::Box {
+                    start,
+                    additive: shift,
+                })
             }
         }
     }
@@ -759,13 +757,13 @@ fn move_selection(app: &mut EditorApp, ctx: &egui::Context, d: doc::Vec2, key: u
 fn snap_selection(app: &mut EditorApp, ctx: &egui::Context, key: u64) {
     let mut edits = Vec::new();
     for s in &app.selection {
-        if let Sel::Node(id) = *s {
-            if let Some(n) = app.doc.trees.iter().find_map(|t| t.root.find(id)) {
-                edits.push(Edit::MoveNode {
-                    id,
-                    pos: app.snap(n.pos),
-                });
-            }
+        if let Sel::Node(id) = *s
+            && let Some(n) = app.doc.trees.iter().find_map(|t| t.root.find(id))
+        {
+            edits.push(Edit::MoveNode {
+                id,
+                pos: app.snap(n.pos),
+            });
         }
     }
     if !edits.is_empty() {

@@ -409,10 +409,10 @@ impl EditorApp {
         launch: Launch,
     ) -> Self {
         let mut app = Self::new(doc, launch.path.clone(), &cc.egui_ctx);
-        if let Some(storage) = cc.storage {
-            if let Some(s) = eframe::get_value::<Settings>(storage, SETTINGS_KEY) {
-                app.apply_settings(s);
-            }
+        if let Some(storage) = cc.storage
+            && let Some(s) = eframe::get_value::<Settings>(storage, SETTINGS_KEY)
+        {
+            app.apply_settings(s);
         }
         app.launch(&launch);
         if let Some(rs) = &cc.wgpu_render_state {
@@ -672,11 +672,11 @@ impl EditorApp {
                     }
                 }
                 Sel::Tree(id) => {
-                    if let Some(t) = self.doc.trees.iter().find(|t| t.id == id) {
-                        if !sel.contains(&Sel::Node(t.root.id)) {
-                            count += t.root.count();
-                            edits.push(Edit::RemoveTree { id });
-                        }
+                    if let Some(t) = self.doc.trees.iter().find(|t| t.id == id)
+                        && !sel.contains(&Sel::Node(t.root.id))
+                    {
+                        count += t.root.count();
+                        edits.push(Edit::RemoveTree { id });
                     }
                 }
                 Sel::Obstacle(id) => edits.push(Edit::RemoveObstacle { id }),
@@ -873,10 +873,10 @@ impl eframe::App for EditorApp {
         let started = std::time::Instant::now();
         self.submit_gpu_work();
         let now = ctx.input(|i| i.time);
-        if let Some((_, at)) = &mut self.message {
-            if at.is_infinite() {
-                *at = now;
-            }
+        if let Some((_, at)) = &mut self.message
+            && at.is_infinite()
+        {
+            *at = now;
         }
         let dt = ctx.input(|i| i.stable_dt);
         self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;
@@ -949,10 +949,10 @@ impl eframe::App for EditorApp {
         if self.dirty {
             wake(self.last_autosave + AUTOSAVE_SECONDS);
         }
-        if let Some((_, at)) = &self.message {
-            if now - at < MESSAGE_SECONDS {
-                wake(at + MESSAGE_SECONDS);
-            }
+        if let Some((_, at)) = &self.message
+            && now - at < MESSAGE_SECONDS
+        {
+            wake(at + MESSAGE_SECONDS);
         }
         // The file on disk: looked at on the frames there are (at most once a second), and
         // by the poller's thread, which wakes an idle editor only when the file changed.

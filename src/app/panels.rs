@@ -289,8 +289,8 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             }
             ui.separator();
             ui.label(&app.adapter);
-            if let Some((msg, at)) = &app.message {
-                if ctx.input(|i| i.time) - at < super::MESSAGE_SECONDS {
+            if let Some((msg, at)) = &app.message
+                && ctx.input(|i| i.time) - at < super::MESSAGE_SECONDS {
                     ui.separator();
                     // Cut with "…" where the bar runs out (the whole text on hover).
                     ui.add(
@@ -300,7 +300,6 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                         .truncate(),
                     );
                 }
-            }
         });
     });
     app.status_rect = r.response.rect;

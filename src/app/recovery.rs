@@ -170,14 +170,14 @@ impl Recovery {
         let owner_path = path.with_extension("owner");
         crate::io::write_atomic(&owner_path, &json)
             .map_err(|e| format!("{}: {e}", owner_path.display()))?;
-        if let Some(old) = self.written.replace(path.clone()) {
-            if old != path {
-                Found {
-                    layout: old,
-                    origin: None,
-                }
-                .remove();
+        if let Some(old) = self.written.replace(path.clone())
+            && old != path
+        {
+            Found {
+                layout: old,
+                origin: None,
             }
+            .remove();
         }
         Ok(path)
     }

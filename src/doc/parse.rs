@@ -413,10 +413,10 @@ fn move_key(value: &mut Value, path: &str, key: &str, rename: Option<&str>) {
     }
     if let Some(o) = v.as_object_mut() {
         let taken = o.remove(key);
-        if let (Some(new), Some(val)) = (rename, taken) {
-            if !o.contains_key(new) {
-                o.insert(new.to_string(), val);
-            }
+        if let (Some(new), Some(val)) = (rename, taken)
+            && !o.contains_key(new)
+        {
+            o.insert(new.to_string(), val);
         }
     }
 }
@@ -465,10 +465,10 @@ impl<'a> Locator<'a> {
                 None => return pos,
             }
         }
-        if let (Some(k), ast::Value::Object(o)) = (key, v) {
-            if let Some(p) = o.properties.iter().find(|p| p.name.as_str() == k) {
-                return p.start();
-            }
+        if let (Some(k), ast::Value::Object(o)) = (key, v)
+            && let Some(p) = o.properties.iter().find(|p| p.name.as_str() == k)
+        {
+            return p.start();
         }
         pos
     }

@@ -33,16 +33,16 @@ fn mutate(v: &mut serde_json::Value, pick: &[u32], kind: u32, n: f64) {
     let at = v.pointer_mut(&pointer).unwrap();
     // Half the changes only nudge a number (a plausible edit that keeps the type), so mutants
     // reach the validator's ranges and the solver, not only the type checks.
-    if kind % 20 >= 10 {
-        if let Some(x) = at.as_f64() {
-            let nudged = x * (1.0 + n / 1e6);
-            *at = if at.is_u64() && nudged >= 0.0 {
-                serde_json::json!(nudged.round() as u64)
-            } else {
-                serde_json::json!(nudged)
-            };
-            return;
-        }
+    if kind % 20 >= 10
+        && let Some(x) = at.as_f64()
+    {
+        let nudged = x * (1.0 + n / 1e6);
+        *at = if at.is_u64() && nudged >= 0.0 {
+            serde_json::json!(nudged.round() as u64)
+        } else {
+            serde_json::json!(nudged)
+        };
+        return;
     }
     let replacement = match kind % 10 {
         0 => serde_json::json!(n),

@@ -66,7 +66,10 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
     // The fused count also reads back the splat gains it keeps (a float per splat face),
     // which the unfused forces compute.
     let gains = j["gain_bytes_per_step"].as_u64().unwrap();
-    assert!(gains > 0 && gains % 4 == 0, "{gains} bytes of gains");
+    assert!(
+        gains > 0 && gains.is_multiple_of(4),
+        "{gains} bytes of gains"
+    );
     assert_eq!(
         unfused + gains - bytes,
         (8 * f + 33 * c) * substeps,

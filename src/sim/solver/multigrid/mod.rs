@@ -47,7 +47,7 @@ use rows::*;
 /// noise from zero, 28–40× in the first cycle instead of 75–122×.
 pub(crate) const FINE_PASSES: usize = 6;
 pub(crate) const COARSE_PASSES: usize = 4;
-const _: () = assert!(FINE_PASSES % 2 == 0 && COARSE_PASSES % 2 == 0);
+const _: () = assert!(FINE_PASSES.is_multiple_of(2) && COARSE_PASSES.is_multiple_of(2));
 
 /// The low end of the eigenvalues of `D⁻¹A` (whose spectrum lies in (0, 2]) that the
 /// smoothing damps, on the finest level and on the coarser ones: below it the coarse
