@@ -67,6 +67,15 @@ impl EditorApp {
                 return false;
             }
         }
+        // A layout never named takes its file's name on its first save elsewhere (one undo
+        // step): "Untitled" in a file called valley.json helps nobody.
+        let unnamed = self.doc.name.trim().is_empty() || self.doc.name == UNTITLED;
+        if unnamed
+            && self.path.as_deref() != Some(path)
+            && let Some(stem) = path.file_stem().map(|s| s.to_string_lossy().into_owned())
+        {
+            self.edit(ctx, Edit::Rename(stem));
+        }
         let json = doc::to_json(&self.doc);
         match crate::io::write_atomic(path, json.as_bytes()) {
             Ok(()) => {
@@ -119,13 +128,31 @@ impl EditorApp {
         }
     }
 
-    /// Asks for a path in the editor (`failed`: because the system dialog could not open).
+    /// The folder file prompts start in: the layout's own, else the working directory.
+    fn prompt_folder(&self) -> PathBuf {
+        let cwd = || std::env::current_dir().unwrap_or_default();
+        match self.path.as_deref().and_then(Path::parent) {
+            Some(d) if d.as_os_str().is_empty() => cwd(),
+            Some(d) if d.is_relative() => cwd().join(d),
+            Some(d) => d.to_path_buf(),
+            None => cwd(),
+        }
+    }
+
+    /// Asks for a path in the editor (`failed`: because the system dialog could not open),
+    /// starting in the layout's folder: its file to save over, or the folder to open from.
     pub fn path_prompt(&mut self, save: bool, failed: bool) {
+        let dir = self.prompt_folder();
         let text = match (&self.path, save) {
-            (Some(p), _) => p.display().to_string(),
-            (None, true) => format!("{}.json", self.doc.name.to_lowercase().replace(' ', "-")),
-            (None, false) => String::new(),
-        };
+            (Some(p), _) => dir.join(p.file_name().unwrap_or_default()),
+            (None, true) => dir.join(format!(
+                "{}.json",
+                self.doc.name.to_lowercase().replace(' ', "-")
+            )),
+            (None, false) => dir.join(""),
+        }
+        .display()
+        .to_string();
         self.dialog = Some(Dialog::Path {
             save,
             text,
@@ -137,6 +164,37 @@ impl EditorApp {
         });
     }
 
+    /// Saves to a path typed in the editor, making its folder if it does not exist yet;
+    /// on failure, why (the prompt stays open with the typed path).
+    pub fn save_typed(&mut self, ctx: &egui::Context, path: &Path) -> Result<(), String> {
+        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty())
+            && !dir.exists()
+        {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| format!("could not make the folder {}: {e}", dir.display()))?;
+        }
+        self.take_error(|app| {
+            app.save_to(ctx, path);
+        })
+    }
+
+    /// Opens a path typed in the editor; on failure, why (the prompt stays open).
+    pub fn open_typed(&mut self, path: &Path) -> Result<(), String> {
+        self.take_error(|app| app.open_path(path))
+    }
+
+    /// Runs `f`, turning the error dialog it leaves (if any) into the error's text.
+    fn take_error(&mut self, f: impl FnOnce(&mut Self)) -> Result<(), String> {
+        f(self);
+        match self.dialog.take() {
+            Some(Dialog::Error { title, text }) => Err(format!("{title}: {text}")),
+            other => {
+                self.dialog = other;
+                Ok(())
+            }
+        }
+    }
+
     /// Runs `p` now, or asks first when it would discard unsaved changes.
     pub(super) fn request(&mut self, ctx: &egui::Context, p: Pending) {
         if self.dirty {
@@ -146,10 +204,10 @@ impl EditorApp {
         }
     }
 
-    pub(super) fn run_pending(&mut self, ctx: &egui::Context, p: Pending) {
+    pub fn run_pending(&mut self, ctx: &egui::Context, p: Pending) {
         match p {
             Pending::New => {
-                let doc = Layout::untitled("Untitled");
+                let doc = Layout::untitled(UNTITLED);
                 self.replace_document(doc, None, true);
             }
             Pending::Open(Some(path)) => self.open_path(&path),

@@ -75,23 +75,40 @@ impl GrassControls {
                     "Colour the grass and ground by the wind's speed, on the map view's scale \
                  (its legend top right), so a still view shows where the wind blows",
                 );
+            // The values are drag fields, one widget each, so the row wraps between them in a
+            // narrow pane (a slider is several widgets, and ran off the pane's edge).
             if self.wind_colours {
-                // Narrow, so turning them on does not wrap the row (and resize the view).
-                ui.scope(|ui| {
-                    ui.spacing_mut().slider_width = 60.0;
-                    ui.add(egui::Slider::new(&mut self.wind_opacity, WIND_OPACITY).text("opacity"));
-                });
+                ui.add(
+                    egui::DragValue::new(&mut self.wind_opacity)
+                        .range(WIND_OPACITY)
+                        .speed(0.01)
+                        .fixed_decimals(2)
+                        .prefix("opacity "),
+                )
+                .on_hover_text("How opaque the wind colours are over the grass");
             }
             ui.separator();
             ui.toggle_value(&mut self.push, "Push")
                 .on_hover_text("Left-drag pushes a sphere through the grass (Ctrl+drag orbits)");
             if self.push {
                 ui.add(
-                    egui::Slider::new(&mut self.radius, 0.1..=5.0)
-                        .text("radius m")
-                        .logarithmic(true),
-                );
-                ui.add(egui::Slider::new(&mut self.lifetime, 0.0..=20.0).text("trail s"));
+                    egui::DragValue::new(&mut self.radius)
+                        .range(0.1..=5.0)
+                        .speed(0.02)
+                        .fixed_decimals(2)
+                        .prefix("radius ")
+                        .suffix(" m"),
+                )
+                .on_hover_text("The pushing sphere's radius");
+                ui.add(
+                    egui::DragValue::new(&mut self.lifetime)
+                        .range(0.0..=20.0)
+                        .speed(0.1)
+                        .fixed_decimals(1)
+                        .prefix("trail ")
+                        .suffix(" s"),
+                )
+                .on_hover_text("How long the trail the sphere leaves takes to fade");
             }
         });
     }

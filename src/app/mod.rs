@@ -182,6 +182,8 @@ const SETTINGS_KEY: &str = "windloom-settings";
 /// The fixed speed scale's range, m/s.
 pub const SPEED_SCALE: (f32, f32) = crate::colour::FIXED_SCALE_RANGE;
 const AUTOSAVE_SECONDS: f64 = 20.0;
+/// The name of a new layout (File → New), which its first save replaces by the file's.
+pub const UNTITLED: &str = "Untitled";
 /// Longest press that still counts as a click, in frame time (egui's default is 0.8 s).
 const CLICK_SECONDS: f64 = 10.0;
 /// Seconds a status message shows.
@@ -303,6 +305,8 @@ pub struct EditorApp {
     pub legend_scale: f32,
     allow_close: bool,
     pub export: export::ExportDialog,
+    /// Help → User guide.
+    pub guide: panels::Guide,
 }
 
 impl EditorApp {
@@ -368,6 +372,7 @@ impl EditorApp {
             legend_scale: 0.0,
             allow_close: false,
             export: export::ExportDialog::default(),
+            guide: Default::default(),
         }
     }
 
@@ -566,9 +571,15 @@ impl EditorApp {
         })
     }
 
-    fn title(&self) -> String {
-        let file = self.path_label();
-        format!("{}{file} — windloom", if self.dirty { "● " } else { "" })
+    /// The window's title: the file's name, or the layout's when it has no file yet (the
+    /// bundled default, a new layout).
+    pub fn title(&self) -> String {
+        let what = match &self.path {
+            Some(_) => self.path_label(),
+            None if self.doc.name.trim().is_empty() => "untitled".into(),
+            None => self.doc.name.clone(),
+        };
+        format!("{}{what} — windloom", if self.dirty { "● " } else { "" })
     }
 
     fn say(&mut self, ctx: &egui::Context, text: impl Into<String>) {
@@ -913,18 +924,24 @@ impl eframe::App for EditorApp {
                     // Each pane lays out top-down (the grass controls above the 3D view):
                     // a child of the row would inherit its left-to-right layout.
                     let down = egui::Layout::top_down(egui::Align::Min);
+                    // The panes touch; inside each the spacing is the usual one (the 3D
+                    // view's row of toggles ran its ticks into the labels before them).
+                    let spacing = ui.spacing().item_spacing.x;
                     ui.horizontal_top(|ui| {
                         ui.spacing_mut().item_spacing.x = 0.0;
                         ui.allocate_ui_with_layout(egui::vec2(half, h), down, |ui| {
+                            ui.spacing_mut().item_spacing.x = spacing;
                             map::map_view(self, ui);
                         });
                         ui.allocate_ui_with_layout(ui.available_size(), down, |ui| {
+                            ui.spacing_mut().item_spacing.x = spacing;
                             self.grass(ui);
                         });
                     });
                 }
             });
         panels::dialogs(self, &ctx);
+        panels::guide_window(self, &ctx);
         self.export.ui(&ctx, &self.doc);
 
         if self.doc_changed {

@@ -123,6 +123,13 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 }
             });
             ui.menu_button("Help", |ui| {
+                if ui
+                    .button("User guide")
+                    .on_hover_text("docs/EDITOR.md: tools, views, files, shortcuts")
+                    .clicked()
+                {
+                    app.guide.open = true;
+                }
                 if ui.button("Keyboard shortcuts").clicked() {
                     app.dialog = Some(Dialog::Shortcuts);
                 }
@@ -362,13 +369,16 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                             let mut delete = None;
                             for o in &app.doc.obstacles {
                                 ui.horizontal(|ui| {
-                                    let sel = app.selection.contains(&Sel::Obstacle(o.id));
-                                    if ui.selectable_label(sel, &o.name).clicked() {
-                                        select = Some(o.id);
-                                    }
-                                    if ui.small_button("×").on_hover_text("Delete").clicked() {
-                                        delete = Some(o.id);
-                                    }
+                                    // The buttons right-aligned, the name cut to what is left.
+                                    ui.with_layout(right_to_left(), |ui| {
+                                        if ui.small_button("×").on_hover_text("Delete").clicked() {
+                                            delete = Some(o.id);
+                                        }
+                                        let sel = app.selection.contains(&Sel::Obstacle(o.id));
+                                        if layer_name(ui, sel, o.name.clone()).clicked() {
+                                            select = Some(o.id);
+                                        }
+                                    });
                                 });
                             }
                             if app.doc.obstacles.is_empty() {
@@ -388,6 +398,32 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
         });
 }
 
+/// A layer row's buttons, laid out from the right edge leftwards.
+fn right_to_left() -> egui::Layout {
+    egui::Layout::right_to_left(egui::Align::Center)
+}
+
+/// A layer's name as a selectable button that fills the row's room and is cut with "…"
+/// where it runs out (the whole name on hover): a long name never widens the panel.
+fn layer_name(ui: &mut egui::Ui, selected: bool, name: String) -> egui::Response {
+    let r = ui.add_sized(
+        [ui.available_width(), ui.spacing().interact_size.y],
+        egui::Button::selectable(selected, name.clone())
+            .truncate()
+            .frame_when_inactive(false),
+    );
+    let font = egui::TextStyle::Button.resolve(ui.style());
+    let colour = ui.visuals().text_color();
+    let wide = ui
+        .ctx()
+        .fonts_mut(|f| f.layout_no_wrap(name.clone(), font, colour).size().x);
+    if wide + 2.0 * ui.spacing().button_padding.x > r.rect.width() {
+        r.on_hover_text(name)
+    } else {
+        r
+    }
+}
+
 fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     let mut action: Option<Edit> = None;
     let mut select = None;
@@ -403,33 +439,34 @@ fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 p.enabled = enabled;
                 action = Some(Edit::SetTreeProps { id: t.id, props: p });
             }
-            let sel = app.selection.contains(&Sel::Tree(t.id));
-            if ui
-                .selectable_label(sel, format!("{} ({})", t.name, t.root.count()))
-                .clicked()
-            {
-                select = Some(t.id);
-            }
-            if ui
-                .small_button("S")
-                .on_hover_text("Solo: enable only this tree")
-                .clicked()
-            {
-                let edits = app
-                    .doc
-                    .trees
-                    .iter()
-                    .map(|o| {
-                        let mut p = TreeProps::of(o);
-                        p.enabled = o.id == t.id;
-                        Edit::SetTreeProps { id: o.id, props: p }
-                    })
-                    .collect();
-                action = Some(Edit::Batch(edits));
-            }
-            if ui.small_button("×").on_hover_text("Delete tree").clicked() {
-                action = Some(Edit::RemoveTree { id: t.id });
-            }
+            // The buttons right-aligned, the name cut to what is left.
+            ui.with_layout(right_to_left(), |ui| {
+                if ui.small_button("×").on_hover_text("Delete tree").clicked() {
+                    action = Some(Edit::RemoveTree { id: t.id });
+                }
+                if ui
+                    .small_button("S")
+                    .on_hover_text("Solo: enable only this tree")
+                    .clicked()
+                {
+                    let edits = app
+                        .doc
+                        .trees
+                        .iter()
+                        .map(|o| {
+                            let mut p = TreeProps::of(o);
+                            p.enabled = o.id == t.id;
+                            Edit::SetTreeProps { id: o.id, props: p }
+                        })
+                        .collect();
+                    action = Some(Edit::Batch(edits));
+                }
+                let sel = app.selection.contains(&Sel::Tree(t.id));
+                let name = format!("{} ({})", t.name, t.root.count());
+                if layer_name(ui, sel, name).clicked() {
+                    select = Some(t.id);
+                }
+            });
         });
     }
     if app.doc.trees.is_empty() {
@@ -458,16 +495,16 @@ fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 l.enabled = enabled;
                 action = Some(Edit::SetAmbient { layer: l });
             }
-            let sel = app.selection.contains(&Sel::Ambient(a.id));
-            if ui
-                .selectable_label(sel, format!("{} ({})", a.name, a.kind.type_name()))
-                .clicked()
-            {
-                select = Some(a.id);
-            }
-            if ui.small_button("×").on_hover_text("Delete").clicked() {
-                action = Some(Edit::RemoveAmbient { id: a.id });
-            }
+            ui.with_layout(right_to_left(), |ui| {
+                if ui.small_button("×").on_hover_text("Delete").clicked() {
+                    action = Some(Edit::RemoveAmbient { id: a.id });
+                }
+                let sel = app.selection.contains(&Sel::Ambient(a.id));
+                let name = format!("{} ({})", a.name, a.kind.type_name());
+                if layer_name(ui, sel, name).clicked() {
+                    select = Some(a.id);
+                }
+            });
         });
     }
     ui.menu_button("+ Add layer", |ui| {
@@ -619,7 +656,11 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
                     "Open a layout"
                 });
                 if let Some(n) = note {
-                    ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
+                    egui::ScrollArea::vertical()
+                        .max_height(160.0)
+                        .show(ui, |ui| {
+                            ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
+                        });
                 }
                 let mut typed = text.clone();
                 let label = ui.label("Path of the layout file");
@@ -641,10 +682,18 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
                     if (go || enter) && !typed.trim().is_empty() {
                         keep = false;
                         let path = std::path::PathBuf::from(typed.trim());
-                        if *save {
-                            app.save_to(ui.ctx(), &path);
+                        let done = if *save {
+                            app.save_typed(ui.ctx(), &path)
                         } else {
-                            app.open_path(&path);
+                            app.open_typed(&path)
+                        };
+                        // Failed: the prompt again, with what was typed and why.
+                        if let Err(why) = done {
+                            app.dialog = Some(Dialog::Path {
+                                save: *save,
+                                text: typed.clone(),
+                                note: Some(why),
+                            });
                         }
                     }
                     if ui.button("Cancel").clicked() {
@@ -796,4 +845,39 @@ fn speed_scale_menu(app: &mut EditorApp, ui: &mut egui::Ui) {
     } else {
         None
     };
+}
+
+/// Help → User guide: `docs/EDITOR.md`, built into the editor, in a window of its own that
+/// stays open beside the work.
+#[derive(Default)]
+pub struct Guide {
+    pub open: bool,
+    cache: egui_commonmark::CommonMarkCache,
+}
+
+/// The guide's text as the window shows it: its pictures left out (they are screenshots of
+/// this very window), the rest as written.
+fn guide_text() -> &'static str {
+    static TEXT: std::sync::OnceLock<String> = std::sync::OnceLock::new();
+    TEXT.get_or_init(|| {
+        include_str!("../../docs/EDITOR.md")
+            .lines()
+            .filter(|l| !l.trim_start().starts_with("!["))
+            .collect::<Vec<_>>()
+            .join("\n")
+            // Glyphs egui's own font lacks: menu paths read "File › New".
+            .replace('→', "›")
+            .replace('●', "•")
+    })
+}
+
+pub fn guide_window(app: &mut EditorApp, ctx: &egui::Context) {
+    let Guide { open, cache } = &mut app.guide;
+    egui::Window::new("User guide")
+        .open(open)
+        .default_size([620.0, 640.0])
+        .vscroll(true)
+        .show(ctx, |ui| {
+            egui_commonmark::CommonMarkViewer::new().show(ui, cache, guide_text());
+        });
 }

@@ -849,6 +849,13 @@ fn cli_schema_and_help() {
     }
     let (_, out, _) = windloom(&["validate", "--help"]);
     assert!(out.contains("Example: windloom validate"), "{out}");
+    // The editor's view: named in the help, a wrong one refused with the choices and no
+    // window opened.
+    let (_, out, _) = windloom(&["--help"]);
+    assert!(out.contains("--view <VIEW>"), "{out}");
+    let (code, _, err) = windloom(&["--view", "sideways", "layouts/meadow.json"]);
+    assert_eq!(code, 2, "{err}");
+    assert!(err.contains("possible values: map, 3d, split"), "{err}");
 }
 
 #[test]

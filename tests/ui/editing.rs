@@ -456,3 +456,42 @@ fn a_click_within_one_frame_is_not_lost() {
     click_across_a_slow_frame(&mut h, at, 1.5);
     assert_eq!(h.state().doc.trees.len(), 2, "the map click added a tree");
 }
+
+/// A long tree or layer name is cut with "…" in the Layers panel, which keeps its width (the
+/// map does not shift), and Help → User guide opens the guide beside the work.
+#[test]
+fn long_names_keep_the_panels_and_the_guide_opens() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.run_steps(2);
+    let map_left = h.state().map_rect.left();
+    let ctx = h.ctx.clone();
+    let id = h.state().doc.trees[0].id;
+    let mut props = windloom::doc::TreeProps::of(&h.state().doc.trees[0]);
+    props.name = "The valley wind along the northern river, past the old mill, the bridge \
+                  and the orchards"
+        .into();
+    assert!(
+        h.state_mut()
+            .edit(&ctx, windloom::doc::Edit::SetTreeProps { id, props })
+    );
+    h.run_steps(3);
+    assert_eq!(
+        h.state().map_rect.left(),
+        map_left,
+        "the Layers panel widened"
+    );
+    assert!(h.query_by_label_contains("The valley wind").is_some());
+
+    h.get_by_label("Help").click();
+    h.run_steps(2);
+    h.get_by_label("User guide").click();
+    h.run_steps(3);
+    assert!(h.state().guide.open);
+    assert!(
+        h.query_by_label_contains("The editor: a user guide")
+            .is_some()
+    );
+}

@@ -483,3 +483,106 @@ fn a_killed_editor_s_last_edit_is_restored() {
         "the file itself was never touched"
     );
 }
+
+/// The window's title names the layout without a file (the bundled default, a new one); a
+/// new layout takes its file's name on its first save (one undo step); a file named on the
+/// command line is in Open Recent.
+#[test]
+fn titles_names_and_recent_files_follow_the_document() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let mut h = harness(windloom::doc::default_layout());
+    assert!(
+        h.state().title().starts_with("Meadow — "),
+        "{}",
+        h.state().title()
+    );
+    let ctx = h.ctx.clone();
+    h.state_mut().run_pending(&ctx, windloom::app::Pending::New);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.name, windloom::app::UNTITLED);
+    let valley = dir.path().join("valley.json");
+    let ctx = h.ctx.clone();
+    assert!(h.state_mut().save_to(&ctx, &valley));
+    assert_eq!(h.state().doc.name, "valley");
+    assert_eq!(windloom::io::load(&valley).unwrap().name, "valley");
+    assert!(h.state().title().starts_with("valley.json — "));
+    // A name the user gave stays.
+    let ctx = h.ctx.clone();
+    h.state_mut()
+        .edit(&ctx, windloom::doc::Edit::Rename("River crossing".into()));
+    assert!(h.state_mut().save_to(&ctx, &dir.path().join("other.json")));
+    assert_eq!(h.state().doc.name, "River crossing");
+
+    // Named on the command line: in Open Recent.
+    let file = dir.path().join("from-cli.json");
+    windloom::io::save(&file, &example("two-winds.json")).unwrap();
+    h.state_mut().launch(&windloom::app::Launch {
+        path: Some(file.clone()),
+        view: Some(windloom::app::Central::Split),
+        ..Default::default()
+    });
+    assert_eq!(
+        h.state().settings.recent.first(),
+        Some(&file.canonicalize().unwrap())
+    );
+    assert_eq!(h.state().settings.central, windloom::app::Central::Split);
+}
+
+/// The typed-path prompt starts in the layout's folder, makes a folder that is not there
+/// yet, and after an error stays open with what was typed and why.
+#[test]
+fn the_typed_path_prompt_starts_in_the_layout_s_folder_and_keeps_what_was_typed() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let file = dir.path().join("level.json");
+    windloom::io::save(&file, &example("meadow.json")).unwrap();
+    let mut h = harness_on(example("meadow.json"), Some(file.clone()));
+    h.state_mut().path_prompt(false, false);
+    h.run_steps(2);
+    let shown = h.get_by_label("Path of the layout file").value();
+    assert_eq!(shown.as_deref(), Some(file.display().to_string().as_str()));
+    h.state_mut().dialog = None;
+
+    // Saved into folders that do not exist yet: made.
+    let deep = dir.path().join("new").join("deeper").join("level.json");
+    h.state_mut().path_prompt(true, false);
+    h.run_steps(2);
+    h.get_by_label("Path of the layout file").focus();
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.get_by_label("Path of the layout file")
+        .type_text(&deep.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    assert!(h.state().dialog.is_none());
+    assert_eq!(windloom::io::load(&deep).unwrap(), h.state().doc);
+
+    // A file that cannot be opened: the prompt again, with the typed path and the reason.
+    let bad = dir.path().join("not-there.json");
+    h.state_mut().path_prompt(false, false);
+    h.run_steps(2);
+    h.get_by_label("Path of the layout file").focus();
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.get_by_label("Path of the layout file")
+        .type_text(&bad.display().to_string());
+    h.run_steps(1);
+    h.get_by_label("Open").click();
+    h.run_steps(2);
+    match &h.state().dialog {
+        Some(windloom::app::Dialog::Path { save, text, note }) => {
+            assert!(!save);
+            assert_eq!(text, &bad.display().to_string());
+            let note = note.as_deref().unwrap_or_default();
+            assert!(note.contains("not-there.json"), "{note}");
+        }
+        _ => panic!("the prompt closed after the error"),
+    }
+    assert_eq!(h.state().path.as_deref(), Some(deep.as_path()));
+}

@@ -532,3 +532,60 @@ fn the_3d_grass_view_answers_grass_edits() {
         );
     }
 }
+
+/// At the editor's default window size the 3D view's row of toggles and values fits its
+/// pane, alone or beside the map, with Push and the wind colours on: nothing runs under the
+/// inspector, and each tick sits apart from the label before it.
+#[test]
+fn the_3d_view_s_controls_fit_their_pane() {
+    if !gpu_available() {
+        return;
+    }
+    for central in [windloom::app::Central::Grass, windloom::app::Central::Split] {
+        let mut h = gpu_harness_sized(example("meadow.json"), egui::vec2(1400.0, 860.0), |app| {
+            app.live.set_playing(false);
+        });
+        h.state_mut().settings.central = central;
+        h.state_mut().grass_view.controls.push = true;
+        h.state_mut().grass_view.controls.wind_colours = true;
+        h.run_steps(4);
+        let pane = h.state().grass_view.rect.expect("the 3D view is drawn");
+        let labels = [
+            "edge-on",
+            "off-screen",
+            "distance",
+            "LOD",
+            "far field",
+            "wind colours",
+            "Push",
+        ];
+        let mut rects: Vec<(String, egui::Rect)> = labels
+            .iter()
+            .map(|l| (l.to_string(), h.get_by_label(l).rect()))
+            .collect();
+        for value in ["opacity", "radius", "trail"] {
+            let r = h.get_by_label_contains(value).rect();
+            rects.push((value.to_string(), r));
+        }
+        for (name, r) in &rects {
+            assert!(
+                r.left() >= pane.left() - 0.5 && r.right() <= pane.right() + 0.5,
+                "{central:?}: {name} at {r:?} outside the pane {pane:?}"
+            );
+        }
+        // In reading order, row by row: a gap between each control and the next.
+        rects.sort_by(|a, b| {
+            (a.1.center().y.round() as i32, a.1.left() as i32)
+                .cmp(&(b.1.center().y.round() as i32, b.1.left() as i32))
+        });
+        for w in rects.windows(2) {
+            let ((a, ra), (b, rb)) = (&w[0], &w[1]);
+            if (ra.center().y - rb.center().y).abs() < 4.0 {
+                assert!(
+                    rb.left() - ra.right() >= 2.0,
+                    "{central:?}: {b} ({rb:?}) against {a} ({ra:?})"
+                );
+            }
+        }
+    }
+}

@@ -137,3 +137,22 @@ fn an_idle_paused_editor_stops_drawing() {
     let more = h.try_run().expect("an idle editor keeps asking for frames");
     assert!(more <= 2, "{more} frames drawn while idle");
 }
+
+/// The status bar's frame rate is of frames being drawn: after a rest it says "idle", not the
+/// rate of frames long gone, and the editor draws one frame to say so.
+#[test]
+fn the_status_bar_says_idle_after_a_rest() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.run_steps(3);
+    assert!(h.query_by_label_contains(" fps").is_some());
+    let now = h.ctx.input(|i| i.time);
+    h.input_mut().time = Some(now + 2.0);
+    h.step();
+    assert!(
+        h.query_by_label_contains("· idle").is_some(),
+        "the frame after a rest says idle"
+    );
+}
