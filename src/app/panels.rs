@@ -406,9 +406,12 @@ fn right_to_left() -> egui::Layout {
 /// A layer's name as a selectable button that fills the row's room and is cut with "…"
 /// where it runs out (the whole name on hover): a long name never widens the panel.
 fn layer_name(ui: &mut egui::Ui, selected: bool, name: String) -> egui::Response {
+    // Left-aligned (the grow atom takes the room to its right), with a narrow padding so a
+    // usual name is shown whole next to its buttons.
+    ui.spacing_mut().button_padding.x = 2.0;
     let r = ui.add_sized(
         [ui.available_width(), ui.spacing().interact_size.y],
-        egui::Button::selectable(selected, name.clone())
+        egui::Button::selectable(selected, (name.clone(), egui::Atom::grow()))
             .truncate()
             .frame_when_inactive(false),
     );
