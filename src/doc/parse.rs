@@ -5,6 +5,7 @@
 
 use super::types::{FORMAT, Layout, VERSION};
 use super::validate::validate;
+use super::validate::{CHAIN_MAX, NESTING_MAX};
 use jsonc_parser::ast;
 use jsonc_parser::common::Ranged;
 use serde_json::Value;
@@ -21,14 +22,34 @@ pub struct Diagnostic {
     pub message: String,
 }
 
+/// The longest path and message a diagnostic prints (a chain of arrows at its limit has a
+/// path of 3,000 characters; serde's messages quote the offending value whole).
+const PATH_SHOWN: usize = 160;
+const MESSAGE_SHOWN: usize = 400;
+
 impl fmt::Display for Diagnostic {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{}:{}: ", self.line, self.column)?;
         if let Some(p) = &self.path {
-            write!(f, "{p}: ")?;
+            write!(f, "{}: ", short_path(p))?;
         }
-        f.write_str(&self.message)
+        f.write_str(&super::printable(&self.message, MESSAGE_SHOWN))
     }
+}
+
+/// A long JSON path with its middle left out: its start and its end say where it is.
+fn short_path(p: &str) -> String {
+    let n = p.chars().count();
+    if n <= PATH_SHOWN {
+        return super::printable(p, PATH_SHOWN);
+    }
+    let head: String = p.chars().take(PATH_SHOWN / 2).collect();
+    let tail: String = p.chars().skip(n - PATH_SHOWN / 2).collect();
+    format!(
+        "{}…{}",
+        super::printable(&head, PATH_SHOWN),
+        super::printable(&tail, PATH_SHOWN)
+    )
 }
 
 /// Every problem found in one file.
@@ -48,9 +69,189 @@ pub fn to_json(layout: &Layout) -> String {
     s
 }
 
+/// Parses a layout file's bytes: UTF-8 (a leading byte order mark is allowed, as JSON's RFC
+/// 8259 lets a reader do), then as [`parse`]. A file in another encoding (UTF-16 or UTF-32,
+/// found by its byte order mark or by the zero bytes around its first character) or with
+/// bytes that are not UTF-8 is refused with the encoding, or the line and column of the
+/// first bad byte.
+pub fn parse_bytes(bytes: &[u8]) -> Result<Layout, Diagnostics> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    if let Some(encoding) = other_encoding(bytes) {
+        return Err(one(
+            1,
+            1,
+            format!(
+                "this file is {encoding}; windloom reads layouts as UTF-8: save it as UTF-8 \
+                 (in most editors: Save As, Encoding)"
+            ),
+        ));
+    }
+    match std::str::from_utf8(bytes) {
+        Ok(text) => parse(text),
+        Err(e) => {
+            let good = &bytes[..e.valid_up_to()];
+            // The prefix is valid UTF-8 by construction.
+            let before = std::str::from_utf8(good).unwrap_or_default();
+            let line = before.matches('\n').count() + 1;
+            let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+            let byte = bytes[e.valid_up_to()];
+            Err(one(
+                line,
+                column,
+                format!(
+                    "byte 0x{byte:02X} is not UTF-8 text; windloom reads layouts as UTF-8 (was \
+                     it saved as Latin-1 or Windows-1252?)"
+                ),
+            ))
+        }
+    }
+}
+
+fn one(line: usize, column: usize, message: String) -> Diagnostics {
+    Diagnostics(vec![Diagnostic {
+        line,
+        column,
+        path: None,
+        message,
+    }])
+}
+
+/// The name of the encoding of a JSON text that is not UTF-8, from its byte order mark or
+/// the zero bytes around its first (ASCII) character, as RFC 4627 detected it.
+fn other_encoding(b: &[u8]) -> Option<&'static str> {
+    let at = |i: usize| b.get(i).copied();
+    let nz = |i: usize| at(i).is_some_and(|x| x != 0);
+    match (at(0), at(1), at(2), at(3)) {
+        (Some(0xFF), Some(0xFE), Some(0), Some(0)) => Some("UTF-32 (little-endian)"),
+        (Some(0), Some(0), Some(0xFE), Some(0xFF)) => Some("UTF-32 (big-endian)"),
+        (Some(0xFF), Some(0xFE), ..) => Some("UTF-16 (little-endian)"),
+        (Some(0xFE), Some(0xFF), ..) => Some("UTF-16 (big-endian)"),
+        (_, Some(0), Some(0), Some(0)) if nz(0) => Some("UTF-32 (little-endian)"),
+        (Some(0), Some(0), Some(0), _) if nz(3) => Some("UTF-32 (big-endian)"),
+        (_, Some(0), ..) if nz(0) => Some("UTF-16 (little-endian)"),
+        (Some(0), ..) if nz(1) => Some("UTF-16 (big-endian)"),
+        _ => None,
+    }
+}
+
+/// Refuses a text that nests deeper than [`NESTING_MAX`], at the bracket or field that goes
+/// past it, before anything recursive reads it. Levels are counted as the parser that
+/// locates fields counts them: each open object, array, and field of an object.
+fn check_nesting(text: &str) -> Result<(), Diagnostics> {
+    use jsonc_parser::tokens::Token;
+    // Each open container, and whether an object is inside one of its fields (after `key:`).
+    let mut stack: Vec<(bool, bool)> = Vec::new();
+    let mut fields = 0usize;
+    let mut tokens = jsonc_parser::Scanner::new(text, &Default::default());
+    while let Ok(Some(token)) = tokens.scan() {
+        match token {
+            Token::OpenBrace | Token::OpenBracket => {
+                stack.push((matches!(token, Token::OpenBrace), false));
+            }
+            Token::CloseBrace | Token::CloseBracket => {
+                if let Some((_, true)) = stack.pop() {
+                    fields -= 1;
+                }
+            }
+            Token::Colon => {
+                if let Some((true, in_field)) = stack.last_mut()
+                    && !*in_field
+                {
+                    *in_field = true;
+                    fields += 1;
+                }
+            }
+            Token::Comma => {
+                if let Some((true, in_field)) = stack.last_mut()
+                    && *in_field
+                {
+                    *in_field = false;
+                    fields -= 1;
+                }
+            }
+            _ => {}
+        }
+        if stack.len() + fields > NESTING_MAX {
+            let (line, column) = line_col(text, tokens.token_start());
+            let path = path_at(text, tokens.token_start());
+            return Err(Diagnostics(vec![Diagnostic {
+                line,
+                column,
+                path: (!path.is_empty()).then_some(path),
+                message: format!(
+                    "nested deeper than the {NESTING_MAX} levels a layout may have (each open \
+                     object, array and field counts one; a chain of arrows holds at most \
+                     {CHAIN_MAX})"
+                ),
+            }]));
+        }
+    }
+    Ok(())
+}
+
+/// 1-based line and column (in characters) of byte `offset`.
+fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let col = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+    (line, col)
+}
+
+/// Every key that an object of the text holds twice, at the second one, naming the first:
+/// JSON readers differ on which one counts, and rewriting the file (`fmt`, a save) would
+/// drop one. The text has parsed as JSON.
+fn duplicate_keys(text: &str, ast: Option<&ast::Value<'_>>) -> Vec<Diagnostic> {
+    let mut out = Vec::new();
+    let mut stack: Vec<(&ast::Value<'_>, String)> =
+        ast.map(|v| (v, String::new())).into_iter().collect();
+    while let Some((v, path)) = stack.pop() {
+        match v {
+            ast::Value::Object(o) => {
+                let mut seen: std::collections::HashMap<&str, usize> = Default::default();
+                for p in &o.properties {
+                    let key = p.name.as_str();
+                    let child = if path.is_empty() {
+                        key.to_string()
+                    } else {
+                        format!("{path}.{key}")
+                    };
+                    if let Some(&first) = seen.get(key) {
+                        let (line, column) = line_col(text, p.start());
+                        let (fl, fc) = line_col(text, first);
+                        out.push(Diagnostic {
+                            line,
+                            column,
+                            path: Some(child.clone()),
+                            message: format!(
+                                "duplicate key `{}` (first at {fl}:{fc}); keep one of them",
+                                super::quote(key)
+                            ),
+                        });
+                    } else {
+                        seen.insert(key, p.start());
+                    }
+                    stack.push((&p.value, child));
+                }
+            }
+            ast::Value::Array(a) => {
+                for (i, e) in a.elements.iter().enumerate() {
+                    stack.push((e, format!("{path}[{i}]")));
+                }
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
 /// Parses, migrates and validates a layout text.
 pub fn parse(text: &str) -> Result<Layout, Diagnostics> {
-    let mut value: Value = serde_json::from_str(text).map_err(|e| {
+    check_nesting(text)?;
+    let mut de = serde_json::Deserializer::from_str(text);
+    // The nesting is bounded above, far below what the stack holds.
+    de.disable_recursion_limit();
+    let read = serde::Deserialize::deserialize(&mut de).and_then(|v: Value| de.end().map(|()| v));
+    let mut value: Value = read.map_err(|e| {
         let (line, column) = (e.line().max(1), e.column().max(1));
         let at = offset_of(text, line, column);
         let path = path_at(text, at);
@@ -70,6 +271,10 @@ pub fn parse(text: &str) -> Result<Layout, Diagnostics> {
         }])
     })?;
     let locator = Locator::new(text);
+    let duplicates = duplicate_keys(text, locator.ast.as_ref());
+    if !duplicates.is_empty() {
+        return Err(sorted(duplicates));
+    }
     let diag = |path: &str, message: String| locator.diagnostic(path, message);
 
     // Header: format and version decide whether we can read the rest at all.
@@ -282,11 +487,16 @@ impl Unknown {
 
     fn message(&self) -> String {
         match self.suggestion() {
-            Some(v) => format!("unknown field `{}`, did you mean `{v}`?", self.key),
-            None if self.valid.is_empty() => format!("unknown field `{}`", self.key),
+            Some(v) => format!(
+                "unknown field `{}`, did you mean `{v}`?",
+                super::quote(&self.key)
+            ),
+            None if self.valid.is_empty() => {
+                format!("unknown field `{}`", super::quote(&self.key))
+            }
             _ => format!(
                 "unknown field `{}`, expected one of: {}",
-                self.key,
+                super::quote(&self.key),
                 self.valid.join(", ")
             ),
         }
@@ -474,12 +684,7 @@ impl<'a> Locator<'a> {
     }
 
     fn line_col(&self, offset: usize) -> (usize, usize) {
-        let before = &self.text[..offset.min(self.text.len())];
-        let line = before.matches('\n').count() + 1;
-        let col = before
-            .rfind('\n')
-            .map_or(before.len(), |i| before.len() - i - 1);
-        (line, before[before.len() - col..].chars().count() + 1)
+        line_col(self.text, offset)
     }
 
     fn diagnostic(&self, path: &str, message: String) -> Diagnostic {

@@ -8,7 +8,10 @@
 
 // The schema states the bounds `validate` enforces (as f64 literals where the f32 constant
 // would print with conversion noise); `tests/doc/main.rs` checks that they agree.
-use super::validate::{COORD_MAX, GRID_AXIS_MAX, GRID_AXIS_MIN, RADIUS_MAX, STRENGTH_MAX};
+use super::validate::{
+    AMBIENT_MAX, COORD_MAX, GRID_AXIS_MAX, GRID_AXIS_MIN, NAME_MAX, OBSTACLES_MAX,
+    POLYGON_POINTS_MAX, RADIUS_MAX, STRENGTH_MAX, TREES_MAX,
+};
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -20,7 +23,11 @@ pub const VERSION: u32 = 1;
 /// A 2D point or vector in world metres: `[x, z]`.
 pub type Vec2 = [f32; 2];
 
-/// A complete wind layout.
+/// A complete wind layout. A layout file is UTF-8 JSON of at most 16 MiB (a leading byte
+/// order mark is allowed), nested at most 500 levels deep (each object, array and
+/// field counts one), with no key twice in one object;
+/// it holds at most 10,000 points (roots and arrow ends) over all its trees, and a chain of
+/// arrows at most 160 long.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
 pub struct Layout {
@@ -28,17 +35,21 @@ pub struct Layout {
     pub format: String,
     /// Format version; this build reads 1 and writes 1.
     pub version: u32,
-    /// Human-readable name of the layout.
+    /// Human-readable name of the layout, at most 256 characters.
+    #[schemars(length(max = NAME_MAX))]
     pub name: String,
     pub world: World,
-    /// AGC arrow trees (paper §3.5).
+    /// AGC arrow trees (paper §3.5), at most 1,000.
     #[serde(default)]
+    #[schemars(length(max = TREES_MAX))]
     pub trees: Vec<Tree>,
-    /// Solid obstacles the wind flows around.
+    /// Solid obstacles the wind flows around, at most 10,000.
     #[serde(default)]
+    #[schemars(length(max = OBSTACLES_MAX))]
     pub obstacles: Vec<Obstacle>,
-    /// Ambient wind layers added everywhere.
+    /// Ambient wind layers added everywhere, at most 64.
     #[serde(default)]
+    #[schemars(length(max = AMBIENT_MAX))]
     pub ambient: Vec<AmbientLayer>,
     #[serde(default)]
     pub sim: SimParams,
@@ -92,6 +103,8 @@ fn yes() -> bool {
 pub struct Tree {
     /// Stable id, unique among the layout's trees.
     pub id: u32,
+    /// At most 256 characters.
+    #[schemars(length(max = NAME_MAX))]
     pub name: String,
     #[serde(default = "yes")]
     pub enabled: bool,
@@ -129,7 +142,8 @@ pub struct Node {
     /// Gaussian radius (metres) of the arrow ending here, 0.001 to 100000.
     #[schemars(range(min = 0.001, max = RADIUS_MAX))]
     pub radius: f32,
-    /// End points of arrows starting here: several branch, a child's children chain.
+    /// End points of arrows starting here: several branch, a child's children chain. A chain
+    /// holds at most 160 arrows from its root, and a layout at most 10,000 points in all.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub children: Vec<Node>,
 }
@@ -160,6 +174,8 @@ pub enum Emission {
 pub struct Obstacle {
     /// Stable id, unique among the layout's obstacles.
     pub id: u32,
+    /// At most 256 characters.
+    #[schemars(length(max = NAME_MAX))]
     pub name: String,
     pub shape: Shape,
 }
@@ -176,10 +192,10 @@ pub enum Shape {
         #[schemars(range(min = 0.001, max = RADIUS_MAX))]
         radius: f32,
     },
-    /// A simple polygon, at least three points, implicitly closed.
+    /// A simple polygon, 3 to 10,000 points, implicitly closed.
     Polygon {
         /// Corners `[x, z]` in metres, each coordinate within ±1e6.
-        #[schemars(length(min = 3), inner(inner(range(min = -COORD_MAX, max = COORD_MAX))))]
+        #[schemars(length(min = 3, max = POLYGON_POINTS_MAX), inner(inner(range(min = -COORD_MAX, max = COORD_MAX))))]
         points: Vec<Vec2>,
     },
 }
@@ -190,6 +206,8 @@ pub enum Shape {
 pub struct AmbientLayer {
     /// Stable id, unique among the layout's ambient layers.
     pub id: u32,
+    /// At most 256 characters.
+    #[schemars(length(max = NAME_MAX))]
     pub name: String,
     #[serde(default = "yes")]
     pub enabled: bool,

@@ -36,6 +36,28 @@ pub const DT_MAX: f32 = 1.0 / 30.0;
 pub const STRENGTH_MAX: f32 = 500.0;
 pub const RADIUS_MAX: f32 = 100_000.0;
 
+/// Largest layout file windloom reads, in bytes. A layout at every count limit below stays
+/// well under it; a file past it is refused before it is parsed (a 58 MB layout took 1.8 GB
+/// and 10 s to read).
+pub const LAYOUT_MAX_BYTES: u64 = 16 << 20;
+/// Longest chain of arrows in a tree: arrows from its root to its farthest end point.
+pub const CHAIN_MAX: usize = 160;
+/// Most points (roots and arrow end points) in a layout, over all its trees.
+pub const NODES_MAX: usize = 10_000;
+/// Most wind trees, obstacles and ambient layers in a layout.
+pub const TREES_MAX: usize = 1_000;
+pub const OBSTACLES_MAX: usize = 10_000;
+pub const AMBIENT_MAX: usize = 64;
+/// Most points of one polygon obstacle.
+pub const POLYGON_POINTS_MAX: usize = 10_000;
+/// Longest name (of the layout, a tree, an obstacle or a layer), in characters.
+pub const NAME_MAX: usize = 256;
+/// How deep a layout's JSON may nest, counting each open object, array and field (a chain of
+/// [`CHAIN_MAX`] arrows takes three levels an arrow, 490 in all): within the 512 that the
+/// parser that locates fields and finds duplicate keys reads.
+pub const NESTING_MAX: usize = 500;
+const _: () = assert!(3 * CHAIN_MAX + 10 <= NESTING_MAX && NESTING_MAX <= 512);
+
 /// One semantic problem: the JSON path of the field and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Issue {
@@ -152,6 +174,24 @@ impl Checker {
         }
     }
 
+    /// A list of at most `max` items.
+    fn count(&mut self, path: &str, n: usize, max: usize, what: &str) {
+        if n > max {
+            self.push(path, format!("at most {max} {what}, got {n}"));
+        }
+    }
+
+    /// A name of at most [`NAME_MAX`] characters.
+    fn name(&mut self, path: &str, name: &str) {
+        let n = name.chars().count();
+        if n > NAME_MAX {
+            self.push(
+                path,
+                format!("a name of at most {NAME_MAX} characters, got {n}"),
+            );
+        }
+    }
+
     fn unique_id(&mut self, seen: &mut HashMap<u32, String>, what: &str, id: u32, path: &str) {
         if let Some(first) = seen.get(&id) {
             self.push(
@@ -180,12 +220,34 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
         );
     }
     check_world(&mut c, &layout.world, layout.sim.pressure);
+    c.name("name", &layout.name);
+    c.count("trees", layout.trees.len(), TREES_MAX, "wind trees");
+    c.count(
+        "obstacles",
+        layout.obstacles.len(),
+        OBSTACLES_MAX,
+        "obstacles",
+    );
+    c.count(
+        "ambient",
+        layout.ambient.len(),
+        AMBIENT_MAX,
+        "ambient layers",
+    );
+    let nodes: usize = layout.trees.iter().map(|t| t.root.count()).sum();
+    c.count(
+        "trees",
+        nodes,
+        NODES_MAX,
+        "points (roots and arrow ends) in all",
+    );
 
     let mut tree_ids = HashMap::new();
     let mut node_ids = HashMap::new();
     for (t, tree) in layout.trees.iter().enumerate() {
         let p = format!("trees[{t}]");
         c.unique_id(&mut tree_ids, "tree", tree.id, &p);
+        c.name(&format!("{p}.name"), &tree.name);
         c.positive_from(
             &format!("{p}.propagation_speed"),
             tree.propagation_speed,
@@ -206,13 +268,14 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
             c.positive_from(&format!("{p}.emission.period"), period, LENGTH_MIN, 1.0e6);
             c.positive(&format!("{p}.emission.duty"), duty, 1.0);
         }
-        check_node(&mut c, &mut node_ids, &tree.root, &format!("{p}.root"));
+        check_node(&mut c, &mut node_ids, &tree.root, &format!("{p}.root"), 0);
     }
 
     let mut obstacle_ids = HashMap::new();
     for (o, obstacle) in layout.obstacles.iter().enumerate() {
         let p = format!("obstacles[{o}]");
         c.unique_id(&mut obstacle_ids, "obstacle", obstacle.id, &p);
+        c.name(&format!("{p}.name"), &obstacle.name);
         match &obstacle.shape {
             Shape::Circle { center, radius } => {
                 c.point(&format!("{p}.shape.center"), *center);
@@ -224,6 +287,12 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 );
             }
             Shape::Polygon { points } => {
+                c.count(
+                    &format!("{p}.shape.points"),
+                    points.len(),
+                    POLYGON_POINTS_MAX,
+                    "points",
+                );
                 if points.len() < 3 {
                     c.push(
                         &format!("{p}.shape.points"),
@@ -247,6 +316,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
     for (a, layer) in layout.ambient.iter().enumerate() {
         let p = format!("ambient[{a}]");
         c.unique_id(&mut layer_ids, "ambient layer", layer.id, &p);
+        c.name(&format!("{p}.name"), &layer.name);
         let k = format!("{p}.kind");
         match &layer.kind {
             AmbientKind::Directional {
@@ -361,8 +431,16 @@ fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
     }
 }
 
-fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &str) {
+/// `depth`: arrows from the tree's root to `n`.
+fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &str, depth: usize) {
     c.unique_id(ids, "node", n.id, path);
+    if depth == CHAIN_MAX && !n.children.is_empty() {
+        c.push(
+            &format!("{path}.children"),
+            format!("a chain of arrows holds at most {CHAIN_MAX}; this one goes on past it"),
+        );
+        return;
+    }
     let here = c.point(&format!("{path}.pos"), n.pos);
     c.range(&format!("{path}.strength"), n.strength, 0.0, STRENGTH_MAX);
     c.positive_from(&format!("{path}.radius"), n.radius, LENGTH_MIN, RADIUS_MAX);
@@ -375,7 +453,7 @@ fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &
                 format!("an arrow end point must be at least {LENGTH_MIN} m from its start point"),
             );
         }
-        check_node(c, ids, child, &cp);
+        check_node(c, ids, child, &cp, depth + 1);
     }
 }
 

@@ -980,3 +980,88 @@ fn saving_keeps_the_files_mode_and_writes_through_symlinks() {
 
 /// Fuzzing the loader (issue 13): arbitrary bytes and mutated layouts.
 mod fuzz;
+
+/// The editor never makes a layout that windloom cannot open again: its own edit commands
+/// refuse to chain an arrow past the limit (or name a layer past its length), and the longest
+/// chain they allow saves and loads back. A chain one longer, written by hand, is refused with
+/// the limit named and the position of the arrow that goes past it.
+#[test]
+fn the_editor_s_edits_stay_within_what_loads() {
+    let mut l = doc::default_layout();
+    let mut history = doc::History::new();
+    let mut tip = l.trees[0].root.id;
+    let mut added = 0;
+    let refused = loop {
+        let id = l.next_id();
+        let at = l.trees[0].root.find(tip).unwrap().pos;
+        let node = doc::Node {
+            id,
+            pos: [at[0] + 0.01, at[1]],
+            strength: 5.0,
+            radius: 2.0,
+            children: Vec::new(),
+        };
+        let edit = doc::Edit::AddNode {
+            parent: tip,
+            index: 0,
+            node,
+        };
+        match history.apply(&mut l, edit) {
+            Ok(()) => {
+                added += 1;
+                tip = id;
+            }
+            Err(e) => break e.to_string(),
+        }
+        assert!(added <= doc::CHAIN_MAX + 1, "no limit");
+    };
+    assert!(
+        refused.contains("a chain of arrows holds at most 160"),
+        "{refused}"
+    );
+    // The root's first child was already a chain of the meadow's own arrows.
+    let depth = |n: &doc::Node| {
+        let mut d = 0;
+        let mut n = n;
+        while let Some(c) = n.children.first() {
+            d += 1;
+            n = c;
+        }
+        d
+    };
+    assert_eq!(depth(&l.trees[0].root), doc::CHAIN_MAX);
+    let text = doc::to_json(&l);
+    assert_eq!(doc::parse(&text).unwrap(), l);
+    // One more, written by hand: refused, at its place.
+    let mut longer = l.clone();
+    let mut n = &mut longer.trees[0].root;
+    while !n.children.is_empty() {
+        n = &mut n.children[0];
+    }
+    let p = n.pos;
+    n.children.push(doc::Node {
+        id: 999_999,
+        pos: [p[0] + 0.01, p[1]],
+        strength: 5.0,
+        radius: 2.0,
+        children: Vec::new(),
+    });
+    let text = doc::to_json(&longer);
+    let e = doc::parse(&text).unwrap_err().to_string();
+    assert!(e.contains("holds at most 160"), "{e}");
+    let line: usize = e.split(':').next().unwrap().parse().unwrap();
+    assert!(line > 1_000, "placed at line {line}: {e}");
+    assert!(e.len() < 600, "a short message: {e}");
+    // Far deeper (a chain of 2,000, as a script might write): refused before it is parsed.
+    let mut deep = String::from(r#"{"format":"windloom-layout","version":1,"trees":["#);
+    deep += &"{\"children\":[".repeat(2_000);
+    let e = doc::parse(&deep).unwrap_err().to_string();
+    assert!(e.contains("nested deeper than the 500 levels"), "{e}");
+    // A name past the limit is refused by the edit, too.
+    let long = "x".repeat(doc::NAME_MAX + 1);
+    let e = history
+        .apply(&mut l, doc::Edit::Rename(long))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("at most 256 characters"), "{e}");
+}
