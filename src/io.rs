@@ -80,25 +80,24 @@ pub fn load_backdrop(
     if size > BACKDROP_MAX_BYTES {
         return Err(BackdropError::TooManyBytes { path, size });
     }
+    let bytes = read_regular(&path, BACKDROP_MAX_BYTES, "a map image").map_err(io)?;
     let decode = |e: image::ImageError| BackdropError::Decode {
         path: path.clone(),
         message: e.to_string(),
     };
-    let reader = image::ImageReader::open(&path)
-        .map_err(io)?
-        .with_guessed_format()
-        .map_err(io)?;
-    let (w, h) = reader.into_dimensions().map_err(decode)?;
+    let open = || {
+        image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
+            .with_guessed_format()
+            .map_err(io)
+    };
+    let (w, h) = open()?.into_dimensions().map_err(decode)?;
     if w > BACKDROP_MAX_SIDE
         || h > BACKDROP_MAX_SIDE
         || u64::from(w) * u64::from(h) > BACKDROP_MAX_PIXELS
     {
         return Err(BackdropError::TooLarge { path, w, h });
     }
-    let mut reader = image::ImageReader::open(&path)
-        .map_err(io)?
-        .with_guessed_format()
-        .map_err(io)?;
+    let mut reader = open()?;
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(BACKDROP_MAX_SIDE);
     limits.max_image_height = Some(BACKDROP_MAX_SIDE);
@@ -107,13 +106,94 @@ pub fn load_backdrop(
     Ok(reader.decode().map_err(decode)?.to_rgba8())
 }
 
-/// Reads and validates a layout file.
+/// What a path is, in words, for a message that refuses it ("a FIFO (named pipe)").
+pub fn kind_of(meta: &std::fs::Metadata) -> &'static str {
+    let t = meta.file_type();
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::FileTypeExt;
+        if t.is_fifo() {
+            return "a FIFO (named pipe)";
+        }
+        if t.is_char_device() {
+            return "a character device";
+        }
+        if t.is_block_device() {
+            return "a block device";
+        }
+        if t.is_socket() {
+            return "a socket";
+        }
+    }
+    if t.is_dir() {
+        "a folder"
+    } else if t.is_symlink() {
+        "a symbolic link"
+    } else if t.is_file() {
+        "a file"
+    } else {
+        "not a file"
+    }
+}
+
+/// Reads a whole regular file of at most `max` bytes (`what` names it in the refusal: "a
+/// layout"). A FIFO, a device, a socket or a folder is refused without being read (a FIFO is
+/// opened without waiting for a writer), and so is a file longer than `max`, before any of
+/// it is read; a file that grows past `max` while it is read is refused too.
+pub fn read_regular(path: &Path, max: u64, what: &str) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::OpenOptionsExt;
+        // Opening a FIFO for reading otherwise waits for a writer, for ever.
+        options.custom_flags(rustix::fs::OFlags::NONBLOCK.bits() as i32);
+    }
+    let file = options.open(path)?;
+    let meta = file.metadata()?;
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "it is {}, not a regular file; windloom reads {what} only from a regular file",
+                kind_of(&meta)
+            ),
+        ));
+    }
+    let too_long = |size: u64| {
+        std::io::Error::new(
+            std::io::ErrorKind::InvalidData,
+            format!(
+                "{size} bytes, more than the {} windloom reads as {what}",
+                mib(max)
+            ),
+        )
+    };
+    if meta.len() > max {
+        return Err(too_long(meta.len()));
+    }
+    let mut bytes = Vec::with_capacity(meta.len() as usize);
+    file.take(max + 1).read_to_end(&mut bytes)?;
+    if bytes.len() as u64 > max {
+        return Err(too_long(bytes.len() as u64));
+    }
+    Ok(bytes)
+}
+
+/// `bytes` in MiB for a message ("16 MiB").
+fn mib(bytes: u64) -> String {
+    format!("{} MiB", bytes >> 20)
+}
+
+/// Reads and validates a layout file: a regular file of at most [`doc::LAYOUT_MAX_BYTES`].
 pub fn load(path: &Path) -> Result<Layout, LoadError> {
-    let text = std::fs::read_to_string(path).map_err(|source| LoadError::Io {
-        path: path.to_path_buf(),
-        source,
-    })?;
-    doc::parse(&text).map_err(|diagnostics| LoadError::Invalid {
+    let bytes =
+        read_regular(path, doc::LAYOUT_MAX_BYTES, "a layout").map_err(|source| LoadError::Io {
+            path: path.to_path_buf(),
+            source,
+        })?;
+    doc::parse_bytes(&bytes).map_err(|diagnostics| LoadError::Invalid {
         path: path.to_path_buf(),
         diagnostics,
     })
@@ -192,10 +272,26 @@ pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
 /// The new file keeps the old one's permissions (and, where allowed, its owner and group); a
 /// new file gets the user's usual mode (0666 less the umask). A symbolic link is written
 /// through: its target is replaced and the link stays.
+///
+/// Only a regular file is replaced: a device node, FIFO, socket or folder at `path` is
+/// refused (run as root, writing "into" `/dev/null` replaced the device with a file), and so
+/// is a read-only file. A file with other hard links is rewritten in place, so every name
+/// still shows the new text (its old text kept in a hidden backup beside it until then).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let path = resolve_links(path)?;
     let dir = parent_dir(&path);
-    let old = std::fs::metadata(&path).ok().filter(|m| m.is_file());
+    let old = match std::fs::metadata(&path) {
+        Ok(m) => Some(m),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        Err(e) => return Err(e),
+    };
+    if let Some(m) = &old {
+        check_replaceable(m)?;
+        #[cfg(unix)]
+        if std::os::unix::fs::MetadataExt::nlink(m) > 1 {
+            return write_in_place(&path, bytes);
+        }
+    }
     let mut builder = tempfile::Builder::new();
     builder.prefix(".windloom-").suffix(".tmp");
     #[cfg(unix)]
@@ -214,6 +310,55 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     tmp.write_all(bytes)?;
     tmp.as_file().sync_all()?;
     tmp.persist(&path).map_err(|e| e.error)?;
+    sync_dir(dir)
+}
+
+/// Checks, before any work, that [`write_atomic`] may write `path`: nothing there yet, or a
+/// regular file it may replace.
+pub fn check_target(path: &Path) -> std::io::Result<()> {
+    match std::fs::metadata(resolve_links(path)?) {
+        Ok(m) => check_replaceable(&m),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(()),
+        Err(e) => Err(e),
+    }
+}
+
+/// Refuses to replace what is not a regular file, or a read-only one.
+pub fn check_replaceable(meta: &std::fs::Metadata) -> std::io::Result<()> {
+    if !meta.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!(
+                "it is {}, not a regular file; windloom writes only regular files and \
+                 folders it makes",
+                kind_of(meta)
+            ),
+        ));
+    }
+    if meta.permissions().readonly() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::PermissionDenied,
+            "it is read-only; make it writable (chmod u+w) to replace it",
+        ));
+    }
+    Ok(())
+}
+
+/// Rewrites a file that has other hard links in place, so the other names keep sharing it.
+/// An in-place write is not atomic, so the old text is first copied to a hidden backup
+/// beside it (`.NAME.windloom-backup`), flushed, and removed only once the new text is
+/// flushed: a write cut short leaves the old text there to restore, and says so.
+fn write_in_place(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    let dir = parent_dir(path);
+    let name = path.file_name().unwrap_or_default().to_string_lossy();
+    let backup = dir.join(format!(".{name}.windloom-backup"));
+    std::fs::copy(path, &backup).map_err(|e| folder_error(dir, e.kind()))?;
+    std::fs::File::open(&backup)?.sync_all()?;
+    let mut file = std::fs::OpenOptions::new().write(true).open(path)?;
+    file.write_all(bytes)?;
+    file.set_len(bytes.len() as u64)?;
+    file.sync_all()?;
+    std::fs::remove_file(&backup)?;
     sync_dir(dir)
 }
 

@@ -464,9 +464,20 @@ fn main() -> ExitCode {
     match run(cli) {
         Ok(code) => code,
         Err(e) => {
-            eprintln!("error: {}", one_line(&e));
+            eprintln!("error: {}", doc::printable(&one_line(&e), MESSAGE_SHOWN));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// The most characters of one message line printed: a message quotes paths and values from
+/// untrusted input, so it is bounded and its control characters escaped ([`doc::printable`]).
+const MESSAGE_SHOWN: usize = 2000;
+
+/// Prints each line of `text` on stdout, bounded and escaped.
+fn print_lines(text: &str) {
+    for line in text.lines() {
+        println!("{}", doc::printable(line, MESSAGE_SHOWN));
     }
 }
 
@@ -559,11 +570,11 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         for a in doc::advise(&l) {
                             line += &format!("; warning: {a}");
                         }
-                        println!("{line}");
+                        print_lines(&line);
                     }
                     Err(e) => {
                         ok = false;
-                        println!("{e}");
+                        print_lines(&e.to_string());
                     }
                 }
             }
@@ -585,7 +596,9 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                         .with_context(|| format!("could not write {}", f.display()))?,
                     Err(e) => {
                         ok = false;
-                        eprintln!("{e}");
+                        for line in e.to_string().lines() {
+                            eprintln!("{}", doc::printable(line, MESSAGE_SHOWN));
+                        }
                     }
                 }
             }
@@ -610,7 +623,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
         }) => {
             let l = io::load(&layout)?;
             for a in doc::advise(&l) {
-                eprintln!("warning: {}: {a}", layout.display());
+                eprintln!(
+                    "warning: {}",
+                    doc::printable(&format!("{}: {a}", layout.display()), MESSAGE_SHOWN)
+                );
             }
             let opts = bake::BakeOptions {
                 formats: if formats.is_empty() {
@@ -633,8 +649,10 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             };
             let cancel = Arc::new(AtomicBool::new(false));
             let flag = cancel.clone();
+            // Ctrl-C, SIGTERM (`docker stop`, `timeout`, a cancelled CI job) and SIGHUP (a
+            // closed terminal) all cancel the bake, which then removes what it wrote.
             ctrlc::set_handler(move || flag.store(true, Ordering::SeqCst))
-                .context("could not install the Ctrl-C handler")?;
+                .context("could not install the Ctrl-C, SIGTERM and SIGHUP handler")?;
             let bar = if std::io::stderr().is_terminal() {
                 indicatif::ProgressBar::new(1)
             } else {
@@ -645,17 +663,29 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     .expect("a valid template")
                     .progress_chars("=> "),
             );
+            // Where stderr is not a terminal (a CI log, a pipe) a long bake still says how
+            // far it is: a line every 10 s, none for a bake that ends sooner.
+            let lines = !std::io::stderr().is_terminal();
+            let mut last_line = std::time::Instant::now();
             let mut progress = |done: usize, total: usize, what: &str| {
                 bar.set_length(total as u64);
                 bar.set_position(done as u64);
                 bar.set_message(what.to_string());
+                if lines && last_line.elapsed() >= std::time::Duration::from_secs(10) {
+                    last_line = std::time::Instant::now();
+                    eprintln!(
+                        "{what}: {:.0}% (step {done} of {total})",
+                        100.0 * done as f64 / total.max(1) as f64
+                    );
+                }
             };
             let result = bake::bake(&l, &out, &opts, &cancel, &mut progress);
             bar.finish_and_clear();
             match result {
                 Ok(m) => {
-                    for n in &m.notes {
-                        eprintln!("note: {n}");
+                    // The advice was said before the bake; the rest is news.
+                    for n in m.notes.iter().filter(|n| !n.starts_with("advice: ")) {
+                        eprintln!("note: {}", doc::printable(n, 1000));
                     }
                     println!(
                         "baked {} frame(s) of {}x{} into {} ({} files + {})",
@@ -669,7 +699,7 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     Ok(ExitCode::SUCCESS)
                 }
                 Err(bake::BakeError::Cancelled) => {
-                    eprintln!("cancelled: no files were written");
+                    eprintln!("cancelled (a signal): no files were written");
                     Ok(ExitCode::from(130))
                 }
                 Err(e) => Err(e.into()),
@@ -704,16 +734,24 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
                     anyhow::bail!("{flag} is for the 3D grass picture: add --view grass");
                 }
             }
+            io::check_target(&output)
+                .with_context(|| format!("cannot write {}", output.display()))?;
             let mut l = io::load(&layout)?;
             if let Some(m) = model {
                 l.grass.model = m.model();
             }
             let base = io::layout_base(Some(&layout));
             if let Some(w) = backdrop_warning(&l, &layout) {
-                eprintln!("warning: {w}; drawn without it");
+                eprintln!(
+                    "warning: {}; drawn without it",
+                    doc::printable(&w, MESSAGE_SHOWN)
+                );
             }
             for a in doc::advise(&l) {
-                eprintln!("warning: {}: {a}", layout.display());
+                eprintln!(
+                    "warning: {}",
+                    doc::printable(&format!("{}: {a}", layout.display()), MESSAGE_SHOWN)
+                );
             }
             let png = match view {
                 ViewArg::Map => windloom::render::render_png(&l, &base, size, time, speed_scale)?,

@@ -130,12 +130,18 @@ impl ExportDialog {
                 let r = match r {
                     Ok(r) => r
                         .map(|m| {
-                            format!(
+                            // The manifest's notes (advice that applied, a field far past
+                            // its arrows, a still field) under the summary.
+                            let mut msg = format!(
                                 "Baked {} frame(s), {} files, into {}",
                                 m.frames.count,
                                 m.files.len() + 1,
                                 out.display()
-                            )
+                            );
+                            for n in &m.notes {
+                                msg += &format!("\nNote: {n}");
+                            }
+                            msg
                         })
                         .map_err(|e| e.to_string()),
                     Err(panic) => Err(format!(

@@ -1,7 +1,8 @@
 //! A bake replaces its output folder as a whole.
 //!
 //! Every file is written into a fresh staging folder beside the output folder
-//! (`.NAME.windloom-bake-PID-N`). When everything is written and flushed, what the user (or an
+//! (`.windloom-bake-ID`, a short fixed-length name, so an output name as long as the file
+//! system allows still works). When everything is written and flushed, what the user (or an
 //! engine: Unity's `.meta`, Godot's `.import`) put in the old folder is hard-linked into the
 //! staging folder, and the two folders are exchanged with one `renameat2(RENAME_EXCHANGE)`:
 //! a reader sees the whole old bake or the whole new one, never a mixture. The old bake, now
@@ -9,32 +10,56 @@
 //! system, or a file system without it) the old folder is renamed aside and the new one
 //! renamed in, which leaves a moment with no folder rather than a mixed one.
 //!
-//! A killed bake leaves at most its staging folder; the next bake beside it removes staging
-//! folders whose process is gone.
+//! **A mount point** (a Docker volume, a bind mount, a share's root) cannot be renamed, and
+//! neither can a folder whose parent this user may not write: there the staging folder is
+//! made inside the output folder, and the commit moves the new files in one by one (each
+//! replaced whole by a rename), the old manifest removed first and the new one renamed in
+//! last, after a commit plan was flushed to disk. A reader that goes by `manifest.json` sees
+//! the old bake, no manifest, or the whole new bake; a bake killed while it moves files is
+//! finished by the next bake into that folder (it rolls the plan forward).
+//!
+//! **Ownership** holds across processes, containers and machines that share the folder: each
+//! staging folder has a lock file beside it (`.windloom-bake-ID.lock`, naming its host and
+//! process) that its bake holds locked (`flock`) until it ends. The kernel, or the file
+//! server, releases the lock when the process dies however it dies, so a bake removes (or
+//! rolls forward) exactly the staging folders whose lock it can take, and never one whose
+//! bake still runs, wherever that runs.
 
 use super::{BakeError, MANIFEST};
 use crate::io::{parent_dir, resolve_links, sync_dir};
 use std::collections::BTreeSet;
+use std::fs::File;
 use std::path::{Path, PathBuf};
 
 const MARK: &str = ".windloom-bake-";
+/// The commit plan inside a staging folder that commits in place: the old bake's names to
+/// remove once the new files are in.
+const PLAN: &str = ".windloom-commit";
+/// How long a half-made lock file (`.lock-new`) is left alone: it is locked and renamed
+/// within microseconds of its making, so one this old belongs to a bake that died then.
+const HALF_MADE_GRACE: std::time::Duration = std::time::Duration::from_secs(60);
 
 /// A staging folder for one bake into `out`; removed on drop unless committed.
 pub(crate) struct Staging {
     /// The output folder (symbolic links resolved).
     out: PathBuf,
-    /// The staging folder beside it.
+    /// The staging folder: beside `out`, or inside it when committing in place.
     dir: PathBuf,
+    /// Its lock file, held locked by `_lock` while the bake runs.
+    lock: PathBuf,
+    _lock: File,
     /// Names an earlier bake in `out` wrote (from its manifest), `manifest.json` included.
     /// Everything else in `out` is the user's and is carried over.
     previous: Option<BTreeSet<String>>,
+    /// The output folder cannot be renamed (a mount point), or its parent not written.
+    in_place: bool,
     committed: bool,
 }
 
 fn output_error(path: &Path, source: std::io::Error) -> BakeError {
     BakeError::Output {
         path: path.to_path_buf(),
-        source,
+        source: super::plain_io(source),
     }
 }
 
@@ -42,53 +67,160 @@ fn other(message: String) -> std::io::Error {
     std::io::Error::other(message)
 }
 
+/// Whether `dir` is the root of a mounted file system (it cannot be renamed).
+fn is_mount_root(dir: &Path) -> bool {
+    #[cfg(target_os = "linux")]
+    {
+        use rustix::fs::{AtFlags, CWD, StatxAttributes, StatxFlags, statx};
+        if let Ok(st) = statx(CWD, dir, AtFlags::empty(), StatxFlags::BASIC_STATS)
+            && st.stx_attributes_mask.contains(StatxAttributes::MOUNT_ROOT)
+        {
+            return st.stx_attributes.contains(StatxAttributes::MOUNT_ROOT);
+        }
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let parent = dir.join("..");
+        match (std::fs::metadata(dir), std::fs::metadata(parent)) {
+            (Ok(a), Ok(b)) => a.dev() != b.dev() || a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = dir;
+        false
+    }
+}
+
+/// Who holds a staging folder, for a person reading the lock file.
+fn owner_record() -> String {
+    let read = |p: &str| {
+        std::fs::read_to_string(p)
+            .unwrap_or_default()
+            .trim()
+            .to_string()
+    };
+    format!(
+        "windloom bake\nhost {}\nboot {}\npid {}\n",
+        read("/proc/sys/kernel/hostname"),
+        read("/proc/sys/kernel/random/boot_id"),
+        std::process::id()
+    )
+}
+
+/// Makes a locked lock file and its staging folder in `home`: the lock file is made and
+/// locked under a temporary name, then renamed, so a sweeping bake never finds it unlocked.
+fn make_staging(home: &Path) -> std::io::Result<(PathBuf, PathBuf, File)> {
+    use std::io::Write;
+    let stamp = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_nanos());
+    let base = format!("{MARK}{}-{stamp:x}", std::process::id());
+    let half = home.join(format!("{base}.lock-new"));
+    let lock = home.join(format!("{base}.lock"));
+    let dir = home.join(&base);
+    let mut file = std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&half)?;
+    let made = (|| {
+        file.lock()?;
+        file.write_all(owner_record().as_bytes())?;
+        std::fs::rename(&half, &lock)?;
+        // create_dir applies the umask: the new folder gets the user's usual mode.
+        std::fs::create_dir(&dir)
+    })();
+    if let Err(e) = made {
+        let _ = std::fs::remove_file(&half);
+        let _ = std::fs::remove_file(&lock);
+        return Err(e);
+    }
+    Ok((dir, lock, file))
+}
+
 impl Staging {
-    /// Checks `out` and creates the staging folder beside it.
+    /// Checks `out` and creates the staging folder (beside it, or inside it where it cannot
+    /// be renamed).
     pub(crate) fn new(out: &Path) -> Result<Self, BakeError> {
         let out = resolve_links(out).map_err(|e| output_error(out, e))?;
-        let previous = match std::fs::symlink_metadata(&out) {
-            Err(e) if e.kind() == std::io::ErrorKind::NotFound => None,
+        let exists = match std::fs::symlink_metadata(&out) {
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => false,
             Err(e) => return Err(output_error(&out, e)),
             Ok(m) if !m.is_dir() => {
-                return Err(output_error(&out, other("it is not a folder".into())));
+                return Err(output_error(
+                    &out,
+                    other(format!(
+                        "it is {}, not a folder; a bake writes a folder",
+                        crate::io::kind_of(&m)
+                    )),
+                ));
             }
-            Ok(_) => Some(previous_bake(&out)?),
+            Ok(_) => true,
         };
         let parent = parent_dir(&out).to_path_buf();
         std::fs::create_dir_all(&parent).map_err(|e| output_error(&parent, e))?;
-        let name = out
-            .file_name()
-            .ok_or_else(|| output_error(&out, other("it has no folder name".into())))?
-            .to_string_lossy()
-            .into_owned();
-        remove_stale(&parent, &name);
-        let stamp = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map_or(0, |d| d.as_nanos());
-        let dir = parent.join(format!(".{name}{MARK}{}-{stamp}", std::process::id()));
-        // create_dir applies the umask: the new folder gets the user's usual mode.
-        std::fs::create_dir(&dir).map_err(|e| {
+        if out.file_name().is_none() {
+            return Err(output_error(&out, other("it has no folder name".into())));
+        }
+        // What killed bakes left, here or (committing in place) inside the folder, goes
+        // before the folder is read: a plan half carried out is finished first.
+        sweep(&parent);
+        if exists {
+            sweep(&out);
+        }
+        let previous = if exists {
+            Some(previous_bake(&out)?)
+        } else {
+            None
+        };
+        let mut in_place = exists && is_mount_root(&out);
+        let made = if in_place {
+            make_staging(&out)
+        } else {
+            match make_staging(&parent) {
+                Err(e)
+                    if exists
+                        && matches!(
+                            e.kind(),
+                            std::io::ErrorKind::PermissionDenied
+                                | std::io::ErrorKind::ReadOnlyFilesystem
+                        ) =>
+                {
+                    in_place = true;
+                    make_staging(&out)
+                }
+                other => other,
+            }
+        };
+        let (dir, lock, file) = made.map_err(|e| {
+            let home = if in_place { &out } else { &parent };
             output_error(
                 &out,
                 other(format!(
-                    "cannot create the staging folder {} beside it: {e}",
-                    dir.display()
+                    "cannot make a staging folder in {}: {}",
+                    home.display(),
+                    super::plain_io(e)
                 )),
             )
         })?;
         let staging = Self {
             out,
             dir,
+            lock,
+            _lock: file,
             previous,
+            in_place,
             committed: false,
         };
-        if staging.previous.is_some() {
+        if staging.previous.is_some() && !staging.in_place {
             // The new folder keeps the old one's permissions.
             let perms = std::fs::metadata(&staging.out)
                 .map_err(|e| output_error(&staging.out, e))?
                 .permissions();
             std::fs::set_permissions(&staging.dir, perms)
-                .map_err(|e| output_error(&staging.dir, e))?;
+                .map_err(|e| output_error(&staging.out, e))?;
         }
         Ok(staging)
     }
@@ -124,17 +256,28 @@ impl Staging {
     /// Puts the staging folder in place of the output folder, carrying the user's files over.
     pub(crate) fn commit(mut self) -> Result<(), BakeError> {
         let parent = parent_dir(&self.out).to_path_buf();
-        sync_dir(&self.dir).map_err(|e| output_error(&self.dir, e))?;
+        sync_dir(&self.dir).map_err(|e| output_error(&self.out, e))?;
+        if self.in_place {
+            let previous = self.previous.clone().unwrap_or_default();
+            let new: BTreeSet<String> = entry_names(&self.dir)?.into_iter().collect();
+            let remove: Vec<&String> = previous.difference(&new).collect();
+            let plan = serde_json::json!({ "remove": remove }).to_string();
+            crate::io::write_atomic(&self.dir.join(PLAN), plan.as_bytes())
+                .map_err(|e| output_error(&self.out, e))?;
+            self.committed = true;
+            return roll_forward(&self.dir, &self.out).map_err(|e| output_error(&self.out, e));
+        }
         let Some(previous) = self.previous.clone() else {
             std::fs::rename(&self.dir, &self.out).map_err(|e| output_error(&self.out, e))?;
             self.committed = true;
             return sync_dir(&parent).map_err(|e| output_error(&parent, e));
         };
-        let theirs = |name: &str| !previous.contains(name);
+        let theirs = |name: &str| !previous.contains(name) && !name.starts_with(MARK);
         for name in entry_names(&self.out)?.into_iter().filter(|n| theirs(n)) {
             let to = self.dir.join(&name);
             if std::fs::symlink_metadata(&to).is_err() {
-                link_tree(&self.out.join(&name), &to).map_err(|e| output_error(&to, e))?;
+                link_tree(&self.out.join(&name), &to)
+                    .map_err(|e| output_error(&self.out.join(&name), e))?;
             }
         }
         exchange(&self.dir, &self.out).map_err(|e| output_error(&self.out, e))?;
@@ -157,7 +300,93 @@ impl Drop for Staging {
         if !self.committed {
             let _ = std::fs::remove_dir_all(&self.dir);
         }
+        // The folder goes before its lock file: a folder whose lock file is gone is dead.
+        let _ = std::fs::remove_file(&self.lock);
     }
+}
+
+/// Carries out an in-place commit's plan (idempotent: a bake killed halfway through it is
+/// finished by the next): the old manifest goes, the new files move in (each replacing its
+/// namesake whole), the old bake's other files go, and the new manifest comes last.
+fn roll_forward(dir: &Path, out: &Path) -> std::io::Result<()> {
+    let plan: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(dir.join(PLAN))?).map_err(std::io::Error::other)?;
+    match std::fs::remove_file(out.join(MANIFEST)) {
+        Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+        _ => {}
+    }
+    for e in std::fs::read_dir(dir)? {
+        let name = e?.file_name();
+        if name != PLAN && name != MANIFEST {
+            std::fs::rename(dir.join(&name), out.join(&name))?;
+        }
+    }
+    for name in plan["remove"].as_array().into_iter().flatten() {
+        if let Some(name) = name
+            .as_str()
+            .filter(|n| !n.contains(['/', '\\']) && *n != MANIFEST)
+        {
+            match std::fs::remove_file(out.join(name)) {
+                Err(e) if e.kind() != std::io::ErrorKind::NotFound => return Err(e),
+                _ => {}
+            }
+        }
+    }
+    if dir.join(MANIFEST).exists() {
+        std::fs::rename(dir.join(MANIFEST), out.join(MANIFEST))?;
+    }
+    sync_dir(out)?;
+    std::fs::remove_dir_all(dir)
+}
+
+/// Removes (or, for an in-place commit cut short, finishes) the staging folders in `home`
+/// whose bake is gone: those whose lock this process can take. A staging folder whose lock
+/// file is gone is dead too (its bake removes the folder before the lock file).
+fn sweep(home: &Path) {
+    let Ok(read) = std::fs::read_dir(home) else {
+        return;
+    };
+    let names: Vec<String> = read
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .collect();
+    for name in &names {
+        if !name.starts_with(MARK) {
+            legacy_stale(home, name);
+            continue;
+        }
+        let path = home.join(name);
+        if let Some(base) = name.strip_suffix(".lock-new") {
+            let old = std::fs::metadata(&path)
+                .and_then(|m| m.modified())
+                .is_ok_and(|t| t.elapsed().is_ok_and(|a| a > HALF_MADE_GRACE));
+            if old && !names.iter().any(|n| n == base) && lock_free(&path).is_some() {
+                let _ = std::fs::remove_file(&path);
+            }
+        } else if let Some(base) = name.strip_suffix(".lock") {
+            if let Some(_held) = lock_free(&path) {
+                finish(&home.join(base), home);
+                let _ = std::fs::remove_file(&path);
+            }
+        } else if !names.iter().any(|n| n == &format!("{name}.lock")) {
+            finish(&path, home);
+        }
+    }
+}
+
+/// A dead bake's staging folder: rolled forward where its in-place commit had begun, else
+/// removed.
+fn finish(dir: &Path, home: &Path) {
+    if dir.join(PLAN).exists() && roll_forward(dir, home).is_ok() {
+        return;
+    }
+    let _ = std::fs::remove_dir_all(dir);
+}
+
+/// The lock file at `path`, locked by this process, if no one else holds it.
+fn lock_free(path: &Path) -> Option<File> {
+    let f = File::open(path).ok()?;
+    f.try_lock().ok().map(|()| f)
 }
 
 fn entry_names(dir: &Path) -> Result<Vec<String>, BakeError> {
@@ -174,7 +403,8 @@ fn entry_names(dir: &Path) -> Result<Vec<String>, BakeError> {
 /// files but no windloom manifest is not a bake folder, and replacing it whole could take
 /// more than a bake with it, so it is refused.
 fn previous_bake(out: &Path) -> Result<BTreeSet<String>, BakeError> {
-    let names = entry_names(out)?;
+    let mut names = entry_names(out)?;
+    names.retain(|n| !n.starts_with(MARK));
     if names.is_empty() {
         return Ok(BTreeSet::new());
     }
@@ -221,8 +451,26 @@ fn link_tree(from: &Path, to: &Path) -> std::io::Result<()> {
         }
         std::fs::set_permissions(to, meta.permissions())
     } else {
-        std::fs::hard_link(from, to).or_else(|_| std::fs::copy(from, to).map(|_| ()))
+        std::fs::hard_link(from, to).or_else(|_| copy_keeping(from, to, &meta))
     }
+}
+
+/// Copies a file where it cannot be linked (a file system without hard links, or a file of
+/// another user's where the kernel refuses to link it), keeping its mode, its modification
+/// time and, where this user may, its owner and group.
+fn copy_keeping(from: &Path, to: &Path, meta: &std::fs::Metadata) -> std::io::Result<()> {
+    std::fs::copy(from, to)?;
+    let f = std::fs::OpenOptions::new().write(true).open(to)?;
+    if let Ok(t) = meta.modified() {
+        f.set_modified(t)?;
+    }
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        let _ = std::os::unix::fs::fchown(&f, Some(meta.uid()), Some(meta.gid()))
+            .or_else(|_| std::os::unix::fs::fchown(&f, None, Some(meta.gid())));
+    }
+    Ok(())
 }
 
 #[cfg(unix)]
@@ -263,27 +511,22 @@ fn exchange(from: &Path, to: &Path) -> std::io::Result<()> {
     std::fs::rename(&aside, from)
 }
 
-/// Removes staging folders of `name` left by bakes whose process is gone (killed mid-bake).
-fn remove_stale(parent: &Path, name: &str) {
-    let prefix = format!(".{name}{MARK}");
-    let Ok(read) = std::fs::read_dir(parent) else {
+/// A staging folder that an earlier windloom (one that named them `.NAME.windloom-bake-PID-N`
+/// and knew its owner by a local process id) left beside its output: removed when that
+/// process is gone from this machine.
+fn legacy_stale(home: &Path, name: &str) {
+    let Some((_, rest)) = name.split_once(".windloom-bake-") else {
         return;
     };
-    for e in read.flatten() {
-        let file = e.file_name().to_string_lossy().into_owned();
-        let Some(rest) = file.strip_prefix(&prefix) else {
-            continue;
-        };
-        let pid = rest
-            .split(['-', '.'])
-            .next()
-            .and_then(|p| p.parse::<u32>().ok());
-        if let Some(pid) = pid
-            && pid != std::process::id()
-            && !process_alive(pid)
-        {
-            let _ = std::fs::remove_dir_all(e.path());
-        }
+    let pid = rest
+        .split(['-', '.'])
+        .next()
+        .and_then(|p| p.parse::<u32>().ok());
+    if let Some(pid) = pid
+        && pid != std::process::id()
+        && !process_alive(pid)
+    {
+        let _ = std::fs::remove_dir_all(home.join(name));
     }
 }
 
@@ -293,5 +536,96 @@ fn process_alive(pid: u32) -> bool {
     } else {
         // Without /proc, assume it lives: a leftover folder is better than a lost bake.
         true
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A staging folder as another machine's bake makes it beside a shared folder: its lock
+    /// file held by a process this machine cannot see (here, another open file holding the
+    /// lock, under a process id that does not exist here).
+    fn foreign_staging(home: &Path) -> (PathBuf, File) {
+        let base = format!("{MARK}4000000-1");
+        let dir = home.join(&base);
+        std::fs::create_dir(&dir).unwrap();
+        std::fs::write(dir.join("wind.vf"), "half").unwrap();
+        let lock = File::create(home.join(format!("{base}.lock"))).unwrap();
+        lock.lock().unwrap();
+        (dir, lock)
+    }
+
+    /// The ownership check holds across machines: a staging folder whose owner holds its
+    /// lock survives other bakes beside it, whatever its process id says; once the owner is
+    /// gone (its lock released) the next bake removes it.
+    #[test]
+    fn a_staging_folder_is_removed_only_when_its_owner_is_gone() {
+        let root = tempfile::tempdir().unwrap();
+        let out = root.path().join("wind");
+        let (theirs, held) = foreign_staging(root.path());
+        let mine = Staging::new(&out).unwrap();
+        assert!(
+            theirs.join("wind.vf").exists(),
+            "a live bake's folder was removed"
+        );
+        // Two bakes of this machine at once: neither removes the other's.
+        let second = Staging::new(&out).unwrap();
+        assert!(mine.path().exists() && second.path().exists());
+        drop(second);
+        drop(mine);
+        assert!(theirs.exists());
+        drop(held);
+        let next = Staging::new(&out).unwrap();
+        assert!(!theirs.exists(), "a dead bake's folder was left");
+        drop(next);
+        let left: Vec<String> = entry_names(root.path()).unwrap();
+        assert!(left.is_empty(), "{left:?}");
+    }
+
+    /// An in-place commit cut short (the bake killed while moving files into a mount point)
+    /// is finished by the next bake: the folder then holds the whole new bake and the user's
+    /// files, and no staging folder.
+    #[test]
+    fn an_in_place_commit_cut_short_is_rolled_forward() {
+        let root = tempfile::tempdir().unwrap();
+        let out = root.path().join("volume");
+        std::fs::create_dir(&out).unwrap();
+        // The old bake: two frames; and a file of the user's.
+        std::fs::write(
+            out.join(MANIFEST),
+            r#"{"format":"windloom-bake","files":[{"name":"a_0000.vf"},{"name":"a_0001.vf"}]}"#,
+        )
+        .unwrap();
+        std::fs::write(out.join("a_0000.vf"), "old0").unwrap();
+        std::fs::write(out.join("a_0001.vf"), "old1").unwrap();
+        std::fs::write(out.join("notes.txt"), "mine").unwrap();
+        // The new bake, one frame, staged inside, its plan written and half carried out: the
+        // old manifest gone, the new frame moved in, then the bake died (its lock free).
+        let dir = out.join(format!("{MARK}4000001-2"));
+        std::fs::create_dir(&dir).unwrap();
+        std::fs::write(
+            dir.join(MANIFEST),
+            r#"{"format":"windloom-bake","files":[{"name":"a.vf"}]}"#,
+        )
+        .unwrap();
+        std::fs::write(
+            dir.join(PLAN),
+            r#"{"remove":["a_0000.vf","a_0001.vf","manifest.json"]}"#,
+        )
+        .unwrap();
+        std::fs::remove_file(out.join(MANIFEST)).unwrap();
+        std::fs::write(out.join("a.vf"), "new").unwrap();
+        File::create(out.join(format!("{MARK}4000001-2.lock"))).unwrap();
+
+        let next = Staging::new(&out).unwrap();
+        assert_eq!(
+            next.previous,
+            Some(BTreeSet::from([MANIFEST.into(), "a.vf".into()]))
+        );
+        drop(next);
+        let mut names = entry_names(&out).unwrap();
+        names.sort();
+        assert_eq!(names, ["a.vf", "manifest.json", "notes.txt"]);
     }
 }

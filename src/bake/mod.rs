@@ -236,6 +236,120 @@ pub enum BakeError {
     NonFinite { frame: usize, cell: usize },
 }
 
+impl BakeError {
+    /// The error naming the file of the output folder rather than its namesake in the hidden
+    /// staging folder, which the user never sees.
+    fn outside_staging(self, out: &Path) -> Self {
+        let fix = |path: PathBuf| {
+            let parts: Vec<_> = path.components().collect();
+            match parts.iter().position(|c| {
+                c.as_os_str()
+                    .to_string_lossy()
+                    .starts_with(".windloom-bake-")
+            }) {
+                Some(i) => parts[i + 1..]
+                    .iter()
+                    .fold(out.to_path_buf(), |p, c| p.join(c)),
+                None => path,
+            }
+        };
+        match self {
+            Self::Output { path, source } => Self::Output {
+                path: fix(path),
+                source,
+            },
+            Self::Write { path, source } => Self::Write {
+                path: fix(path),
+                source: plain_io(source),
+            },
+            other => other,
+        }
+    }
+}
+
+/// How far past the strongest push a baked field may peak before a note says so: arrows
+/// that meet and turn, and confinement, lift a field above its arrows by a little (the
+/// examples: up to 1.6×, `two-winds.json`'s jets where they meet).
+pub const PEAK_NOTED: f32 = 2.5;
+
+/// What the baked numbers say about the layout: a field far faster than anything in the
+/// layout pushes it to (overlapping arrows adding up, confinement feeding it), or a field
+/// that never moves (no enabled arrow, or obstacles over the whole map).
+pub fn field_notes(layout: &Layout, max_speed: f32) -> Vec<String> {
+    let arrows = layout
+        .trees
+        .iter()
+        .filter(|t| t.enabled)
+        .flat_map(|t| t.root.iter())
+        .map(|n| n.strength);
+    let ambient = layout
+        .ambient
+        .iter()
+        .filter(|a| a.enabled)
+        .map(|a| match a.kind {
+            doc::AmbientKind::Directional {
+                main,
+                turbulence,
+                pulse_magnitude,
+                ..
+            } => main * (1.0 + pulse_magnitude) + turbulence,
+            doc::AmbientKind::Noise { strength, .. } => strength,
+            doc::AmbientKind::Fft {
+                wind_speed,
+                amplitude,
+                ..
+            } => wind_speed + 3.0 * amplitude,
+            doc::AmbientKind::Sine { amplitude, .. } => amplitude,
+        });
+    let strongest = arrows.chain(ambient).fold(0.0f32, f32::max);
+    let mut notes = Vec::new();
+    if max_speed == 0.0 {
+        notes.push(
+            "the baked wind is still: every cell of every frame is zero (no enabled arrow or \
+             layer blows, or obstacles cover the map)"
+                .to_string(),
+        );
+    } else if strongest > 0.0 && max_speed > PEAK_NOTED * strongest {
+        notes.push(format!(
+            "the baked wind peaks at {max_speed:.1} m/s, {:.1}× the strongest push in the layout \
+             ({strongest:.1} m/s): overlapping arrows add up, or confinement (sim.vorticity) \
+             feeds the field; look at it in the editor before shipping it",
+            max_speed / strongest
+        ));
+    }
+    notes
+}
+
+/// An I/O error in plain words: the kinds a bake meets on a hostile file system said as a
+/// user reads them, without the OS's "(os error 39)".
+pub fn plain_io(e: std::io::Error) -> std::io::Error {
+    use std::io::ErrorKind as K;
+    let said = match e.kind() {
+        K::DirectoryNotEmpty => {
+            "a folder that had to be empty was not (another program writes there?)"
+        }
+        K::ResourceBusy => {
+            "it is busy: a mount point (a Docker volume, a bind mount) or in use by another program"
+        }
+        K::CrossesDevices => "it is on another file system than its folder",
+        K::ReadOnlyFilesystem => "the file system is read-only",
+        K::StorageFull => "the disk is full",
+        K::QuotaExceeded => "the disk quota is used up",
+        K::PermissionDenied => "permission denied",
+        K::InvalidFilename => "the name is too long, or not allowed here",
+        K::NotADirectory => "a part of the path is a file, not a folder",
+        K::IsADirectory => "it is a folder",
+        K::NotFound => "it does not exist",
+        K::TooManyLinks => "too many links",
+        _ => return e,
+    };
+    // Messages windloom wrote itself (no OS code) are already in words.
+    if e.raw_os_error().is_none() {
+        return e;
+    }
+    std::io::Error::new(e.kind(), said)
+}
+
 /// Refuses a frame holding a NaN or an infinity: a bake never ships one.
 pub fn check_finite(field: &[[f32; 2]], frame: usize) -> Result<(), BakeError> {
     match field
@@ -334,6 +448,10 @@ pub fn layout_hash(layout: &Layout) -> String {
     format!("sha256:{hex}")
 }
 
+/// The most simulated seconds a bake runs before its first frame (`--warmup`), and between
+/// its first frame and its last (`--frames` ÷ `--fps`): ten hours each.
+pub const SECONDS_MAX: f32 = 36_000.0;
+
 fn check_settings(opts: &BakeOptions) -> Result<(), BakeError> {
     let bad = |m: String| Err(BakeError::Settings(m));
     if opts.formats.is_empty() {
@@ -351,14 +469,29 @@ fn check_settings(opts: &BakeOptions) -> Result<(), BakeError> {
             opts.fps
         ));
     }
-    if !(opts.warmup.is_finite() && opts.warmup >= 0.0 && opts.warmup <= 36_000.0) {
+    if !(opts.warmup.is_finite() && opts.warmup >= 0.0 && opts.warmup <= SECONDS_MAX) {
         return bad(format!(
-            "--warmup must be 0 to 36000 seconds, got {}",
+            "--warmup must be 0 to {SECONDS_MAX} seconds, got {}",
             opts.warmup
         ));
     }
     if opts.looped && opts.frames < 2 {
         return bad("--loop needs --frames 2 or more".into());
+    }
+    // The frames' span in simulated seconds (a loop simulates twice its frames).
+    let simulated = if opts.looped { 2 } else { 1 } * opts.frames;
+    let span = (simulated.saturating_sub(1)) as f64 / f64::from(opts.fps);
+    if span > f64::from(SECONDS_MAX) {
+        return bad(format!(
+            "{} frames at {} fps span {span:.0} simulated seconds{}, more than the {SECONDS_MAX} a bake may; raise --fps or bake fewer --frames",
+            opts.frames,
+            opts.fps,
+            if opts.looped {
+                " (a loop simulates twice its frames)"
+            } else {
+                ""
+            },
+        ));
     }
     Ok(())
 }
@@ -505,6 +638,17 @@ fn sync_file(path: &Path) -> Result<u64, BakeError> {
 /// Bakes `layout` into the folder `out`, which it replaces as a whole (keeping files the user
 /// put there). Returns the manifest written.
 pub fn bake(
+    layout: &Layout,
+    out: &Path,
+    opts: &BakeOptions,
+    cancel: &AtomicBool,
+    progress: Progress<'_>,
+) -> Result<Manifest, BakeError> {
+    bake_staged(layout, out, opts, cancel, progress).map_err(|e| e.outside_staging(out))
+}
+
+/// [`bake`], whose errors may still name files in the staging folder.
+fn bake_staged(
     layout: &Layout,
     out: &Path,
     opts: &BakeOptions,
@@ -718,6 +862,8 @@ pub fn bake(
         notes: solver_note
             .into_iter()
             .chain(formats.contains(&Format::Fga).then(|| fga::note(nx, ny)).flatten())
+            .chain(doc::advise(&layout).iter().map(|a| format!("advice: {a}")))
+            .chain(field_notes(&layout, max_speed))
             .collect(),
         files: files.into_values().flatten().collect(),
     };
