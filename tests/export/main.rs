@@ -803,6 +803,14 @@ fn render_takes_a_fixed_speed_scale() {
 
 #[test]
 fn ctrl_c_during_a_cli_bake_leaves_no_files() {
+    // Ctrl-C, and what `docker stop`, `timeout` and a cancelled CI job send (SIGTERM), and a
+    // closed terminal (SIGHUP): each cancels the bake, which cleans up.
+    for signal in ["INT", "TERM", "HUP"] {
+        signal_cancels_a_bake(signal);
+    }
+}
+
+fn signal_cancels_a_bake(signal: &str) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bake");
     let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/obstacles.json");
@@ -835,7 +843,7 @@ fn ctrl_c_during_a_cli_bake_leaves_no_files() {
         std::thread::sleep(std::time::Duration::from_millis(50));
     }
     let status = std::process::Command::new("kill")
-        .args(["-INT", &child.id().to_string()])
+        .args([&format!("-{signal}"), &child.id().to_string()])
         .status()
         .unwrap();
     assert!(status.success());
@@ -843,7 +851,7 @@ fn ctrl_c_during_a_cli_bake_leaves_no_files() {
     assert_eq!(
         o.status.code(),
         Some(130),
-        "{}",
+        "SIG{signal}: {}",
         String::from_utf8_lossy(&o.stderr)
     );
     assert!(String::from_utf8_lossy(&o.stderr).contains("no files were written"));
@@ -865,3 +873,7 @@ fn staging_folders(dir: &Path) -> Vec<PathBuf> {
 /// What a studio must be able to trust: frame timing, other EXR readers, one bake per
 /// folder, limits and modes, and no half-written output after a kill.
 mod trust;
+
+/// Hostile files, folders, signals and file systems, each ending in a result or a one-line
+/// refusal within seconds.
+mod hostile;
