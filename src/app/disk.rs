@@ -41,13 +41,21 @@ fn stamp(path: &Path) -> Stamp {
     Some((m.modified().ok(), m.len()))
 }
 
+/// The hash of the file's bytes, read as a layout is (a FIFO or a device put in its place
+/// is never waited on or read without end): `None` where it cannot be.
+fn read(path: &Path) -> Option<u64> {
+    crate::io::read_regular(path, crate::doc::LAYOUT_MAX_BYTES, "a layout")
+        .ok()
+        .map(|b| hash(&b))
+}
+
 impl Watch {
     /// Watches `path` as it is now (the editor just read it, or is about to).
     pub fn read(path: &Path) -> Self {
         Self {
             path: path.to_path_buf(),
             stamp: stamp(path),
-            content: std::fs::read(path).ok().map(|b| hash(&b)),
+            content: read(path),
         }
     }
 
@@ -73,7 +81,7 @@ impl Watch {
             return None;
         }
         self.stamp = now;
-        let content = std::fs::read(&self.path).ok().map(|b| hash(&b));
+        let content = read(&self.path);
         if content == self.content {
             return None;
         }
