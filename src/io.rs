@@ -74,7 +74,7 @@ pub fn load_backdrop(
     let path = base.join(&map.image);
     let io = |source| BackdropError::Io {
         path: path.clone(),
-        source,
+        source: plain(source),
     };
     let size = std::fs::metadata(&path).map_err(io)?.len();
     if size > BACKDROP_MAX_BYTES {
@@ -104,6 +104,49 @@ pub fn load_backdrop(
     limits.max_alloc = Some(BACKDROP_MAX_PIXELS * 8);
     reader.limits(limits);
     Ok(reader.decode().map_err(decode)?.to_rgba8())
+}
+
+/// An I/O error in plain words: the kinds a command meets on a hostile file system said as
+/// a user reads them, and never the OS's "(os error 39)".
+pub fn plain(e: std::io::Error) -> std::io::Error {
+    use std::io::ErrorKind as K;
+    let said = match e.kind() {
+        K::DirectoryNotEmpty => {
+            "a folder that had to be empty was not (another program writes there?)"
+        }
+        K::ResourceBusy => {
+            "it is busy: a mount point (a Docker volume, a bind mount) or in use by another program"
+        }
+        K::CrossesDevices => "it is on another file system than its folder",
+        K::ReadOnlyFilesystem => "the file system is read-only",
+        K::StorageFull => "the disk is full",
+        K::QuotaExceeded => "the disk quota is used up",
+        K::PermissionDenied => "permission denied",
+        K::InvalidFilename => "the name is too long, or not allowed here",
+        K::NotADirectory => "a part of the path is a file, not a folder",
+        K::IsADirectory => "it is a folder",
+        K::NotFound => "it does not exist",
+        K::TooManyLinks => "too many links",
+        _ => return without_code(e),
+    };
+    // Messages windloom wrote itself (no OS code) are already in words.
+    if e.raw_os_error().is_none() {
+        return e;
+    }
+    std::io::Error::new(e.kind(), said)
+}
+
+/// The OS's own message without its "(os error N)".
+fn without_code(e: std::io::Error) -> std::io::Error {
+    if e.raw_os_error().is_none() {
+        return e;
+    }
+    let text = e.to_string();
+    let text = match text.rfind(" (os error ") {
+        Some(i) => text[..i].to_string(),
+        None => text,
+    };
+    std::io::Error::new(e.kind(), text)
 }
 
 /// What a path is, in words, for a message that refuses it ("a FIFO (named pipe)").
@@ -191,7 +234,7 @@ pub fn load(path: &Path) -> Result<Layout, LoadError> {
     let bytes =
         read_regular(path, doc::LAYOUT_MAX_BYTES, "a layout").map_err(|source| LoadError::Io {
             path: path.to_path_buf(),
-            source,
+            source: plain(source),
         })?;
     doc::parse_bytes(&bytes).map_err(|diagnostics| LoadError::Invalid {
         path: path.to_path_buf(),
@@ -278,6 +321,10 @@ pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
 /// is a read-only file. A file with other hard links is rewritten in place, so every name
 /// still shows the new text (its old text kept in a hidden backup beside it until then).
 pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
+    write_atomic_raw(path, bytes).map_err(plain)
+}
+
+fn write_atomic_raw(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let path = resolve_links(path)?;
     let dir = parent_dir(&path);
     let old = match std::fs::metadata(&path) {

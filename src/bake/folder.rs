@@ -59,7 +59,7 @@ pub(crate) struct Staging {
 fn output_error(path: &Path, source: std::io::Error) -> BakeError {
     BakeError::Output {
         path: path.to_path_buf(),
-        source: super::plain_io(source),
+        source: crate::io::plain(source),
     }
 }
 
@@ -201,7 +201,7 @@ impl Staging {
                 other(format!(
                     "cannot make a staging folder in {}: {}",
                     home.display(),
-                    super::plain_io(e)
+                    crate::io::plain(e)
                 )),
             )
         })?;

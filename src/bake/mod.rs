@@ -260,7 +260,7 @@ impl BakeError {
             },
             Self::Write { path, source } => Self::Write {
                 path: fix(path),
-                source: plain_io(source),
+                source: crate::io::plain(source),
             },
             other => other,
         }
@@ -318,36 +318,6 @@ pub fn field_notes(layout: &Layout, max_speed: f32) -> Vec<String> {
         ));
     }
     notes
-}
-
-/// An I/O error in plain words: the kinds a bake meets on a hostile file system said as a
-/// user reads them, without the OS's "(os error 39)".
-pub fn plain_io(e: std::io::Error) -> std::io::Error {
-    use std::io::ErrorKind as K;
-    let said = match e.kind() {
-        K::DirectoryNotEmpty => {
-            "a folder that had to be empty was not (another program writes there?)"
-        }
-        K::ResourceBusy => {
-            "it is busy: a mount point (a Docker volume, a bind mount) or in use by another program"
-        }
-        K::CrossesDevices => "it is on another file system than its folder",
-        K::ReadOnlyFilesystem => "the file system is read-only",
-        K::StorageFull => "the disk is full",
-        K::QuotaExceeded => "the disk quota is used up",
-        K::PermissionDenied => "permission denied",
-        K::InvalidFilename => "the name is too long, or not allowed here",
-        K::NotADirectory => "a part of the path is a file, not a folder",
-        K::IsADirectory => "it is a folder",
-        K::NotFound => "it does not exist",
-        K::TooManyLinks => "too many links",
-        _ => return e,
-    };
-    // Messages windloom wrote itself (no OS code) are already in words.
-    if e.raw_os_error().is_none() {
-        return e;
-    }
-    std::io::Error::new(e.kind(), said)
 }
 
 /// Refuses a frame holding a NaN or an infinity: a bake never ships one.

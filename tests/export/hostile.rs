@@ -37,6 +37,12 @@ impl Ran {
         let lines: Vec<&str> = text.lines().filter(|l| !l.trim().is_empty()).collect();
         assert_eq!(lines.len(), 1, "one line, got: {text}");
         assert!(lines[0].contains(what), "{what} not named in: {}", lines[0]);
+        // In words: never the OS's error number, never the hidden staging folder.
+        assert!(
+            !lines[0].contains("(os error") && !lines[0].contains(".windloom-bake"),
+            "{}",
+            lines[0]
+        );
         self
     }
 
@@ -251,6 +257,9 @@ fn inputs_that_never_end_or_are_not_text_are_refused() {
         (huge, "more than the 16 MiB"),
         (cut, "EOF"),
     ];
+    cli(&["validate", s(&d.join("missing.json"))])
+        .refused("missing.json")
+        .says("does not exist");
     for (path, why) in &cases {
         for cmd in [
             vec!["validate", s(path)],
