@@ -144,6 +144,12 @@ impl Staging {
     /// Checks `out` and creates the staging folder (beside it, or inside it where it cannot
     /// be renamed).
     pub(crate) fn new(out: &Path) -> Result<Self, BakeError> {
+        Self::open(out, false)
+    }
+
+    /// [`Self::new`]; `force_in_place` commits in place into an existing folder that could be
+    /// renamed (the tests' stand-in for a mount point).
+    fn open(out: &Path, force_in_place: bool) -> Result<Self, BakeError> {
         let out = resolve_links(out).map_err(|e| output_error(out, e))?;
         let exists = match std::fs::symlink_metadata(&out) {
             Err(e) if e.kind() == std::io::ErrorKind::NotFound => false,
@@ -167,15 +173,16 @@ impl Staging {
         // What killed bakes left, here or (committing in place) inside the folder, goes
         // before the folder is read: a plan half carried out is finished first.
         sweep(&parent);
-        if exists {
-            sweep(&out);
-        }
         let previous = if exists {
+            // Read while no in-place commit is halfway through the folder (it removes the
+            // manifest first and renames it in last).
+            let _commit = lock_folder(&out).map_err(|e| output_error(&out, e))?;
+            sweep_holding(&out, true);
             Some(previous_bake(&out)?)
         } else {
             None
         };
-        let mut in_place = exists && is_mount_root(&out);
+        let mut in_place = exists && (force_in_place || is_mount_root(&out));
         let made = if in_place {
             make_staging(&out)
         } else {
@@ -258,7 +265,12 @@ impl Staging {
         let parent = parent_dir(&self.out).to_path_buf();
         sync_dir(&self.dir).map_err(|e| output_error(&self.out, e))?;
         if self.in_place {
-            let previous = self.previous.clone().unwrap_or_default();
+            // One in-place commit at a time into a folder, from any process or machine (a
+            // lock on the folder itself), and against the bake there now: another may have
+            // committed since this one began, or died halfway (rolled forward first).
+            let _commit = lock_folder(&self.out).map_err(|e| output_error(&self.out, e))?;
+            sweep_holding(&self.out, true);
+            let previous = previous_bake(&self.out)?;
             let new: BTreeSet<String> = entry_names(&self.dir)?.into_iter().collect();
             let remove: Vec<&String> = previous.difference(&new).collect();
             let plan = serde_json::json!({ "remove": remove }).to_string();
@@ -343,6 +355,11 @@ fn roll_forward(dir: &Path, out: &Path) -> std::io::Result<()> {
 /// whose bake is gone: those whose lock this process can take. A staging folder whose lock
 /// file is gone is dead too (its bake removes the folder before the lock file).
 fn sweep(home: &Path) {
+    sweep_holding(home, false);
+}
+
+/// [`sweep`], where `held` says this process already holds `home`'s commit lock.
+fn sweep_holding(home: &Path, held: bool) {
     let Ok(read) = std::fs::read_dir(home) else {
         return;
     };
@@ -365,22 +382,32 @@ fn sweep(home: &Path) {
             }
         } else if let Some(base) = name.strip_suffix(".lock") {
             if let Some(_held) = lock_free(&path) {
-                finish(&home.join(base), home);
+                finish(&home.join(base), home, held);
                 let _ = std::fs::remove_file(&path);
             }
         } else if !names.iter().any(|n| n == &format!("{name}.lock")) {
-            finish(&path, home);
+            finish(&path, home, held);
         }
     }
 }
 
 /// A dead bake's staging folder: rolled forward where its in-place commit had begun, else
 /// removed.
-fn finish(dir: &Path, home: &Path) {
-    if dir.join(PLAN).exists() && roll_forward(dir, home).is_ok() {
-        return;
+fn finish(dir: &Path, home: &Path, held: bool) {
+    if dir.join(PLAN).exists() {
+        let commit = if held { None } else { lock_folder(home).ok() };
+        if (held || commit.is_some()) && roll_forward(dir, home).is_ok() {
+            return;
+        }
     }
     let _ = std::fs::remove_dir_all(dir);
+}
+
+/// Waits for, and holds, the lock on a folder that in-place commits into it share.
+fn lock_folder(dir: &Path) -> std::io::Result<File> {
+    let f = File::open(dir)?;
+    f.lock()?;
+    Ok(f)
 }
 
 /// The lock file at `path`, locked by this process, if no one else holds it.
@@ -581,6 +608,59 @@ mod tests {
         drop(next);
         let left: Vec<String> = entry_names(root.path()).unwrap();
         assert!(left.is_empty(), "{left:?}");
+    }
+
+    /// In-place commits into one folder from several bakes at once (two machines baking into
+    /// one shared volume) never leave a mixture: after each, the folder holds exactly the
+    /// files its manifest lists and the user's file.
+    #[test]
+    fn concurrent_in_place_commits_leave_one_whole_bake() {
+        let root = tempfile::tempdir().unwrap();
+        let out = root.path().join("volume");
+        std::fs::create_dir(&out).unwrap();
+        let bake = |who: usize, frames: usize| {
+            let s = Staging::open(&out, true).unwrap();
+            assert!(s.in_place);
+            let mut files = Vec::new();
+            for k in 0..frames {
+                let name = format!("wind_{k:04}.vf");
+                std::fs::write(s.path().join(&name), format!("{who}")).unwrap();
+                files.push(serde_json::json!({ "name": name }));
+            }
+            let m = serde_json::json!({ "format": "windloom-bake", "who": who, "files": files });
+            std::fs::write(s.path().join(MANIFEST), m.to_string()).unwrap();
+            s.commit().unwrap();
+        };
+        bake(9, 2);
+        std::fs::write(out.join("notes.txt"), "mine").unwrap();
+        std::thread::scope(|scope| {
+            for who in 0..4 {
+                let bake = &bake;
+                scope.spawn(move || {
+                    for round in 0..15 {
+                        bake(who, 1 + (who + round) % 4);
+                    }
+                });
+            }
+        });
+        let m: serde_json::Value =
+            serde_json::from_slice(&std::fs::read(out.join(MANIFEST)).unwrap()).unwrap();
+        let who = m["who"].to_string();
+        let mut want: Vec<String> = m["files"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|f| f["name"].as_str().unwrap().to_string())
+            .collect();
+        for n in &want {
+            assert_eq!(std::fs::read_to_string(out.join(n)).unwrap(), who, "{n}");
+        }
+        want.extend([MANIFEST.to_string(), "notes.txt".to_string()]);
+        want.sort();
+        let mut have = entry_names(&out).unwrap();
+        have.sort();
+        assert_eq!(have, want);
+        assert!(entry_names(root.path()).unwrap() == ["volume"]);
     }
 
     /// An in-place commit cut short (the bake killed while moving files into a mount point)
