@@ -546,7 +546,10 @@ impl GpuFluid {
     /// [`crate::sim::forces::agc_splats`] at the step's time) and the ambient `layers` with
     /// their FFT `gusts` (from [`crate::sim::forces::Ambient::layer_params`]) pulling with
     /// `coupling` (`1 − e^(−ambient_coupling·dt)`). Twin of [`Solver::apply_forces`].
-    #[allow(clippy::too_many_arguments)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "one argument per buffer or setting the pass's shader binds"
+    )]
     pub fn forces(
         &mut self,
         device: &wgpu::Device,
@@ -851,7 +854,10 @@ impl GpuFluid {
 impl GpuFluid {
     /// Records one substep of everything but the forces, in the CPU solver's order: curl,
     /// vorticity confinement, divergence, pressure, gradient subtraction, advection.
-    #[allow(clippy::too_many_arguments)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "one argument per buffer or setting the pass's shader binds"
+    )]
     pub fn record_substep(
         &mut self,
         device: &wgpu::Device,

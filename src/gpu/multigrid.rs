@@ -225,7 +225,10 @@ impl GpuMultigrid {
         }
     }
 
-    #[allow(clippy::too_many_arguments)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "one argument per buffer or setting the pass's shader binds"
+    )]
     fn run(
         &self,
         device: &wgpu::Device,

@@ -300,7 +300,10 @@ fn blend(xs: &[f32], xi: f32, fy: f32, fv: f32, g: &Corners, out: &mut [f32]) {
 /// An FFT layer's part along a row: `dc · (mean + amplitude · sample(x − shift, qz))`, as
 /// [`FftGusts::sample`] computes it: the row of texels once, the samples wrapped in one
 /// vectorised loop, then per run of samples inside one texel only the blend.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,

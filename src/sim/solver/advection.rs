@@ -205,7 +205,10 @@ pub(super) fn departure(
 /// so the same numbers those sample at, but with the row's neighbour rows chosen once and
 /// the interior faces in one vectorisable loop. The offset taken off here, in a loop that
 /// waits on memory, rather than in the samplers' arithmetic-bound loops.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -260,7 +263,10 @@ pub(super) fn departures_row(
 }
 
 /// Semi-Lagrangian advection of one face field (`is_v`: the v faces) by the velocity `(u, v)`.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 pub(super) fn advect_faces<const FLUSH: bool>(
     g: &Geometry,
     u: &[f32],
@@ -292,7 +298,10 @@ pub(super) fn advect_faces<const FLUSH: bool>(
 
 /// Row `j` of `src` (v faces with `V`) sampled at the departure points `xs`, `zs`, times
 /// `keep`, through the clamped or the periodic sampler.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 fn sample_row_of<const V: bool, const FLUSH: bool>(
     g: &Geometry,
     src: &[f32],
@@ -318,7 +327,10 @@ fn sample_row_of<const V: bool, const FLUSH: bool>(
 /// around which the limiter reads the four samples of φ; then `dst = (φ̂ + (φ − φ̌)/2)`
 /// clamped to that range, times `keep`. The same two row kernels the separate sweeps ran,
 /// so the same bits, without φ̌ making a round trip through memory.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 pub(super) fn maccormack(
     g: &Geometry,
     u: &[f32],
@@ -349,7 +361,10 @@ pub(super) fn maccormack(
 /// Row `j` of [`maccormack`] (v faces with `V`): the points the faces reach in `dt`, where
 /// φ̌ = A⁻¹(φ̂) samples the forward result `fwd` into `row`, then the departure points and
 /// the correction around them. `xs`, `zs`: room for a row's points.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 fn maccormack_row<const V: bool>(
     g: &Geometry,
     u: &[f32],

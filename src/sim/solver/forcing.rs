@@ -255,7 +255,10 @@ impl Forcing<'_> {
     /// stencil wraps or clamps one at a time, the rest in one branch-free loop (face
     /// velocities and impulses vectorise) with the gains `kept` for the splat, or, when it
     /// has none kept, computed into `scratch` first.
-    #[allow(clippy::too_many_arguments)]
+    #[allow(
+        clippy::too_many_arguments,
+        reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+    )]
     pub(super) fn splat_span(
         &self,
         s: &ArrowSplat,
@@ -275,7 +278,10 @@ impl Forcing<'_> {
         // Where the row's faces are: the same x and z as the run's gains.
         let at = self.span_of(s, j, is_v, 0);
         #[inline(always)]
-        #[allow(clippy::too_many_arguments)]
+        #[allow(
+            clippy::too_many_arguments,
+            reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+        )]
         fn impulse(
             s: &ArrowSplat,
             x: f32,

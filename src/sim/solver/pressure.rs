@@ -216,7 +216,10 @@ impl Stencil {
 /// flags (the same arithmetic, the same bits: `pick` keeps every neighbour and `1 / Σw` is
 /// exactly `inv_regular` there). With `damp = Some(w)`, a damped Jacobi pass instead: each
 /// cell becomes `row + w·(jacobi − row)` ([`damp_row`]'s arithmetic, in the same loop).
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -256,7 +259,10 @@ pub(super) fn jacobi_row(
 /// loop makes both, reading the two middle rows once for both, so a blocked pass
 /// ([`band_passes`]) reads four source rows per two rows instead of six: 1–11% off the
 /// bench's pressure pass at 1000², least on obstacles (12–16% with the arrays in cache).
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -693,7 +699,10 @@ pub(super) fn damped(prev: f32, w: f32, jacobi: f32) -> f32 {
 /// arithmetic, so the result does not depend on the banding. Rows wrap when `wraps`;
 /// otherwise the first and last rows have no neighbour beyond the grid (its weight is zero)
 /// and get the row itself.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 pub(super) fn band_passes(
     nx: usize,
     ny: usize,

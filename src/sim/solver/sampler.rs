@@ -201,7 +201,10 @@ impl Field for Wrapped<'_> {
 /// but the two ends): the same function, or one without the free mask where the caller
 /// knows those faces are all free.
 #[inline(always)]
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 pub(super) fn sample_row<F: Field>(
     f: &F,
     j: usize,
@@ -390,7 +393,10 @@ fn limited(a: f32, b: f32, c: f32, d: f32, fwd: f32, orig: f32, back: f32) -> f3
 /// hand-written one.
 macro_rules! row_samplers {
     ($ty:ident, $sample:ident, $correct:ident) => {
-        #[allow(clippy::too_many_arguments)]
+        #[allow(
+            clippy::too_many_arguments,
+            reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+        )]
         #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
         #[cfg_attr(
             windloom_static_simd,
@@ -420,7 +426,10 @@ macro_rules! row_samplers {
             }
         }
 
-        #[allow(clippy::too_many_arguments)]
+        #[allow(
+            clippy::too_many_arguments,
+            reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+        )]
         #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
         #[cfg_attr(
             windloom_static_simd,

@@ -26,7 +26,10 @@ fn end_link_sum(
 /// `out = Σ a x_n` over a row's four links (the row's ends wrap when `wraps`; otherwise
 /// their end links are 0). Interior cells outside `irregular` have the `regular` links
 /// `(x, z)` and skip the link arrays (the same products in the same order).
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -72,7 +75,10 @@ pub(crate) fn link_sum_row(
 /// One relaxation pass's row in one loop: the Jacobi value `v = (Σ a x_n + b_scale·b) / D`
 /// (the link sum in [`link_sum_row`]'s order; 0 outside the solve, where `1/D` is 0), and
 /// with `damp = Some(w)` the damped value `x + w·(v − x)` (`damp_row`'s arithmetic).
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
@@ -115,7 +121,10 @@ pub(crate) fn relax_link_row(
 
 /// [`relax_link_row`] over the interior cells `a..e`: through the links (`LINKED`) or with
 /// the regular ones, damped (`DAMP`, weight `w`) or not.
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[inline(always)]
 fn relax_span<const LINKED: bool, const DAMP: bool>(
     out: &mut [f32],
@@ -208,7 +217,10 @@ pub(super) fn correct_row(
 /// warm start, multiplied in as it is read: `× 1` is exact). Interior cells outside the row's
 /// `irregular` runs have four fluid neighbours and skip the flags (the same bits, as in
 /// [`super::pressure::jacobi_row`]).
-#[allow(clippy::too_many_arguments)]
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
 #[cfg_attr(
     windloom_static_simd,
