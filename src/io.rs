@@ -110,6 +110,10 @@ pub fn load_backdrop(
 /// a user reads them, and never the OS's "(os error 39)".
 pub fn plain(e: std::io::Error) -> std::io::Error {
     use std::io::ErrorKind as K;
+    // Messages windloom wrote itself (no OS code) are already in words.
+    if e.raw_os_error().is_none() {
+        return e;
+    }
     let said = match e.kind() {
         K::DirectoryNotEmpty => {
             "a folder that had to be empty was not (another program writes there?)"
@@ -127,26 +131,14 @@ pub fn plain(e: std::io::Error) -> std::io::Error {
         K::IsADirectory => "it is a folder",
         K::NotFound => "it does not exist",
         K::TooManyLinks => "too many links",
-        _ => return without_code(e),
+        // Anything else: the OS's own words, without the number.
+        _ => {
+            let text = e.to_string();
+            let text = text.rfind(" (os error ").map_or(&text[..], |i| &text[..i]);
+            return std::io::Error::new(e.kind(), text.to_string());
+        }
     };
-    // Messages windloom wrote itself (no OS code) are already in words.
-    if e.raw_os_error().is_none() {
-        return e;
-    }
     std::io::Error::new(e.kind(), said)
-}
-
-/// The OS's own message without its "(os error N)".
-fn without_code(e: std::io::Error) -> std::io::Error {
-    if e.raw_os_error().is_none() {
-        return e;
-    }
-    let text = e.to_string();
-    let text = match text.rfind(" (os error ") {
-        Some(i) => text[..i].to_string(),
-        None => text,
-    };
-    std::io::Error::new(e.kind(), text)
 }
 
 /// What a path is, in words, for a message that refuses it ("a FIFO (named pipe)").
@@ -394,7 +386,7 @@ pub fn check_replaceable(meta: &std::fs::Metadata) -> std::io::Result<()> {
 /// Rewrites a file that has other hard links in place, so the other names keep sharing it.
 /// An in-place write is not atomic, so the old text is first copied to a hidden backup
 /// beside it (`.NAME.windloom-backup`), flushed, and removed only once the new text is
-/// flushed: a write cut short leaves the old text there to restore, and says so.
+/// flushed: a write cut short leaves the old text there to restore.
 fn write_in_place(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let dir = parent_dir(path);
     let name = path.file_name().unwrap_or_default().to_string_lossy();
@@ -422,7 +414,10 @@ fn folder_error(dir: &Path, kind: std::io::ErrorKind) -> std::io::Error {
 }
 
 /// Gives `file` the permissions of `old`, and its owner and group where this user may.
-fn keep_owner_and_mode(file: &std::fs::File, old: &std::fs::Metadata) -> std::io::Result<()> {
+pub(crate) fn keep_owner_and_mode(
+    file: &std::fs::File,
+    old: &std::fs::Metadata,
+) -> std::io::Result<()> {
     #[cfg(unix)]
     {
         use std::os::unix::fs::MetadataExt;

@@ -684,8 +684,8 @@ fn run(cli: Cli) -> anyhow::Result<ExitCode> {
             match result {
                 Ok(m) => {
                     // The advice was said before the bake; the rest is news.
-                    for n in m.notes.iter().filter(|n| !n.starts_with("advice: ")) {
-                        eprintln!("note: {}", doc::printable(n, 1000));
+                    for n in m.notes.iter().filter(|n| !n.starts_with(bake::ADVICE)) {
+                        eprintln!("note: {}", doc::printable(n, MESSAGE_SHOWN));
                     }
                     println!(
                         "baked {} frame(s) of {}x{} into {} ({} files + {})",

@@ -31,7 +31,8 @@ use std::collections::BTreeSet;
 use std::fs::File;
 use std::path::{Path, PathBuf};
 
-const MARK: &str = ".windloom-bake-";
+/// How every staging folder's (and its lock file's) name starts.
+pub(super) const MARK: &str = ".windloom-bake-";
 /// The commit plan inside a staging folder that commits in place: the old bake's names to
 /// remove once the new files are in.
 const PLAN: &str = ".windloom-commit";
@@ -483,21 +484,15 @@ fn link_tree(from: &Path, to: &Path) -> std::io::Result<()> {
 }
 
 /// Copies a file where it cannot be linked (a file system without hard links, or a file of
-/// another user's where the kernel refuses to link it), keeping its mode, its modification
-/// time and, where this user may, its owner and group.
+/// another user's where the kernel refuses to link it), keeping its modification time and,
+/// as a save does, its mode and, where this user may, its owner and group.
 fn copy_keeping(from: &Path, to: &Path, meta: &std::fs::Metadata) -> std::io::Result<()> {
     std::fs::copy(from, to)?;
     let f = std::fs::OpenOptions::new().write(true).open(to)?;
     if let Ok(t) = meta.modified() {
         f.set_modified(t)?;
     }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        let _ = std::os::unix::fs::fchown(&f, Some(meta.uid()), Some(meta.gid()))
-            .or_else(|_| std::os::unix::fs::fchown(&f, None, Some(meta.gid())));
-    }
-    Ok(())
+    crate::io::keep_owner_and_mode(&f, meta)
 }
 
 #[cfg(unix)]
@@ -542,7 +537,7 @@ fn exchange(from: &Path, to: &Path) -> std::io::Result<()> {
 /// and knew its owner by a local process id) left beside its output: removed when that
 /// process is gone from this machine.
 fn legacy_stale(home: &Path, name: &str) {
-    let Some((_, rest)) = name.split_once(".windloom-bake-") else {
+    let Some((_, rest)) = name.split_once(MARK) else {
         return;
     };
     let pid = rest

@@ -242,11 +242,10 @@ impl BakeError {
     fn outside_staging(self, out: &Path) -> Self {
         let fix = |path: PathBuf| {
             let parts: Vec<_> = path.components().collect();
-            match parts.iter().position(|c| {
-                c.as_os_str()
-                    .to_string_lossy()
-                    .starts_with(".windloom-bake-")
-            }) {
+            match parts
+                .iter()
+                .position(|c| c.as_os_str().to_string_lossy().starts_with(folder::MARK))
+            {
                 Some(i) => parts[i + 1..]
                     .iter()
                     .fold(out.to_path_buf(), |p, c| p.join(c)),
@@ -266,6 +265,10 @@ impl BakeError {
         }
     }
 }
+
+/// How a manifest note that repeats the layout's advice (`doc::advise`) starts: the CLI
+/// said those before the bake.
+pub const ADVICE: &str = "advice: ";
 
 /// How far past the strongest push a baked field may peak before a note says so: arrows
 /// that meet and turn, and confinement, lift a field above its arrows by a little (the
@@ -832,7 +835,7 @@ fn bake_staged(
         notes: solver_note
             .into_iter()
             .chain(formats.contains(&Format::Fga).then(|| fga::note(nx, ny)).flatten())
-            .chain(doc::advise(&layout).iter().map(|a| format!("advice: {a}")))
+            .chain(doc::advise(&layout).iter().map(|a| format!("{ADVICE}{a}")))
             .chain(field_notes(&layout, max_speed))
             .collect(),
         files: files.into_values().flatten().collect(),

@@ -89,11 +89,9 @@ pub fn parse_bytes(bytes: &[u8]) -> Result<Layout, Diagnostics> {
     match std::str::from_utf8(bytes) {
         Ok(text) => parse(text),
         Err(e) => {
-            let good = &bytes[..e.valid_up_to()];
             // The prefix is valid UTF-8 by construction.
-            let before = std::str::from_utf8(good).unwrap_or_default();
-            let line = before.matches('\n').count() + 1;
-            let column = before.rsplit('\n').next().unwrap_or("").chars().count() + 1;
+            let before = std::str::from_utf8(&bytes[..e.valid_up_to()]).unwrap_or_default();
+            let (line, column) = line_col(before, before.len());
             let byte = bytes[e.valid_up_to()];
             Err(one(
                 line,
