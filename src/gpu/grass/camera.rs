@@ -152,7 +152,7 @@ mod tests {
             "breeze-fft",
         ] {
             let path = format!("{}/layouts/{name}.json", env!("CARGO_MANIFEST_DIR"));
-            let doc = crate::io::load(std::path::Path::new(&path)).unwrap();
+            let doc = crate::doc::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
             let (min, max) = doc.bounds();
             for aspect in [0.5, 1.0, 16.0 / 9.0, 3.0] {
                 let o = Orbit::frame_all(&doc, aspect);

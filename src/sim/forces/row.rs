@@ -7,7 +7,7 @@ use super::{
     Ambient, FftGusts, LAYER_DIRECTIONAL, LAYER_FFT, LAYER_NOISE, fade, gradient, hash_angle,
     index, unit_wrap,
 };
-use multiversion::multiversion;
+use windloom_simd_kernel::simd_kernel;
 
 /// Reusable buffers for [`Ambient::component_row`] (one per thread; they only grow).
 #[derive(Default)]
@@ -139,11 +139,7 @@ impl Ambient {
 }
 
 /// `arg[k] = (xs[k] − shift) · s`, as `wind` computes a directional layer's noise argument.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn scaled(xs: &[f32], shift: f32, s: f32, arg: &mut [f32]) {
     for (a, &x) in arg.iter_mut().zip(xs) {
         *a = (x - shift) * s;
@@ -151,33 +147,21 @@ fn scaled(xs: &[f32], shift: f32, s: f32, arg: &mut [f32]) {
 }
 
 /// `arg[k] = (xs[k] − shift) / scale`, as `wind` computes a noise layer's argument.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn divided(xs: &[f32], shift: f32, scale: f32, arg: &mut [f32]) {
     for (a, &x) in arg.iter_mut().zip(xs) {
         *a = (x - shift) / scale;
     }
 }
 
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn directional(out: &mut [f32], noise: &[f32], turbulence: f32, mean: f32) {
     for (o, &nz) in out.iter_mut().zip(noise) {
         *o = *o + turbulence * nz + mean;
     }
 }
 
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn noise_speed(out: &mut [f32], noise: &[f32], strength: f32, dc: f32) {
     for (o, &nz) in out.iter_mut().zip(noise) {
         *o += dc * (strength * (0.5 + 0.5 * nz).clamp(0.0, 1.0));
@@ -231,11 +215,7 @@ fn spacing(xs: &[f32]) -> f32 {
 /// fade across it once, each lattice point's gradient once, and per sample only the blend.
 /// Compiled for several SIMD levels as a whole, so the blend of each short run inlines
 /// rather than paying a dispatch per run (runs are a few faces long on coarse grids).
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn noise_row(xs: &[f32], y: f32, seed: u32, out: &mut [f32], lattice: &mut LatticeCache) {
     let yi = y.floor();
     let fy = y - yi;
@@ -304,11 +284,7 @@ fn blend(xs: &[f32], xi: f32, fy: f32, fv: f32, g: &Corners, out: &mut [f32]) {
     clippy::too_many_arguments,
     reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
 )]
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn fft_row(
     f: &FftGusts,
     xs: &[f32],
@@ -360,11 +336,7 @@ fn texel_rows(f: &FftGusts, qz: f32) -> (usize, usize, f32) {
 /// [`fft_row`] from a table: `a` and `b` are the layer's field blended along x at this row's
 /// faces in texel rows `j0` and `j1` (see [`FftTables`]), so only the blend in z is left,
 /// with the same operations as [`fft_blend`].
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn fft_table_row(rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
     let n = out.len().min(rows[0].len()).min(rows[1].len());
     let (a, b, out) = (&rows[0][..n], &rows[1][..n], &mut out[..n]);
@@ -494,11 +466,7 @@ fn row_key(xs: &[f32]) -> Option<(usize, f32, f32)> {
 
 /// `out[k] = row[i0] + (row[i1] − row[i0]) · fx` for texel coordinates `xw` (the texel and
 /// weight of [`fft_faces`]): one texel row of the field blended along x at each face.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn fft_along_x(xw: &[f32], row: &[f32], out: &mut [f32]) {
     let texels = row.len();
     assert!((1..i32::MAX as usize).contains(&texels));
@@ -566,11 +534,7 @@ fn fft_faces(xw: &[f32], rows: [&[f32]; 2], c: &FftConstants, out: &mut [f32]) {
 }
 
 /// `out[k] = unit_wrap((xs[k] − shift) / tile) · n`: each sample's texel coordinate.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn texel_coordinates(xs: &[f32], shift: f32, tile: f32, n: f32, out: &mut [f32]) {
     for (o, &x) in out.iter_mut().zip(xs) {
         *o = unit_wrap((x - shift) / tile) * n;

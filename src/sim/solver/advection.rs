@@ -209,11 +209,7 @@ pub(super) fn departure(
     clippy::too_many_arguments,
     reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
 )]
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn departures_row(
     g: &Geometry,
     u: &[f32],

@@ -361,11 +361,7 @@ impl SplatSpan<'_> {
 /// ([`ArrowSplat::gain`]), `own` is the faces' own component, `other` the four faces of the
 /// other component averaged onto each (v faces with `is_v`). Compiled for several SIMD
 /// levels, picked at run time: the face velocities and impulses vectorise.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn splat_faces(
     splat: &ArrowSplat,
     is_v: bool,
@@ -396,11 +392,7 @@ pub(super) fn splat_faces(
 
 /// The ambient pull `(target − own) · coupling` added to the free faces of a row (`own`: the
 /// faces' own velocity component before the pass).
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn pull(out: &mut [f32], target: &[f32], own: &[f32], free: &[u8], coupling: f32) {
     let n = out.len();
     let (target, own, free) = (&target[..n], &own[..n], &free[..n]);

@@ -156,11 +156,7 @@ fn fill(f: &Forcing, s: &ArrowSplat, is_v: bool, rows: &[(usize, usize, usize)])
 /// The gains of a run of faces: `out[q]` for face `first + q` of the run's row, by the very
 /// arithmetic [`super::forcing::splat_faces`] used to do inline (the face's x, then
 /// [`ArrowSplat::gain`]).
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn splat_gains(p: &SplatSpan, out: &mut [f32]) {
     let splat = *p.s;
     let first = p.first as i32;

@@ -12,12 +12,13 @@
 use super::forces::{Ambient, ArrowSplat, agc_splats};
 use super::obstacles;
 use crate::doc::{Advection, Boundary, Layout, PressureSolve, SimParams, grid_memory};
-use multiversion::multiversion;
 use rayon::prelude::*;
 use std::ops::{Range, RangeInclusive};
 use std::time::Instant;
+use windloom_simd_kernel::simd_kernel;
 
 mod advection;
+mod bands;
 mod forcing;
 mod gains;
 pub(crate) mod multigrid;
@@ -27,6 +28,7 @@ mod sampler;
 mod vorticity;
 
 use advection::*;
+use bands::*;
 use gains::{GainCache, SplatGains};
 pub(crate) use multigrid::Multigrid;
 use pressure::*;
@@ -604,11 +606,7 @@ pub(crate) fn flush(x: f32) -> f32 {
 
 /// `row ← row − (hi − lo) / h` on the free faces of a row (0 on the others): the gradient
 /// subtraction's interior, branch-free over equal-length slices so it vectorises.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn subtract_row(row: &mut [f32], free: &[u8], hi: &[f32], lo: &[f32], h: f32) {
     let n = row.len();
     let (free, hi, lo) = (&free[..n], &hi[..n], &lo[..n]);

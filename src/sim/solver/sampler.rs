@@ -397,11 +397,7 @@ macro_rules! row_samplers {
             clippy::too_many_arguments,
             reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
         )]
-        #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-        #[cfg_attr(
-            windloom_static_simd,
-            multiversion(targets = "simd", dispatcher = "static")
-        )]
+        #[simd_kernel]
         pub(super) fn $sample<const V: bool, const FLUSH: bool>(
             f: &$ty,
             j: usize,
@@ -430,11 +426,7 @@ macro_rules! row_samplers {
             clippy::too_many_arguments,
             reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
         )]
-        #[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-        #[cfg_attr(
-            windloom_static_simd,
-            multiversion(targets = "simd", dispatcher = "static")
-        )]
+        #[simd_kernel]
         pub(super) fn $correct<const V: bool>(
             f: &$ty,
             j: usize,

@@ -204,11 +204,7 @@ fn curl_row(
     clippy::too_many_arguments,
     reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
 )]
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn curl_interior(
     row: &mut [f32],
     sd: &[u8],
@@ -270,11 +266,7 @@ fn cell_forces(
 
 /// The cell-centred confinement force of a row, `(fx, fz)`, from its curl `c` and the curl
 /// rows below and above it; zero in its end cells on an open grid (see [`cell_forces`]).
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn force_row(
     fx: &mut [f32],
     fz: &mut [f32],
@@ -313,11 +305,7 @@ fn confined(x: f32, a: f32, b: f32, dt: f32) -> f32 {
 /// Adds the force `f` (cell-centred x, one row) to a row of u faces where they are free: each
 /// face gets the mean of the cells beside it (the end faces: the wrapped cell when periodic,
 /// else the one cell beside them).
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
     let nx = f.len();
     let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt);
@@ -339,11 +327,7 @@ fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
 
 /// Adds the mean of the z forces of the cells below (`a`) and above (`b`) to a row of v faces
 /// where they are free.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32) {
     let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt);
     let n = row.len();
@@ -357,11 +341,7 @@ fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32) {
 
 /// One row of the divergence: `(u_R − u_L)/hx + (v_T − v_B)/hz` from its u faces `ur`
 /// (`nx + 1`) and the v face rows below and above it (0 in solids).
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn divergence_row(
     row: &mut [f32],
     ur: &[f32],

@@ -30,7 +30,7 @@ use super::*;
 mod hierarchy;
 mod rows;
 
-pub(crate) use super::pressure::Relax;
+pub(crate) use super::bands::Relax;
 pub(crate) use hierarchy::*;
 use rows::*;
 
@@ -532,8 +532,8 @@ mod tests {
     /// every level; and it covers the interior of every axis coarsened in pairs.
     #[test]
     fn expansion_pairs_give_the_tables_bits() {
-        let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/obstacles.json");
-        let mut layout = crate::io::load(&path).unwrap();
+        let mut layout =
+            crate::doc::parse(include_str!("../../../../layouts/obstacles.json")).unwrap();
         for grid in [[90, 70], [91, 37], [64, 129]] {
             layout.world.grid = grid;
             for boundary in [Boundary::Closed, Boundary::Open, Boundary::Periodic] {

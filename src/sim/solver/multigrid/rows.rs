@@ -30,11 +30,7 @@ fn end_link_sum(
     clippy::too_many_arguments,
     reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
 )]
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(crate) fn link_sum_row(
     out: &mut [f32],
     [below, row, above]: [&[f32]; 3],
@@ -79,11 +75,7 @@ pub(crate) fn link_sum_row(
     clippy::too_many_arguments,
     reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
 )]
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(crate) fn relax_link_row(
     out: &mut [f32],
     [below, row, above]: [&[f32]; 3],
@@ -154,11 +146,7 @@ fn relax_span<const LINKED: bool, const DAMP: bool>(
 }
 
 /// `s ← b_scale·b + s − D x` (0 outside the solve), in place over a row of link sums.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn residual_row(s: &mut [f32], x: &[f32], b: &[f32], b_scale: f32, diag: &[f32]) {
     for (((s, &x), &b), &d) in s.iter_mut().zip(x).zip(b).zip(diag) {
         *s = if d > 0.0 {
@@ -174,11 +162,7 @@ pub(super) fn residual_row(s: &mut [f32], x: &[f32], b: &[f32], b_scale: f32, di
 /// `tl` on the neighbour), the right one from the cell and its right neighbour (`tr`), each
 /// coarse cell weighted by whether it is in the solve — the table's arithmetic, without the
 /// table's indices and branches, so it vectorises.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn expand_pairs(e: &mut [f32], x: &[f32], inv: &[f32], tl: f32, tr: f32) {
     let n = e.len() / 2;
     let (x, inv) = (&x[..n + 2], &inv[..n + 2]);
@@ -193,11 +177,7 @@ pub(super) fn expand_pairs(e: &mut [f32], x: &[f32], inv: &[f32], tl: f32, tr: f
 /// `row += (tn·en + tf·(ke·ef)) / den` (`ke` 0 where the far row is an open edge's 0; `den`
 /// +∞ where the correction is ±0). Every value is written: a conditional store vectorises
 /// to a masked store (`vmaskmovps`), slow on AMD's cores.
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn correct_row(
     row: &mut [f32],
     en: &[f32],
@@ -221,11 +201,7 @@ pub(super) fn correct_row(
     clippy::too_many_arguments,
     reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
 )]
-#[cfg_attr(not(windloom_static_simd), multiversion(targets = "simd"))]
-#[cfg_attr(
-    windloom_static_simd,
-    multiversion(targets = "simd", dispatcher = "static")
-)]
+#[simd_kernel]
 pub(super) fn fine_residual_row(
     st: &Stencil,
     vol: f32,
