@@ -3,22 +3,23 @@
 //! file system.
 
 mod advice;
+pub mod bounds;
 mod edit;
 mod parse;
 mod types;
 mod validate;
 
 pub use advice::{VORTICITY_ADVISED, VORTICITY_MACCORMACK_ADVISED, advise};
+pub use bounds::{
+    AMBIENT_MAX, Bound, CHAIN_MAX, COORD_MAX, Count, DT_MAX, DT_MIN, GRID_AXIS_MAX, GRID_AXIS_MIN,
+    GRID_MEMORY_BUDGET, LAYOUT_MAX_BYTES, LENGTH_MIN, MULTIGRID_BYTES_PER_CELL, NAME_MAX,
+    NESTING_MAX, NODES_MAX, OBSTACLES_MAX, POLYGON_POINTS_MAX, RADIUS_MAX, SOLVER_BYTES_PER_CELL,
+    STRENGTH_MAX, TREES_MAX, WORLD_SIZE_MAX, WORLD_SIZE_MIN,
+};
 pub use edit::{Edit, EditError, History, TreeProps};
 pub use parse::{Diagnostic, Diagnostics, parse, parse_bytes, schema, to_json};
 pub use types::*;
-pub use validate::{
-    AMBIENT_MAX, CHAIN_MAX, COORD_MAX, DT_MAX, DT_MIN, GRID_AXIS_MAX, GRID_AXIS_MIN,
-    GRID_MEMORY_BUDGET, Issue, LAYOUT_MAX_BYTES, LENGTH_MIN, MULTIGRID_BYTES_PER_CELL, NAME_MAX,
-    NESTING_MAX, NODES_MAX, OBSTACLES_MAX, POLYGON_POINTS_MAX, RADIUS_MAX, SOLVER_BYTES_PER_CELL,
-    STRENGTH_MAX, TREES_MAX, WORLD_SIZE_MAX, WORLD_SIZE_MIN, for_each_ear, grid_memory,
-    polygon_area, validate,
-};
+pub use validate::{Issue, for_each_ear, grid_memory, polygon_area, validate};
 
 /// The bundled default layout (`layouts/meadow.json`), embedded in the binary.
 pub const DEFAULT_LAYOUT_JSON: &str = include_str!("../../layouts/meadow.json");

@@ -3,9 +3,9 @@
 //! A layout file is untrusted input. [`parse`] reports every problem it can find in one go,
 //! each with a line and column and, where it concerns a field, its JSON path.
 
+use super::bounds::{CHAIN_MAX, NESTING_MAX};
 use super::types::{FORMAT, Layout, VERSION};
 use super::validate::validate;
-use super::validate::{CHAIN_MAX, NESTING_MAX};
 use jsonc_parser::ast;
 use jsonc_parser::common::Ranged;
 use serde_json::Value;

@@ -6,12 +6,9 @@
 //! (or m/s). Angles (`direction_deg`) are measured from `+x` toward `+z`, so on a top-down map
 //! drawn with `+z` pointing down the screen they turn clockwise.
 
-// The schema states the bounds `validate` enforces (as f64 literals where the f32 constant
-// would print with conversion noise); `tests/doc/main.rs` checks that they agree.
-use super::validate::{
-    AMBIENT_MAX, COORD_MAX, GRID_AXIS_MAX, GRID_AXIS_MIN, NAME_MAX, OBSTACLES_MAX,
-    POLYGON_POINTS_MAX, RADIUS_MAX, STRENGTH_MAX, TREES_MAX,
-};
+// The schema states the bounds `validate` enforces, read from `bounds.rs`; `tests/doc`
+// checks every one.
+use super::bounds::*;
 use schemars::JsonSchema;
 use serde::{Deserialize, Serialize};
 
@@ -62,16 +59,16 @@ pub struct Layout {
 #[serde(deny_unknown_fields)]
 pub struct World {
     /// World size in metres: `[width (x), depth (z)]`, each 1 to 100000.
-    #[schemars(inner(range(min = 1.0, max = 100000.0)))]
+    #[schemars(inner(range(min = WORLD_SIZE.min, max = WORLD_SIZE.max)))]
     pub size: Vec2,
     /// World position of the rectangle's minimum corner `[x0, z0]` in metres, each within
     /// ±1e6.
     #[serde(default)]
-    #[schemars(inner(range(min = -COORD_MAX, max = COORD_MAX)))]
+    #[schemars(inner(range(min = COORD.min, max = COORD.max)))]
     pub origin: Vec2,
     /// Wind grid resolution `[nx, ny]`: columns along `+x`, rows along `+z`, each 8 to 16384
     /// cells, and at most 2 GiB of solver memory (56 bytes a cell) in all.
-    #[schemars(inner(range(min = GRID_AXIS_MIN, max = GRID_AXIS_MAX)))]
+    #[schemars(inner(range(min = GRID_AXIS.min, max = GRID_AXIS.max)))]
     pub grid: [u32; 2],
     /// Optional top-down picture of the level drawn under the wind.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -86,6 +83,7 @@ pub struct MapBackdrop {
     pub image: String,
     /// 0 (invisible) to 1 (opaque).
     #[serde(default = "one")]
+    #[schemars(range(min = OPACITY.min, max = OPACITY.max))]
     pub opacity: f32,
 }
 
@@ -116,6 +114,7 @@ pub struct Tree {
     pub emission: Emission,
     /// How fast (m/s, along the arrows) a pulse travels from the root to the leaves.
     #[serde(default = "default_propagation_speed")]
+    #[schemars(range(min = PROPAGATION_SPEED.min, max = PROPAGATION_SPEED.max))]
     pub propagation_speed: f32,
     /// The root point. Each child is the end point of an arrow from its parent.
     pub root: Node,
@@ -134,13 +133,13 @@ pub struct Node {
     /// Stable id, unique among all nodes of the layout.
     pub id: u32,
     /// World position `[x, z]` in metres, each within ±1e6; at least 1 mm from its parent.
-    #[schemars(inner(range(min = -COORD_MAX, max = COORD_MAX)))]
+    #[schemars(inner(range(min = COORD.min, max = COORD.max)))]
     pub pos: Vec2,
     /// Wind speed (m/s) the arrow ending here drives toward along its centre line, 0 to 500.
-    #[schemars(range(min = 0.0, max = STRENGTH_MAX))]
+    #[schemars(range(min = STRENGTH.min, max = STRENGTH.max))]
     pub strength: f32,
     /// Gaussian radius (metres) of the arrow ending here, 0.001 to 100000.
-    #[schemars(range(min = 0.001, max = RADIUS_MAX))]
+    #[schemars(range(min = RADIUS.min, max = RADIUS.max))]
     pub radius: f32,
     /// End points of arrows starting here: several branch, a child's children chain. A chain
     /// holds at most 160 arrows from its root, and a layout at most 10,000 points in all.
@@ -155,7 +154,12 @@ pub enum TimeWindow {
     #[default]
     Always,
     /// Active from `start` to `end` seconds of simulation time.
-    Between { start: f32, end: f32 },
+    Between {
+        #[schemars(range(min = WINDOW_TIME.min, max = WINDOW_TIME.max))]
+        start: f32,
+        #[schemars(range(min = WINDOW_TIME.min, max = WINDOW_TIME.max))]
+        end: f32,
+    },
 }
 
 /// How a tree emits force.
@@ -165,7 +169,12 @@ pub enum Emission {
     #[default]
     Continuous,
     /// On for `duty × period` seconds out of every `period`.
-    Pulsed { period: f32, duty: f32 },
+    Pulsed {
+        #[schemars(range(min = PERIOD.min, max = PERIOD.max))]
+        period: f32,
+        #[schemars(range(max = DUTY.max), extend("exclusiveMinimum" = 0))]
+        duty: f32,
+    },
 }
 
 /// A named solid obstacle.
@@ -186,16 +195,16 @@ pub struct Obstacle {
 pub enum Shape {
     Circle {
         /// Centre `[x, z]` in metres, each within ±1e6.
-        #[schemars(inner(range(min = -COORD_MAX, max = COORD_MAX)))]
+        #[schemars(inner(range(min = COORD.min, max = COORD.max)))]
         center: Vec2,
         /// Metres, 0.001 to 100000.
-        #[schemars(range(min = 0.001, max = RADIUS_MAX))]
+        #[schemars(range(min = RADIUS.min, max = RADIUS.max))]
         radius: f32,
     },
     /// A simple polygon, 3 to 10,000 points, implicitly closed.
     Polygon {
         /// Corners `[x, z]` in metres, each coordinate within ±1e6.
-        #[schemars(length(min = 3, max = POLYGON_POINTS_MAX), inner(inner(range(min = -COORD_MAX, max = COORD_MAX))))]
+        #[schemars(length(min = 3, max = POLYGON_POINTS_MAX), inner(inner(range(min = COORD.min, max = COORD.max))))]
         points: Vec<Vec2>,
     },
 }
@@ -222,42 +231,56 @@ pub enum AmbientKind {
     Directional {
         direction_deg: f32,
         /// Steady speed, m/s.
+        #[schemars(range(min = AMBIENT_SPEED.min, max = AMBIENT_SPEED.max))]
         main: f32,
         /// Amplitude (m/s) of spatially varying noise added to the wind.
+        #[schemars(range(min = AMBIENT_SPEED.min, max = AMBIENT_SPEED.max))]
         turbulence: f32,
         /// Relative size of periodic gusts (0 = none, 1 = doubles the wind at the peak).
+        #[schemars(range(min = PULSE_MAGNITUDE.min, max = PULSE_MAGNITUDE.max))]
         pulse_magnitude: f32,
         /// Gusts per second.
+        #[schemars(range(min = PULSE_FREQUENCY.min, max = PULSE_FREQUENCY.max))]
         pulse_frequency: f32,
     },
     /// Gradient noise scrolled along the wind direction (Ghost of Tsushima, Godot demo).
     Noise {
         direction_deg: f32,
         /// Feature size in metres.
+        #[schemars(range(min = FEATURE_LENGTH.min, max = FEATURE_LENGTH.max))]
         scale: f32,
         /// Scroll speed in m/s.
+        #[schemars(range(min = SCROLL_SPEED.min, max = SCROLL_SPEED.max))]
         speed: f32,
         /// Peak wind in m/s.
+        #[schemars(range(min = AMBIENT_SPEED.min, max = AMBIENT_SPEED.max))]
         strength: f32,
     },
     /// Tessendorf/Phillips-spectrum gust field, inverse-FFT'd, tiling every `tile_size` metres.
     Fft {
         direction_deg: f32,
         /// Wind speed V in m/s (sets the spectrum's peak, L = V²/g) and the mean wind.
+        #[schemars(range(min = FFT_WIND_SPEED.min, max = FFT_WIND_SPEED.max))]
         wind_speed: f32,
         /// Gust amplitude in m/s (standard deviation of the gust field).
+        #[schemars(range(min = AMBIENT_SPEED.min, max = AMBIENT_SPEED.max))]
         amplitude: f32,
         /// FFT size per axis (power of two, 8–512).
+        #[schemars(range(min = FFT_RESOLUTION.min, max = FFT_RESOLUTION.max))]
         resolution: u32,
         /// Metres covered by one FFT tile.
+        #[schemars(range(min = FEATURE_LENGTH.min, max = FEATURE_LENGTH.max))]
         tile_size: f32,
         seed: u64,
     },
     /// Trigonometric baseline: `amplitude × sin(2π (x·d / wavelength − frequency t))`.
     Sine {
         direction_deg: f32,
+        #[schemars(range(min = AMBIENT_SPEED.min, max = AMBIENT_SPEED.max))]
         amplitude: f32,
+        #[schemars(range(min = FEATURE_LENGTH.min, max = FEATURE_LENGTH.max))]
         wavelength: f32,
+        #[schemars(range(min = SINE_FREQUENCY.min, max = SINE_FREQUENCY.max))]
         frequency: f32,
     },
 }
@@ -280,28 +303,36 @@ impl AmbientKind {
 pub struct SimParams {
     /// Seconds per step, 0.0001 to 1/30. Bakes may step a little shorter so that frames
     /// fall exactly on the frame rate.
-    #[schemars(range(min = 0.0001, max = 0.033333335))]
+    #[schemars(range(min = DT.min, max = DT.max))]
     pub dt: f32,
     /// Solver substeps per step (each of `dt / substeps`).
+    #[schemars(range(min = SUBSTEPS.min, max = SUBSTEPS.max))]
     pub substeps: u32,
     /// How the projection solves for pressure: Jacobi iterations or multigrid V-cycles.
     pub pressure: PressureSolve,
     /// Jacobi iterations per projection (`pressure = "jacobi"`).
+    #[schemars(range(min = PRESSURE_ITERATIONS.min, max = PRESSURE_ITERATIONS.max))]
     pub pressure_iterations: u32,
     /// V-cycles per projection (`pressure = "multigrid"`).
+    #[schemars(range(min = PRESSURE_CYCLES.min, max = PRESSURE_CYCLES.max))]
     pub pressure_cycles: u32,
     /// Jacobi's warm start: the previous pressure is multiplied by this (0 = cold start).
     /// Multigrid ignores it and starts from [`MULTIGRID_WARM_START`] of the previous pressure.
+    #[schemars(range(min = PRESSURE_DECAY.min, max = PRESSURE_DECAY.max))]
     pub pressure_decay: f32,
     /// Vorticity confinement strength ε in `f = ε·h·w·N̂` (h the cell size in metres). The
     /// paper's factor 50 and the WebGL solver's 30 are in texel units; in metres and m/s, 1–5
     /// gives the same lively eddies without letting confinement overpower the flow.
+    #[schemars(range(min = VORTICITY.min, max = VORTICITY.max))]
     pub vorticity: f32,
     /// Velocity dissipation rate (1/s): `vel /= 1 + dissipation × dt`.
+    #[schemars(range(min = VELOCITY_DISSIPATION.min, max = VELOCITY_DISSIPATION.max))]
     pub velocity_dissipation: f32,
     /// Rate (1/s) at which the field relaxes toward the ambient layers' wind.
+    #[schemars(range(min = AMBIENT_COUPLING.min, max = AMBIENT_COUPLING.max))]
     pub ambient_coupling: f32,
     /// Rate (1/s) at which an arrow brings the wind on its centre line up to its strength.
+    #[schemars(range(min = ARROW_RESPONSE.min, max = ARROW_RESPONSE.max))]
     pub arrow_response: f32,
     pub boundary: Boundary,
     pub advection: Advection,
@@ -385,18 +416,25 @@ pub enum Advection {
 #[serde(deny_unknown_fields)]
 pub struct GrassParams {
     /// Blades per square metre.
+    #[schemars(range(max = GRASS_DENSITY.max), extend("exclusiveMinimum" = 0))]
     pub density: f32,
     /// Blade height range `[min, max]` in metres.
+    #[schemars(extend("items" = {"type": "number", "format": "float", "exclusiveMinimum": 0, "maximum": BLADE_HEIGHT.max}))]
     pub height: Vec2,
     /// Blade width range `[min, max]` in metres.
+    #[schemars(extend("items" = {"type": "number", "format": "float", "exclusiveMinimum": 0, "maximum": BLADE_WIDTH.max}))]
     pub width: Vec2,
     /// Stiffness range `[min, max]` (Bezier model recovery).
+    #[schemars(extend("items" = {"type": "number", "format": "float", "exclusiveMinimum": 0, "maximum": STIFFNESS.max}))]
     pub stiffness: Vec2,
     /// Gravity bend, eq. 11.
+    #[schemars(range(min = BEND.min, max = BEND.max))]
     pub k1: f32,
     /// Forward bend, eq. 11.
+    #[schemars(range(min = BEND.min, max = BEND.max))]
     pub k2: f32,
     /// Stiffness blend λ of eq. 13 (1 stiff, 0 fully driven).
+    #[schemars(range(min = LAMBDA.min, max = LAMBDA.max))]
     pub lambda: f32,
     pub shadow: Shadow,
     /// Base-to-tip colour gradients; each blade picks one.
@@ -439,9 +477,13 @@ impl Default for GrassParams {
 #[serde(default)]
 #[serde(deny_unknown_fields)]
 pub struct Shadow {
+    #[schemars(range(min = SHADOW_CLAMP.min, max = SHADOW_CLAMP.max))]
     pub m_min: f32,
+    #[schemars(range(min = SHADOW_CLAMP.min, max = SHADOW_CLAMP.max))]
     pub m_max: f32,
+    #[schemars(range(min = SHADOW_TERM.min, max = SHADOW_TERM.max))]
     pub c1: f32,
+    #[schemars(range(min = SHADOW_TERM.min, max = SHADOW_TERM.max))]
     pub c2: f32,
 }
 
@@ -461,7 +503,9 @@ impl Default for Shadow {
 #[serde(deny_unknown_fields)]
 pub struct Palette {
     pub name: String,
+    #[schemars(inner(range(min = COLOUR.min, max = COLOUR.max)))]
     pub base: [f32; 3],
+    #[schemars(inner(range(min = COLOUR.min, max = COLOUR.max)))]
     pub tip: [f32; 3],
 }
 

@@ -1,62 +1,9 @@
 //! Semantic validation of a [`Layout`]: every problem, each with the JSON path of its field.
 
+use super::bounds::{self, *};
 use super::types::*;
 use std::collections::HashMap;
 use std::fmt;
-
-/// The solver's working memory per grid cell in bytes (velocity faces, temporaries, pressure,
-/// divergence, curl, solid mask). The CPU solver checks its own allocation against this.
-pub const SOLVER_BYTES_PER_CELL: u64 = 56;
-/// What the multigrid hierarchy adds per grid cell (`sim.pressure = "multigrid"`): the fine
-/// level's links and diagonal (16) and the coarser levels' links and unknowns (at most 28 over
-/// all of them, when every level halves one axis only).
-pub const MULTIGRID_BYTES_PER_CELL: u64 = 44;
-/// Largest solver memory a layout may ask for: 2 GiB.
-pub const GRID_MEMORY_BUDGET: u64 = 2 << 30;
-/// Grid axes must lie in this range.
-pub const GRID_AXIS_MIN: u32 = 8;
-pub const GRID_AXIS_MAX: u32 = 16384;
-/// Largest world side in metres.
-pub const WORLD_SIZE_MAX: f32 = 100_000.0;
-/// Smallest world side in metres: with at most [`GRID_AXIS_MAX`] cells a side, cells stay
-/// above 0.06 mm, so the solver's `1/h²` and the renderer's scale stay finite.
-pub const WORLD_SIZE_MIN: f32 = 1.0;
-/// Largest distance (metres) of any position (origin, node, obstacle point) from the world
-/// origin `[0, 0]`. Far beyond any level, and small enough that every position, scaled to
-/// pixels or cells, stays a finite and precise `f32`.
-pub const COORD_MAX: f32 = 1.0e6;
-/// Smallest radius, noise scale, wavelength, tile or arrow length in metres: below it the
-/// Gaussian `1/r²` and friends overflow `f32`.
-pub const LENGTH_MIN: f32 = 1.0e-3;
-/// Smallest and largest solver step in seconds. The largest keeps the solver stable; the
-/// smallest keeps a bake's step count (seconds / dt) finite.
-pub const DT_MIN: f32 = 1.0e-4;
-pub const DT_MAX: f32 = 1.0 / 30.0;
-/// Largest arrow strength (target wind speed, m/s) and radius (m) accepted.
-pub const STRENGTH_MAX: f32 = 500.0;
-pub const RADIUS_MAX: f32 = 100_000.0;
-
-/// Largest layout file windloom reads, in bytes. A layout at every count limit below stays
-/// well under it; a file past it is refused before it is parsed (a 58 MB layout took 1.8 GB
-/// and 10 s to read).
-pub const LAYOUT_MAX_BYTES: u64 = 16 << 20;
-/// Longest chain of arrows in a tree: arrows from its root to its farthest end point.
-pub const CHAIN_MAX: usize = 160;
-/// Most points (roots and arrow end points) in a layout, over all its trees.
-pub const NODES_MAX: usize = 10_000;
-/// Most wind trees, obstacles and ambient layers in a layout.
-pub const TREES_MAX: usize = 1_000;
-pub const OBSTACLES_MAX: usize = 10_000;
-pub const AMBIENT_MAX: usize = 64;
-/// Most points of one polygon obstacle.
-pub const POLYGON_POINTS_MAX: usize = 10_000;
-/// Longest name (of the layout, a tree, an obstacle or a layer), in characters.
-pub const NAME_MAX: usize = 256;
-/// How deep a layout's JSON may nest, counting each open object, array and field (a chain of
-/// [`CHAIN_MAX`] arrows takes three levels an arrow, 490 in all): within the 512 that the
-/// parser that locates fields and finds duplicate keys reads.
-pub const NESTING_MAX: usize = 500;
-const _: () = assert!(3 * CHAIN_MAX + 10 <= NESTING_MAX && NESTING_MAX <= 512);
 
 /// One semantic problem: the JSON path of the field and what is wrong with it.
 #[derive(Debug, Clone, PartialEq, Eq)]
@@ -128,11 +75,6 @@ impl Checker {
         }
     }
 
-    /// Finite and strictly positive, at most `hi`.
-    fn positive(&mut self, path: &str, v: f32, hi: f32) -> bool {
-        self.positive_from(path, v, 0.0, hi)
-    }
-
     /// Finite, strictly positive, at least `lo` and at most `hi`.
     fn positive_from(&mut self, path: &str, v: f32, lo: f32, hi: f32) -> bool {
         if !v.is_finite() {
@@ -155,20 +97,42 @@ impl Checker {
         }
     }
 
+    /// Within `b` (finite, and above zero where `b` says so).
+    fn bound(&mut self, path: &str, v: f32, b: Bound) -> bool {
+        if b.above_zero {
+            self.positive_from(path, v, b.min as f32, b.hi())
+        } else {
+            self.range(path, v, b.min as f32, b.hi())
+        }
+    }
+
+    /// A whole number within `b`.
+    fn whole(&mut self, path: &str, v: u32, b: Count) -> bool {
+        if b.contains(v) {
+            return true;
+        }
+        self.push(
+            path,
+            format!("must be between {} and {}, got {v}", b.min, b.max),
+        );
+        false
+    }
+
     fn finite(&mut self, path: &str, v: f32) -> bool {
         self.range(path, v, f32::MIN, f32::MAX)
     }
 
     /// A position: each coordinate within ±[`COORD_MAX`].
     fn point(&mut self, path: &str, p: Vec2) -> bool {
-        let a = self.range(&format!("{path}[0]"), p[0], -COORD_MAX, COORD_MAX);
-        let b = self.range(&format!("{path}[1]"), p[1], -COORD_MAX, COORD_MAX);
+        let a = self.bound(&format!("{path}[0]"), p[0], COORD);
+        let b = self.bound(&format!("{path}[1]"), p[1], COORD);
         a && b
     }
 
-    fn min_max(&mut self, path: &str, r: Vec2, hi: f32) {
-        let a = self.positive(&format!("{path}[0]"), r[0], hi);
-        let b = self.positive(&format!("{path}[1]"), r[1], hi);
+    /// A `[min, max]` range, each end within `b`.
+    fn min_max(&mut self, path: &str, r: Vec2, b: Bound) {
+        let a = self.bound(&format!("{path}[0]"), r[0], b);
+        let b = self.bound(&format!("{path}[1]"), r[1], b);
         if a && b && r[0] > r[1] {
             self.push(path, format!("min {} is larger than max {}", r[0], r[1]));
         }
@@ -248,15 +212,14 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
         let p = format!("trees[{t}]");
         c.unique_id(&mut tree_ids, "tree", tree.id, &p);
         c.name(&format!("{p}.name"), &tree.name);
-        c.positive_from(
+        c.bound(
             &format!("{p}.propagation_speed"),
             tree.propagation_speed,
-            LENGTH_MIN,
-            1.0e6,
+            bounds::PROPAGATION_SPEED,
         );
         if let TimeWindow::Between { start, end } = tree.window {
-            let ok = c.range(&format!("{p}.window.start"), start, 0.0, 1.0e7);
-            let ok = c.range(&format!("{p}.window.end"), end, 0.0, 1.0e7) && ok;
+            let ok = c.bound(&format!("{p}.window.start"), start, WINDOW_TIME);
+            let ok = c.bound(&format!("{p}.window.end"), end, WINDOW_TIME) && ok;
             if ok && end <= start {
                 c.push(
                     &format!("{p}.window.end"),
@@ -265,8 +228,8 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
             }
         }
         if let Emission::Pulsed { period, duty } = tree.emission {
-            c.positive_from(&format!("{p}.emission.period"), period, LENGTH_MIN, 1.0e6);
-            c.positive(&format!("{p}.emission.duty"), duty, 1.0);
+            c.bound(&format!("{p}.emission.period"), period, PERIOD);
+            c.bound(&format!("{p}.emission.duty"), duty, DUTY);
         }
         check_node(&mut c, &mut node_ids, &tree.root, &format!("{p}.root"), 0);
     }
@@ -279,12 +242,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
         match &obstacle.shape {
             Shape::Circle { center, radius } => {
                 c.point(&format!("{p}.shape.center"), *center);
-                c.positive_from(
-                    &format!("{p}.shape.radius"),
-                    *radius,
-                    LENGTH_MIN,
-                    RADIUS_MAX,
-                );
+                c.bound(&format!("{p}.shape.radius"), *radius, RADIUS);
             }
             Shape::Polygon { points } => {
                 c.count(
@@ -327,14 +285,17 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 pulse_frequency,
             } => {
                 c.finite(&format!("{k}.direction_deg"), *direction_deg);
-                c.range(&format!("{k}.main"), *main, 0.0, 500.0);
-                c.range(&format!("{k}.turbulence"), *turbulence, 0.0, 500.0);
-                c.range(&format!("{k}.pulse_magnitude"), *pulse_magnitude, 0.0, 10.0);
-                c.range(
+                c.bound(&format!("{k}.main"), *main, AMBIENT_SPEED);
+                c.bound(&format!("{k}.turbulence"), *turbulence, AMBIENT_SPEED);
+                c.bound(
+                    &format!("{k}.pulse_magnitude"),
+                    *pulse_magnitude,
+                    PULSE_MAGNITUDE,
+                );
+                c.bound(
                     &format!("{k}.pulse_frequency"),
                     *pulse_frequency,
-                    0.0,
-                    100.0,
+                    PULSE_FREQUENCY,
                 );
             }
             AmbientKind::Noise {
@@ -344,9 +305,9 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 strength,
             } => {
                 c.finite(&format!("{k}.direction_deg"), *direction_deg);
-                c.positive_from(&format!("{k}.scale"), *scale, LENGTH_MIN, WORLD_SIZE_MAX);
-                c.range(&format!("{k}.speed"), *speed, 0.0, 1000.0);
-                c.range(&format!("{k}.strength"), *strength, 0.0, 500.0);
+                c.bound(&format!("{k}.scale"), *scale, FEATURE_LENGTH);
+                c.bound(&format!("{k}.speed"), *speed, SCROLL_SPEED);
+                c.bound(&format!("{k}.strength"), *strength, AMBIENT_SPEED);
             }
             AmbientKind::Fft {
                 direction_deg,
@@ -357,20 +318,18 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 seed: _,
             } => {
                 c.finite(&format!("{k}.direction_deg"), *direction_deg);
-                c.positive_from(&format!("{k}.wind_speed"), *wind_speed, 0.01, 500.0);
-                c.range(&format!("{k}.amplitude"), *amplitude, 0.0, 500.0);
-                if !resolution.is_power_of_two() || !(8..=512).contains(resolution) {
+                c.bound(&format!("{k}.wind_speed"), *wind_speed, FFT_WIND_SPEED);
+                c.bound(&format!("{k}.amplitude"), *amplitude, AMBIENT_SPEED);
+                if !resolution.is_power_of_two() || !FFT_RESOLUTION.contains(*resolution) {
                     c.push(
                         &format!("{k}.resolution"),
-                        format!("must be a power of two from 8 to 512, got {resolution}"),
+                        format!(
+                            "must be a power of two from {} to {}, got {resolution}",
+                            FFT_RESOLUTION.min, FFT_RESOLUTION.max
+                        ),
                     );
                 }
-                c.positive_from(
-                    &format!("{k}.tile_size"),
-                    *tile_size,
-                    LENGTH_MIN,
-                    WORLD_SIZE_MAX,
-                );
+                c.bound(&format!("{k}.tile_size"), *tile_size, FEATURE_LENGTH);
             }
             AmbientKind::Sine {
                 direction_deg,
@@ -379,14 +338,9 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 frequency,
             } => {
                 c.finite(&format!("{k}.direction_deg"), *direction_deg);
-                c.range(&format!("{k}.amplitude"), *amplitude, 0.0, 500.0);
-                c.positive_from(
-                    &format!("{k}.wavelength"),
-                    *wavelength,
-                    LENGTH_MIN,
-                    WORLD_SIZE_MAX,
-                );
-                c.range(&format!("{k}.frequency"), *frequency, -100.0, 100.0);
+                c.bound(&format!("{k}.amplitude"), *amplitude, AMBIENT_SPEED);
+                c.bound(&format!("{k}.wavelength"), *wavelength, FEATURE_LENGTH);
+                c.bound(&format!("{k}.frequency"), *frequency, SINE_FREQUENCY);
             }
         }
     }
@@ -397,8 +351,8 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
 }
 
 fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
-    c.positive_from("world.size[0]", w.size[0], WORLD_SIZE_MIN, WORLD_SIZE_MAX);
-    c.positive_from("world.size[1]", w.size[1], WORLD_SIZE_MIN, WORLD_SIZE_MAX);
+    c.bound("world.size[0]", w.size[0], WORLD_SIZE);
+    c.bound("world.size[1]", w.size[1], WORLD_SIZE);
     c.point("world.origin", w.origin);
     let mut axes_ok = true;
     for (i, n) in w.grid.iter().enumerate() {
@@ -427,7 +381,7 @@ fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
         if map.image.trim().is_empty() {
             c.push("world.map.image", "must name an image file");
         }
-        c.range("world.map.opacity", map.opacity, 0.0, 1.0);
+        c.bound("world.map.opacity", map.opacity, OPACITY);
     }
 }
 
@@ -442,8 +396,8 @@ fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &
         return;
     }
     let here = c.point(&format!("{path}.pos"), n.pos);
-    c.range(&format!("{path}.strength"), n.strength, 0.0, STRENGTH_MAX);
-    c.positive_from(&format!("{path}.radius"), n.radius, LENGTH_MIN, RADIUS_MAX);
+    c.bound(&format!("{path}.strength"), n.strength, STRENGTH);
+    c.bound(&format!("{path}.radius"), n.radius, RADIUS);
     for (i, child) in n.children.iter().enumerate() {
         let cp = format!("{path}.children[{i}]");
         let (dx, dz) = (child.pos[0] - n.pos[0], child.pos[1] - n.pos[1]);
@@ -458,65 +412,53 @@ fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &
 }
 
 fn check_sim(c: &mut Checker, s: &SimParams) {
-    c.positive_from("sim.dt", s.dt, DT_MIN, DT_MAX);
-    if !(1..=16).contains(&s.substeps) {
-        c.push(
-            "sim.substeps",
-            format!("must be between 1 and 16, got {}", s.substeps),
-        );
-    }
-    if !(1..=20).contains(&s.pressure_cycles) {
-        c.push(
-            "sim.pressure_cycles",
-            format!("must be between 1 and 20, got {}", s.pressure_cycles),
-        );
-    }
-    if !(1..=1000).contains(&s.pressure_iterations) {
-        c.push(
-            "sim.pressure_iterations",
-            format!("must be between 1 and 1000, got {}", s.pressure_iterations),
-        );
-    }
-    c.range("sim.pressure_decay", s.pressure_decay, 0.0, 1.0);
-    c.range("sim.vorticity", s.vorticity, 0.0, 1000.0);
-    c.range(
+    c.bound("sim.dt", s.dt, DT);
+    c.whole("sim.substeps", s.substeps, SUBSTEPS);
+    c.whole("sim.pressure_cycles", s.pressure_cycles, PRESSURE_CYCLES);
+    c.whole(
+        "sim.pressure_iterations",
+        s.pressure_iterations,
+        PRESSURE_ITERATIONS,
+    );
+    c.bound("sim.pressure_decay", s.pressure_decay, PRESSURE_DECAY);
+    c.bound("sim.vorticity", s.vorticity, VORTICITY);
+    c.bound(
         "sim.velocity_dissipation",
         s.velocity_dissipation,
-        0.0,
-        100.0,
+        VELOCITY_DISSIPATION,
     );
-    c.range("sim.ambient_coupling", s.ambient_coupling, 0.0, 100.0);
-    c.range("sim.arrow_response", s.arrow_response, 0.0, 1000.0);
+    c.bound("sim.ambient_coupling", s.ambient_coupling, AMBIENT_COUPLING);
+    c.bound("sim.arrow_response", s.arrow_response, ARROW_RESPONSE);
 }
 
 fn check_grass(c: &mut Checker, g: &GrassParams) {
-    c.positive("grass.density", g.density, 100_000.0);
-    c.min_max("grass.height", g.height, 100.0);
-    c.min_max("grass.width", g.width, 10.0);
-    c.min_max("grass.stiffness", g.stiffness, 1000.0);
-    c.range("grass.k1", g.k1, 0.0, 10.0);
-    c.range("grass.k2", g.k2, 0.0, 10.0);
-    c.range("grass.lambda", g.lambda, 0.0, 1.0);
+    c.bound("grass.density", g.density, GRASS_DENSITY);
+    c.min_max("grass.height", g.height, BLADE_HEIGHT);
+    c.min_max("grass.width", g.width, BLADE_WIDTH);
+    c.min_max("grass.stiffness", g.stiffness, STIFFNESS);
+    c.bound("grass.k1", g.k1, BEND);
+    c.bound("grass.k2", g.k2, BEND);
+    c.bound("grass.lambda", g.lambda, LAMBDA);
     let s = &g.shadow;
-    let a = c.range("grass.shadow.m_min", s.m_min, 0.0, 10.0);
-    let b = c.range("grass.shadow.m_max", s.m_max, 0.0, 10.0);
+    let a = c.bound("grass.shadow.m_min", s.m_min, SHADOW_CLAMP);
+    let b = c.bound("grass.shadow.m_max", s.m_max, SHADOW_CLAMP);
     if a && b && s.m_min > s.m_max {
         c.push(
             "grass.shadow.m_min",
             format!("must not exceed m_max ({}), got {}", s.m_max, s.m_min),
         );
     }
-    c.range("grass.shadow.c1", s.c1, -100.0, 100.0);
-    c.range("grass.shadow.c2", s.c2, -100.0, 100.0);
+    c.bound("grass.shadow.c1", s.c1, SHADOW_TERM);
+    c.bound("grass.shadow.c2", s.c2, SHADOW_TERM);
     if g.palettes.is_empty() {
         c.push("grass.palettes", "needs at least one palette");
     }
     for (i, p) in g.palettes.iter().enumerate() {
         for (j, v) in p.base.iter().enumerate() {
-            c.range(&format!("grass.palettes[{i}].base[{j}]"), *v, 0.0, 1.0);
+            c.bound(&format!("grass.palettes[{i}].base[{j}]"), *v, COLOUR);
         }
         for (j, v) in p.tip.iter().enumerate() {
-            c.range(&format!("grass.palettes[{i}].tip[{j}]"), *v, 0.0, 1.0);
+            c.bound(&format!("grass.palettes[{i}].tip[{j}]"), *v, COLOUR);
         }
     }
 }

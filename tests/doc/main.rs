@@ -906,20 +906,199 @@ fn coordinates_and_sizes_are_bounded_to_what_the_solver_and_renderer_can_represe
         ))),
         "{e:?}"
     );
-    // The schema states the same bounds.
-    let schema = doc::schema();
+}
+
+/// A field's schema in `schema`: `def` is a definition, or `Definition.variant` for a field
+/// of a tagged enum's variant.
+fn field_schema<'a>(schema: &'a serde_json::Value, def: &str, prop: &str) -> &'a serde_json::Value {
     let defs = &schema["$defs"];
-    let bound = |v: &serde_json::Value| v.as_f64().unwrap() as f32;
-    let size = &defs["World"]["properties"]["size"]["items"];
-    assert_eq!(bound(&size["minimum"]), doc::WORLD_SIZE_MIN);
-    assert_eq!(bound(&size["maximum"]), doc::WORLD_SIZE_MAX);
-    let node = &defs["Node"]["properties"];
-    assert_eq!(bound(&node["pos"]["items"]["maximum"]), doc::COORD_MAX);
-    assert_eq!(bound(&node["pos"]["items"]["minimum"]), -doc::COORD_MAX);
-    assert_eq!(bound(&node["radius"]["minimum"]), doc::LENGTH_MIN);
-    let dt = &defs["SimParams"]["properties"]["dt"];
-    assert_eq!(bound(&dt["minimum"]), doc::DT_MIN);
-    assert_eq!(bound(&dt["maximum"]), doc::DT_MAX);
+    let props = match def.split_once('.') {
+        None => &defs[def]["properties"],
+        Some((def, variant)) => {
+            let arms = defs[def]["oneOf"].as_array().expect("a tagged enum");
+            let arm = arms
+                .iter()
+                .find(|a| {
+                    let p = &a["properties"];
+                    p["kind"]["const"] == variant || p["type"]["const"] == variant
+                })
+                .unwrap_or_else(|| panic!("{def} has a variant {variant}"));
+            &arm["properties"]
+        }
+    };
+    let field = &props[prop];
+    assert!(!field.is_null(), "the schema has {def}.{prop}");
+    // An array's numbers carry the bound on their items.
+    if field["type"] == "array" {
+        &field["items"]
+    } else {
+        field
+    }
+}
+
+/// A layout with one of everything a bound applies to: a windowed, pulsed tree, a circle,
+/// a map backdrop, and a layer of each ambient kind.
+fn everything() -> serde_json::Value {
+    let mut l = example("meadow.json");
+    l.trees[0].window = doc::TimeWindow::Between {
+        start: 1.0,
+        end: 10.0,
+    };
+    l.trees[0].emission = doc::Emission::Pulsed {
+        period: 3.0,
+        duty: 0.5,
+    };
+    l.world.map = Some(doc::MapBackdrop {
+        image: "level.png".into(),
+        opacity: 1.0,
+    });
+    l.obstacles = vec![doc::Obstacle {
+        id: 1,
+        name: "rock".into(),
+        shape: Shape::Circle {
+            center: [10.0, 10.0],
+            radius: 2.0,
+        },
+    }];
+    let kinds = [
+        r#"{"type": "directional", "direction_deg": 0, "main": 3, "turbulence": 1, "pulse_magnitude": 0.5, "pulse_frequency": 0.2}"#,
+        r#"{"type": "noise", "direction_deg": 0, "scale": 20, "speed": 2, "strength": 3}"#,
+        r#"{"type": "fft", "direction_deg": 0, "wind_speed": 5, "amplitude": 1, "resolution": 64, "tile_size": 50, "seed": 1}"#,
+        r#"{"type": "sine", "direction_deg": 0, "amplitude": 1, "wavelength": 20, "frequency": 0.5}"#,
+    ];
+    l.ambient = kinds
+        .iter()
+        .enumerate()
+        .map(|(i, k)| doc::AmbientLayer {
+            id: i as u32 + 1,
+            name: format!("layer {i}"),
+            enabled: true,
+            kind: serde_json::from_str(k).unwrap(),
+        })
+        .collect();
+    assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
+    serde_json::to_value(&l).unwrap()
+}
+
+/// Where [`everything`] holds each bounded field: a JSON pointer.
+fn pointer(def: &str, prop: &str) -> String {
+    let ambient = |k: usize| format!("/ambient/{k}/kind/{prop}");
+    match def {
+        "World" | "MapBackdrop" if prop == "opacity" => "/world/map/opacity".into(),
+        "World" => format!("/world/{prop}/1"),
+        "Tree" => format!("/trees/0/{prop}"),
+        "TimeWindow.between" => format!("/trees/0/window/{prop}"),
+        "Emission.pulsed" => format!("/trees/0/emission/{prop}"),
+        "Node" if prop == "pos" => "/trees/0/root/pos/0".into(),
+        "Node" => format!("/trees/0/root/{prop}"),
+        "Shape.circle" if prop == "center" => "/obstacles/0/shape/center/1".into(),
+        "Shape.circle" => format!("/obstacles/0/shape/{prop}"),
+        "AmbientKind.directional" => ambient(0),
+        "AmbientKind.noise" => ambient(1),
+        "AmbientKind.fft" => ambient(2),
+        "AmbientKind.sine" => ambient(3),
+        "SimParams" => format!("/sim/{prop}"),
+        // The upper end of a range (its lower end must stay below it).
+        "GrassParams" if ["height", "width", "stiffness"].contains(&prop) => {
+            format!("/grass/{prop}/1")
+        }
+        "GrassParams" => format!("/grass/{prop}"),
+        "Shadow" if prop == "m_min" => "/grass/shadow/m_max".into(),
+        "Shadow" => format!("/grass/shadow/{prop}"),
+        "Palette" => format!("/grass/palettes/0/{prop}/2"),
+        _ => panic!("no place for {def}.{prop}"),
+    }
+}
+
+/// `/trees/0/root/pos/0` → `trees[0].root.pos[0]`, as `validate` names a field.
+fn issue_path(pointer: &str) -> String {
+    let mut out = String::new();
+    for part in pointer.trim_start_matches('/').split('/') {
+        if part.parse::<usize>().is_ok() {
+            out += &format!("[{part}]");
+        } else {
+            if !out.is_empty() {
+                out.push('.');
+            }
+            out += part;
+        }
+    }
+    out
+}
+
+/// The issues `validate` reports at `path` for `layout` with the field at `ptr` set to `v`,
+/// but those that relate it to another field (an end before its start).
+fn issues_at(layout: &serde_json::Value, ptr: &str, v: serde_json::Value) -> Vec<String> {
+    let mut l = layout.clone();
+    *l.pointer_mut(ptr)
+        .unwrap_or_else(|| panic!("{ptr} in the layout")) = v;
+    let l: Layout = serde_json::from_value(l).unwrap();
+    let path = issue_path(ptr);
+    doc::validate(&l)
+        .into_iter()
+        .filter(|i| i.path == path && !i.message.contains("must be after"))
+        .map(|i| i.to_string())
+        .collect()
+}
+
+/// Every number field's bound is written once (`doc::bounds`): the schema states it, and
+/// `validate` takes its ends and refuses a value past either.
+#[test]
+fn the_schema_and_validate_state_every_bound_of_the_one_table() {
+    let schema = doc::schema();
+    let layout = everything();
+    let json = |v: f64| serde_json::json!(v as f32);
+    for &(def, prop, b) in doc::bounds::NUMBERS {
+        let field = field_schema(&schema, def, prop);
+        let at = |key: &str| field[key].as_f64();
+        assert_eq!(at("maximum"), Some(b.max), "{def}.{prop}: schema maximum");
+        if b.above_zero && b.min <= 0.0 {
+            assert_eq!(at("exclusiveMinimum"), Some(0.0), "{def}.{prop}: above 0");
+        } else {
+            assert_eq!(at("minimum"), Some(b.min), "{def}.{prop}: schema minimum");
+        }
+        let ptr = pointer(def, prop);
+        for ok in [b.lo(), b.hi()] {
+            let found = issues_at(&layout, &ptr, json(f64::from(ok)));
+            assert!(found.is_empty(), "{def}.{prop} = {ok} is valid: {found:?}");
+        }
+        let step = |x: f64| x.abs().max(1.0) * 1e-3;
+        let below = if b.above_zero && b.min <= 0.0 {
+            0.0
+        } else {
+            b.min - step(b.min)
+        };
+        for bad in [below, b.max + step(b.max)] {
+            let found = issues_at(&layout, &ptr, json(bad));
+            assert!(!found.is_empty(), "{def}.{prop} = {bad} is refused");
+        }
+    }
+    for &(def, prop, c) in doc::bounds::COUNTS {
+        let field = field_schema(&schema, def, prop);
+        assert_eq!(
+            field["minimum"].as_u64(),
+            Some(u64::from(c.min)),
+            "{def}.{prop}"
+        );
+        assert_eq!(
+            field["maximum"].as_u64(),
+            Some(u64::from(c.max)),
+            "{def}.{prop}"
+        );
+        let ptr = match def {
+            "World" => "/world/grid/0".to_string(),
+            "AmbientKind.fft" => format!("/ambient/2/kind/{prop}"),
+            _ => format!("/sim/{prop}"),
+        };
+        for ok in [c.min, c.max] {
+            let found = issues_at(&layout, &ptr, ok.into());
+            assert!(found.is_empty(), "{def}.{prop} = {ok} is valid: {found:?}");
+        }
+        for bad in [c.min - 1, c.max + 1] {
+            let found = issues_at(&layout, &ptr, bad.into());
+            assert!(!found.is_empty(), "{def}.{prop} = {bad} is refused");
+        }
+    }
 }
 
 #[cfg(unix)]
