@@ -35,8 +35,18 @@ pub fn speed_table_linear() -> Vec<[f32; 4]> {
     (0..SPEED_STEPS)
         .map(|k| {
             let [r, g, b] = speed_rgb(k as f32 / (SPEED_STEPS - 1) as f32);
-            let linear = eframe::egui::ecolor::linear_f32_from_gamma_u8;
             [linear(r), linear(g), linear(b), 1.0]
         })
         .collect()
+}
+
+/// An sRGB-encoded byte as linear light in [0, 1] (the sRGB transfer function, with the
+/// constants egui's `ecolor` uses, so that the 3D view's wind colours and the map's agree
+/// to the bit).
+pub fn linear(s: u8) -> f32 {
+    if s <= 10 {
+        f32::from(s) / 3294.6
+    } else {
+        ((f32::from(s) + 14.025) / 269.025).powf(2.4)
+    }
 }

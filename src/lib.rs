@@ -4,8 +4,10 @@
 
 pub mod app;
 pub mod bake;
+pub mod cli;
 pub mod colour;
 pub mod doc;
+pub mod engine;
 pub mod gpu;
 pub mod grass;
 pub mod io;

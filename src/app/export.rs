@@ -77,7 +77,7 @@ impl ExportDialog {
             grid: (!self.use_layout_grid).then_some(self.grid),
             half: false,
             max_bytes: bake::DEFAULT_MAX_BYTES,
-            backend: bake::Backend::Cpu,
+            backend: crate::engine::Backend::Cpu,
         }
     }
 

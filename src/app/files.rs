@@ -1,29 +1,19 @@
-//! The document's file: open, save (atomically, never over another program's change unasked),
-//! the typed-path fallback, discard prompts, autosave and recovery copies, and noticing the
-//! file change on disk. Methods of [`EditorApp`]; the file-system pieces without egui are
-//! `recovery.rs` and `disk.rs`.
+//! The document's file as the editor's windows handle it: open, save (never over another
+//! program's change unasked), the typed-path fallback, discard prompts, autosave messages,
+//! recovery offers, and answers to a change on disk. Methods of [`EditorApp`]; what they ask
+//! of the document itself (writing it, watching it, its recovery copy) is [`Document`]'s.
 
 use super::*;
 
 impl EditorApp {
     /// Replaces the whole document (New, Open, Restore).
     pub(super) fn replace_document(&mut self, doc: Layout, path: Option<PathBuf>, saved: bool) {
-        self.saved_json = if saved {
-            doc::to_json(&doc)
-        } else {
-            String::new()
-        };
-        self.doc = doc;
-        self.disk = path.as_deref().map(disk::Watch::read);
-        self.disk_change = None;
-        self.path = path;
-        self.history.clear();
+        self.doc.replace(doc, path, saved);
         self.selection.clear();
-        self.camera = None;
-        self.backdrop = None;
-        self.polygon.clear();
-        self.gesture = None;
-        self.doc_changed = true;
+        self.map.camera = None;
+        self.map.backdrop = None;
+        self.map.polygon.clear();
+        self.map.gesture = None;
         self.live.reset();
     }
 
@@ -54,9 +44,9 @@ impl EditorApp {
     /// to overwrite the document's own file when someone else changed it since the editor read
     /// it, until the user answers the question the editor then shows (Reload or Keep mine).
     pub fn save_to(&mut self, ctx: &egui::Context, path: &Path) -> bool {
-        if self.path.as_deref() == Some(path) {
-            self.check_disk();
-            if self.disk_change == Some(disk::Change::Modified) {
+        if self.doc.path() == Some(path) {
+            self.doc.check_disk();
+            if self.doc.disk_change == Some(disk::Change::Modified) {
                 self.say(
                     ctx,
                     format!(
@@ -71,21 +61,14 @@ impl EditorApp {
         // step): "Untitled" in a file called valley.json helps nobody.
         let unnamed = self.doc.name.trim().is_empty() || self.doc.name == UNTITLED;
         if unnamed
-            && self.path.as_deref() != Some(path)
+            && self.doc.path() != Some(path)
             && let Some(stem) = path.file_stem().map(|s| s.to_string_lossy().into_owned())
         {
             self.edit(ctx, Edit::Rename(stem));
         }
-        let json = doc::to_json(&self.doc);
-        match crate::io::write_atomic(path, json.as_bytes()) {
+        match self.doc.write_to(path) {
             Ok(()) => {
-                self.disk = Some(disk::Watch::written(path, json.as_bytes()));
-                self.disk_change = None;
-                self.saved_json = json;
-                self.path = Some(path.to_path_buf());
-                self.dirty = false;
                 self.remember_recent(path);
-                self.remove_recovery();
                 self.say(ctx, format!("Saved {}", path.display()));
                 true
             }
@@ -100,7 +83,7 @@ impl EditorApp {
     }
 
     pub fn save(&mut self, ctx: &egui::Context) -> bool {
-        match self.path.clone() {
+        match self.doc.path().map(Path::to_path_buf) {
             Some(p) => self.save_to(ctx, &p),
             None => self.save_as(ctx),
         }
@@ -113,7 +96,7 @@ impl EditorApp {
                 "{}.json",
                 self.doc.name.to_lowercase().replace(' ', "-")
             ));
-        if let Some(dir) = self.path.as_ref().and_then(|p| p.parent()) {
+        if let Some(dir) = self.doc.path().and_then(Path::parent) {
             dialog = dialog.set_directory(dir);
         }
         let started = std::time::Instant::now();
@@ -131,7 +114,7 @@ impl EditorApp {
     /// The folder file prompts start in: the layout's own, else the working directory.
     fn prompt_folder(&self) -> PathBuf {
         let cwd = || std::env::current_dir().unwrap_or_default();
-        match self.path.as_deref().and_then(Path::parent) {
+        match self.doc.path().and_then(Path::parent) {
             Some(d) if d.as_os_str().is_empty() => cwd(),
             Some(d) if d.is_relative() => cwd().join(d),
             Some(d) => d.to_path_buf(),
@@ -143,7 +126,7 @@ impl EditorApp {
     /// starting in the layout's folder: its file to save over, or the folder to open from.
     pub fn path_prompt(&mut self, save: bool, failed: bool) {
         let dir = self.prompt_folder();
-        let text = match (&self.path, save) {
+        let text = match (self.doc.path(), save) {
             (Some(p), _) => dir.join(p.file_name().unwrap_or_default()),
             (None, true) => dir.join(format!(
                 "{}.json",
@@ -197,7 +180,7 @@ impl EditorApp {
 
     /// Runs `p` now, or asks first when it would discard unsaved changes.
     pub(super) fn request(&mut self, ctx: &egui::Context, p: Pending) {
-        if self.dirty {
+        if self.doc.is_dirty() {
             self.dialog = Some(Dialog::Discard { then: p });
         } else {
             self.run_pending(ctx, p);
@@ -224,105 +207,36 @@ impl EditorApp {
             }
             Pending::OpenTyped => self.path_prompt(false, false),
             Pending::Quit => {
-                self.remove_recovery();
+                self.doc.remove_recovery();
                 self.allow_close = true;
                 ctx.send_viewport_cmd(egui::ViewportCommand::Close);
             }
         }
     }
 
-    /// Looks whether the document's file changed on disk (the editor does every
-    /// [`disk::CHECK_SECONDS`]); a change is kept in [`Self::disk_change`] until answered.
-    pub fn check_disk(&mut self) {
-        if let Some(change) = self.disk.as_mut().and_then(disk::Watch::check) {
-            log::info!("{} changed on disk: {change:?}", self.path_label());
-            self.disk_change = Some(change);
-        }
-    }
-
     /// Answers a change on disk by loading the file as it is now (the editor's unsaved
     /// changes go; a file that no longer parses is shown as an error and nothing changes).
     pub fn reload_from_disk(&mut self) {
-        self.disk_change = None;
-        if let Some(p) = self.path.clone() {
+        self.doc.disk_change = None;
+        if let Some(p) = self.doc.path().map(Path::to_path_buf) {
             self.open_path(&p);
-        }
-    }
-
-    /// Answers a change on disk by keeping the editor's document: it counts as unsaved, and
-    /// the next Save overwrites the file.
-    pub fn keep_mine(&mut self) {
-        self.disk_change = None;
-        self.saved_json.clear();
-        self.doc_changed = true;
-    }
-
-    /// The document's file name, or "untitled".
-    pub(crate) fn path_label(&self) -> String {
-        self.path
-            .as_ref()
-            .and_then(|p| p.file_name())
-            .map_or_else(|| "untitled".into(), |f| f.to_string_lossy().into_owned())
-    }
-
-    pub(super) fn remove_recovery(&mut self) {
-        if let Some(r) = &mut self.recovery {
-            r.remove();
         }
     }
 
     /// Shows the next recovery copy left by an editor that is gone, if any.
     pub(crate) fn next_recovery(&mut self) {
         if self.dialog.is_none()
-            && let Some(found) = self.recover_queue.pop()
+            && let Some(found) = self.doc.next_found()
         {
-            let text = found.offer(self.path.as_deref());
+            let text = found.offer(self.doc.path());
             self.dialog = Some(Dialog::Recover { found, text });
         }
     }
 
+    /// Autosaves unsaved work when it is due, and says a failure newly met.
     pub(super) fn autosave(&mut self, ctx: &egui::Context, now: f64) {
-        if !self.dirty || now - self.last_autosave < AUTOSAVE_SECONDS {
-            return;
-        }
-        self.last_autosave = now;
-        let failing = self.recovery_error.is_some();
-        if let Err(e) = self.write_recovery()
-            && !failing
-        {
+        if let Some(e) = self.doc.autosave(now) {
             self.say(ctx, format!("Autosave failed: {e}"));
-        }
-    }
-
-    /// The folder unsaved work is autosaved into, one copy per document (the eframe storage
-    /// folder's `recovery/` when run normally; `None`: no autosave).
-    pub fn set_recovery_dir(&mut self, dir: Option<PathBuf>) {
-        self.remove_recovery();
-        self.recovery = dir.map(recovery::Recovery::new);
-    }
-
-    /// Where this document's recovery copy goes.
-    pub fn recovery_path(&self) -> Option<PathBuf> {
-        self.recovery
-            .as_ref()
-            .map(|r| r.path_for(self.path.as_deref()))
-    }
-
-    /// Writes the document's recovery copy now (atomically); autosave calls this. Returns
-    /// where it went, or why it could not be written.
-    pub fn write_recovery(&mut self) -> Result<PathBuf, String> {
-        let Some(r) = &mut self.recovery else {
-            return Err("no recovery folder".into());
-        };
-        match r.write(&self.doc, self.path.as_deref()) {
-            Ok(written) => {
-                self.recovery_error = None;
-                Ok(written)
-            }
-            Err(e) => {
-                self.recovery_error = Some(e.clone());
-                Err(e)
-            }
         }
     }
 
@@ -332,7 +246,7 @@ impl EditorApp {
         let doc = crate::io::load(&found.layout).map_err(|e| e.to_string())?;
         self.replace_document(doc, found.origin.clone(), false);
         // Our own copy first, then the old one goes (unless it is the same file).
-        let ours = self.write_recovery().ok();
+        let ours = self.doc.write_recovery().ok();
         if ours.as_deref() != Some(found.layout.as_path()) {
             found.remove();
         }

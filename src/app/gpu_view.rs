@@ -3,7 +3,7 @@
 //! the device eframe draws the UI with. Everything GPU-side lives in `crate::gpu`; this file
 //! only hands it egui's encoder and render pass.
 
-use super::live::Snapshot;
+use crate::engine::live::Snapshot;
 use crate::gpu::grass::Orbit;
 use crate::gpu::mapview::{FieldBuffers, Frame, MapRenderer};
 use eframe::egui;
@@ -14,6 +14,41 @@ use eframe::wgpu;
 pub fn install(rs: &egui_wgpu::RenderState) {
     let renderer = MapRenderer::new(&rs.device, rs.target_format);
     rs.renderer.write().callback_resources.insert(renderer);
+}
+
+/// GPU work the simulation thread hands the UI thread to submit, each with a channel to
+/// say it was.
+pub(super) type GpuSubmissions =
+    std::sync::mpsc::Receiver<(wgpu::CommandBuffer, std::sync::mpsc::SyncSender<()>)>;
+
+/// The editor's bridge to eframe's GPU device: its render state, the live wind's GPU work
+/// to submit, a CPU-run field's copy there, and the adapter's name.
+pub struct GpuBridge {
+    pub(super) submissions: Option<GpuSubmissions>,
+    /// Whether the map can draw a GPU field (the map renderer is installed on eframe's
+    /// device).
+    pub map_on_gpu: bool,
+    /// eframe's render state, when the map draws on the GPU.
+    pub render_state: Option<egui_wgpu::RenderState>,
+    /// A CPU-run field's copy on the GPU, for drawing it there.
+    pub(super) uploaded: Uploaded,
+    /// The colour scale of the GPU-drawn view, from the last read-back: (serial, view, scale).
+    pub(super) scale: Option<(super::ScaleKey, f32)>,
+    /// The adapter, as the status bar names it.
+    pub adapter: String,
+}
+
+impl Default for GpuBridge {
+    fn default() -> Self {
+        Self {
+            submissions: None,
+            map_on_gpu: false,
+            render_state: None,
+            uploaded: Uploaded::default(),
+            scale: None,
+            adapter: "no GPU adapter".into(),
+        }
+    }
 }
 
 /// Copies of a CPU-run field on the GPU, so the map view draws it with the same passes as a
@@ -294,6 +329,9 @@ impl GrassView {
     }
 
     /// Draws the view into the rest of `ui`, with the map beside it when `beside` is given.
+    /// In sections: the camera the user moves, the pointer's sphere, the blades (rebuilt
+    /// when the grass, world or obstacles change), the renderer's settings and wind, the
+    /// texture drawn into, the frame, when to draw the next, and what is drawn over it.
     pub fn show(
         &mut self,
         ui: &mut egui::Ui,
@@ -303,16 +341,67 @@ impl GrassView {
         beside: Option<MapBeside>,
         base: &std::path::Path,
     ) {
-        use crate::gpu::grass::{GrassRenderer, Target};
-        let footprint = beside.map(|b| b.footprint);
-        let mark = beside.and_then(|b| b.pointer);
         self.controls.ui(ui);
         let (rect, response) =
             ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
         self.rect = Some(rect);
         let aspect = rect.width() / rect.height().max(1.0);
-        // A framed view stays framed as the pane changes shape (a window resize, the first
-        // frames of *Map + 3D*) until the user moves the camera.
+        let camera = self.navigate(ui, &response, rect, doc);
+        let ground_at = |p: egui::Pos2| {
+            let ndc = [
+                (p.x - rect.left()) / rect.width() * 2.0 - 1.0,
+                1.0 - (p.y - rect.top()) / rect.height() * 2.0,
+            ];
+            camera.ground_point(aspect, ndc)
+        };
+        // The status bar's readout: the ground under the pointer.
+        self.hover_ground = response.hover_pos().and_then(ground_at).map(|g| [g.x, g.z]);
+        // The sphere: under the pointer, on the ground, while the left button is down.
+        let pushing = self.controls.push && !ui.input(|i| i.modifiers.ctrl);
+        let sphere = if pushing && response.is_pointer_button_down_on() {
+            response.interact_pointer_pos().and_then(|p| {
+                ground_at(p).map(|g| {
+                    let r = self.controls.radius;
+                    crate::grass::trail::Sphere {
+                        centre: [g.x, 0.5 * r, g.z],
+                        radius: r,
+                    }
+                })
+            })
+        } else {
+            None
+        };
+        self.build(rs, doc, &camera, aspect, base);
+        let Some(scale) = self.set_up(rs, doc, snap, sphere, beside.map(|b| b.footprint)) else {
+            return;
+        };
+        let Some(size) = self.size_target(ui, rs, rect) else {
+            return;
+        };
+        self.draw(ui, rs, snap, &camera, aspect);
+        self.schedule(ui, doc, snap, &camera, size, beside, sphere.is_some());
+        self.overlays(
+            ui,
+            rect,
+            &camera,
+            scale,
+            beside.and_then(|b| b.pointer),
+            sphere,
+        );
+    }
+
+    /// Orbit with the left button (Ctrl+left while pushing), pan with the right or middle,
+    /// zoom with the wheel, arrows and +/- while the pointer is over the view; double-click
+    /// (or Home) frames the world again. A framed view stays framed as the pane changes
+    /// shape (a window resize, the first frames of *Map + 3D*) until the user moves it.
+    fn navigate(
+        &mut self,
+        ui: &egui::Ui,
+        response: &egui::Response,
+        rect: egui::Rect,
+        doc: &crate::doc::Layout,
+    ) -> crate::gpu::grass::Camera {
+        let aspect = rect.width() / rect.height().max(1.0);
         let untouched = |(a, framed): (f32, Orbit)| {
             self.orbit == Some(framed) && (a - aspect).abs() > 1e-3 * aspect
         };
@@ -323,8 +412,6 @@ impl GrassView {
         }
         let orbit = self.orbit.as_mut().expect("set above");
         let pushing = self.controls.push && !ui.input(|i| i.modifiers.ctrl);
-        // Orbit with the left button (Ctrl+left while pushing), pan with the right or middle,
-        // zoom with the wheel; double-click (or Home) frames the world again.
         if response.dragged_by(egui::PointerButton::Primary) && !pushing {
             let d = response.drag_delta();
             orbit.yaw += d.x * 0.008;
@@ -367,88 +454,89 @@ impl GrassView {
             *orbit = Orbit::frame_all(doc, aspect);
             self.framed_for = Some((aspect, *orbit));
         }
-        let camera = orbit.camera();
-        let aspect = rect.width() / rect.height().max(1.0);
-        let ground_at = |p: egui::Pos2| {
-            let ndc = [
-                (p.x - rect.left()) / rect.width() * 2.0 - 1.0,
-                1.0 - (p.y - rect.top()) / rect.height() * 2.0,
-            ];
-            camera.ground_point(aspect, ndc)
-        };
-        // The status bar's readout: the ground under the pointer.
-        self.hover_ground = response.hover_pos().and_then(ground_at).map(|g| [g.x, g.z]);
-        // The sphere: under the pointer, on the ground, while the left button is down.
-        let sphere = if pushing && response.is_pointer_button_down_on() {
-            response.interact_pointer_pos().and_then(|p| {
-                ground_at(p).map(|g| {
-                    let r = self.controls.radius;
-                    crate::grass::trail::Sphere {
-                        centre: [g.x, 0.5 * r, g.z],
-                        radius: r,
-                    }
-                })
-            })
-        } else {
-            None
-        };
+        orbit.camera()
+    }
 
-        // The model switches live, without new blades.
+    /// The blades, rebuilt when the grass, world or obstacles change (the model switches
+    /// live, without new blades): all of them, unless the device cannot hold them (then
+    /// evenly thinned), or on a software adapter a sample dense near the camera.
+    fn build(
+        &mut self,
+        rs: &egui_wgpu::RenderState,
+        doc: &crate::doc::Layout,
+        camera: &crate::gpu::grass::Camera,
+        aspect: f32,
+        base: &std::path::Path,
+    ) {
+        use crate::gpu::grass::{GrassRenderer, Target};
         let mut grass_key = doc.grass.clone();
         grass_key.model = Default::default();
         let key = (grass_key, doc.world.clone(), doc.obstacles.clone());
-        if self.built_for.as_ref() != Some(&key) {
-            // All of them, unless the device cannot hold them: then evenly thinned.
-            let most = crate::gpu::grass::max_blades(&rs.device.limits());
-            let (mut blades, of_layout) = crate::grass::scatter_fitted(doc, most);
-            self.total_blades = blades.len() as u32;
-            self.layout_blades = of_layout.map(|n| n as u32);
-            // A software rasteriser draws about 2.6 µs a blade (docs/PERFORMANCE.md): keep the
-            // view interactive there by drawing a sample, dense near the camera.
-            let software = crate::gpu::is_software(&rs.adapter.get_info());
-            self.sample = None;
-            if software && blades.len() > SOFTWARE_BLADE_BUDGET as usize {
-                let mut sample = ViewSample {
-                    all: blades,
-                    slots: Vec::new(),
-                    for_camera: Default::default(),
-                    seen: (camera.eye, camera.target, aspect),
-                    moved_at: 0.0,
-                    threshold: f32::INFINITY,
-                };
-                blades = sample.choose(&camera, aspect);
-                self.sample = Some(sample);
-            }
-            let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
-            if let Some(sample) = &self.sample {
-                grass.set_sample_reach(sample.threshold);
-            }
-            // Defaults that follow the blade height, once; the user's toggles after that.
-            let cull = *self.controls.cull.get_or_insert(grass.cull_params());
-            grass.set_cull(cull);
-            self.stats = None;
-            if let Some(map) = &doc.world.map {
-                // The backdrop, as the map shows it (unreadable: plain soil; the map view says
-                // why).
-                match crate::io::load_backdrop(base, map) {
-                    Ok(img) => {
-                        let size = [img.width(), img.height()];
-                        grass.set_backdrop(
-                            &rs.device,
-                            &rs.queue,
-                            Some((img.as_raw(), size, map.opacity)),
-                        );
-                    }
-                    Err(e) => log::warn!("{e}; the grass's ground is drawn without it"),
-                }
-            }
-            self.scene_for = None;
-            self.blades = grass.blade_count();
-            self.grass = Some(grass);
-            self.built_for = Some(key);
-            self.wind_serial = u64::MAX;
+        if self.built_for.as_ref() == Some(&key) {
+            return;
         }
-        let Some(grass) = &mut self.grass else { return };
+        let most = crate::gpu::grass::max_blades(&rs.device.limits());
+        let (mut blades, of_layout) = crate::grass::scatter_fitted(doc, most);
+        self.total_blades = blades.len() as u32;
+        self.layout_blades = of_layout.map(|n| n as u32);
+        // A software rasteriser draws about 2.6 µs a blade (docs/PERFORMANCE.md): keep the
+        // view interactive there by drawing a sample, dense near the camera.
+        let software = crate::gpu::is_software(&rs.adapter.get_info());
+        self.sample = None;
+        if software && blades.len() > SOFTWARE_BLADE_BUDGET as usize {
+            let mut sample = ViewSample {
+                all: blades,
+                slots: Vec::new(),
+                for_camera: Default::default(),
+                seen: (camera.eye, camera.target, aspect),
+                moved_at: 0.0,
+                threshold: f32::INFINITY,
+            };
+            blades = sample.choose(camera, aspect);
+            self.sample = Some(sample);
+        }
+        let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
+        if let Some(sample) = &self.sample {
+            grass.set_sample_reach(sample.threshold);
+        }
+        // Defaults that follow the blade height, once; the user's toggles after that.
+        let cull = *self.controls.cull.get_or_insert(grass.cull_params());
+        grass.set_cull(cull);
+        self.stats = None;
+        if let Some(map) = &doc.world.map {
+            // The backdrop, as the map shows it (unreadable: plain soil; the map view says
+            // why).
+            match crate::io::load_backdrop(base, map) {
+                Ok(img) => {
+                    let size = [img.width(), img.height()];
+                    grass.set_backdrop(
+                        &rs.device,
+                        &rs.queue,
+                        Some((img.as_raw(), size, map.opacity)),
+                    );
+                }
+                Err(e) => log::warn!("{e}; the grass's ground is drawn without it"),
+            }
+        }
+        self.scene_for = None;
+        self.blades = grass.blade_count();
+        self.grass = Some(grass);
+        self.built_for = Some(key);
+        self.wind_serial = u64::MAX;
+    }
+
+    /// The renderer's settings for this frame: the model, culling, far field, wind colours,
+    /// the sphere and its trail, the scene of obstacles and arrows, the map's footprint and a
+    /// CPU-run field's new wind. The wind colours' scale, or `None` before any blades.
+    fn set_up(
+        &mut self,
+        rs: &egui_wgpu::RenderState,
+        doc: &crate::doc::Layout,
+        snap: &Snapshot,
+        sphere: Option<crate::grass::trail::Sphere>,
+        footprint: Option<([f32; 2], [f32; 2])>,
+    ) -> Option<f32> {
+        let grass = self.grass.as_mut()?;
         grass.set_model(&rs.device, &rs.queue, doc.grass.model);
         if let Some(c) = self.controls.cull {
             grass.set_cull(c);
@@ -500,6 +588,18 @@ impl GrassView {
             );
             self.wind_serial = snap.serial;
         }
+        Some(scale)
+    }
+
+    /// The texture the view draws into, at the pane's size in pixels (made anew, and
+    /// registered with egui, when the size changes). The size, or `None` without one.
+    fn size_target(
+        &mut self,
+        ui: &egui::Ui,
+        rs: &egui_wgpu::RenderState,
+        rect: egui::Rect,
+    ) -> Option<[u32; 2]> {
+        use crate::gpu::grass::Target;
         let ppp = ui.ctx().pixels_per_point();
         let size = [
             (rect.width() * ppp).round().max(1.0) as u32,
@@ -530,7 +630,21 @@ impl GrassView {
             };
             self.target = Some((t, id));
         }
-        let Some((target, id)) = &self.target else {
+        self.target.as_ref().map(|_| size)
+    }
+
+    /// Records and submits the frame: a GPU-run field read where it lives, the software
+    /// sample following a resting camera, the grass drawn into the target; its GPU time
+    /// lands in [`Self::frame_ms`] when the work is done.
+    fn draw(
+        &mut self,
+        ui: &egui::Ui,
+        rs: &egui_wgpu::RenderState,
+        snap: &Snapshot,
+        camera: &crate::gpu::grass::Camera,
+        aspect: f32,
+    ) {
+        let (Some(grass), Some((target, _))) = (&mut self.grass, &self.target) else {
             return;
         };
         let mut enc = rs
@@ -552,20 +666,43 @@ impl GrassView {
                 sample.moved_at = now;
             }
             if seen != sample.for_camera && now - sample.moved_at >= RESAMPLE_AFTER {
-                let blades = sample.choose(&camera, aspect);
+                let blades = sample.choose(camera, aspect);
                 grass.replace_blades(&rs.queue, &mut enc, &blades);
                 grass.set_sample_reach(sample.threshold);
             }
         }
         let dt = ui.input(|i| i.stable_dt);
-        grass.record(&rs.queue, &mut enc, target, &camera, snap.time, dt);
+        grass.record(&rs.queue, &mut enc, target, camera, snap.time, dt);
         let started = std::time::Instant::now();
         rs.queue.submit([enc.finish()]);
         self.stats = grass.poll_cull_stats().or(self.stats);
-        // Frames only while the picture can change: Bezier blades settling after a change, a
-        // trail fading, the counters on their way back, the software sample due to follow a
-        // resting camera. A paused, untouched view draws nothing (new wind, input and edits
-        // wake it).
+        let slot = self.frame_ms.clone();
+        rs.queue.on_submitted_work_done(move || {
+            if let Ok(mut ms) = slot.lock() {
+                *ms = started.elapsed().as_secs_f32() * 1e3;
+            }
+        });
+    }
+
+    /// Frames only while the picture can change: Bezier blades settling after a change, a
+    /// trail fading, the counters on their way back, the software sample due to follow a
+    /// resting camera. A paused, untouched view draws nothing (new wind, input and edits
+    /// wake it).
+    #[expect(
+        clippy::too_many_arguments,
+        reason = "what the frame showed, each its own argument, compared with the last"
+    )]
+    fn schedule(
+        &mut self,
+        ui: &egui::Ui,
+        doc: &crate::doc::Layout,
+        snap: &Snapshot,
+        camera: &crate::gpu::grass::Camera,
+        size: [u32; 2],
+        beside: Option<MapBeside>,
+        sphere: bool,
+    ) {
+        let Some(grass) = &self.grass else { return };
         let now = ui.input(|i| i.time);
         let shown = Shown {
             wind: snap.serial,
@@ -576,7 +713,7 @@ impl GrassView {
             model: doc.grass.model,
             speed_scale: self.speed_scale,
             beside,
-            sphere: sphere.is_some(),
+            sphere,
         };
         if self.shown.as_ref() != Some(&shown) {
             self.shown = Some(shown);
@@ -585,7 +722,7 @@ impl GrassView {
         }
         let settling = doc.grass.model == crate::doc::GrassModel::BezierPhysics
             && now - self.changed_at < BEZIER_SETTLE;
-        if settling || sphere.is_some() || grass.trail_active() {
+        if settling || sphere || grass.trail_active() {
             ui.ctx().request_repaint();
         } else if grass.cull_stats_reads() < self.stats_due {
             ui.ctx()
@@ -599,12 +736,20 @@ impl GrassView {
                     .request_repaint_after(std::time::Duration::from_secs_f64(wait));
             }
         }
-        let slot = self.frame_ms.clone();
-        rs.queue.on_submitted_work_done(move || {
-            if let Ok(mut ms) = slot.lock() {
-                *ms = started.elapsed().as_secs_f32() * 1e3;
-            }
-        });
+    }
+
+    /// The picture, and over it: the hint, the legend (with wind colours), the cull
+    /// counters, the map's pointer on the ground and the sphere.
+    fn overlays(
+        &mut self,
+        ui: &egui::Ui,
+        rect: egui::Rect,
+        camera: &crate::gpu::grass::Camera,
+        scale: f32,
+        mark: Option<[f32; 2]>,
+        sphere: Option<crate::grass::trail::Sphere>,
+    ) {
+        let Some((_, id)) = &self.target else { return };
         ui.painter().image(
             *id,
             rect,
@@ -624,10 +769,10 @@ impl GrassView {
             egui::Color32::from_black_alpha(170),
             rect.width() - 20.0,
         );
-        if colours {
+        if self.controls.wind_colours {
             // The map view's legend, under the hint.
             let below = egui::Rect::from_min_max(egui::pos2(rect.left(), hint.bottom()), rect.max);
-            super::map::draw_legend(ui.painter(), below, super::view::WindView::Speed, scale);
+            super::view::draw_legend(ui.painter(), below, super::view::WindView::Speed, scale);
         }
         if let Some(stats) = &self.stats {
             self.counters_rect = Some(on_plate(
@@ -643,7 +788,7 @@ impl GrassView {
         self.mark = mark.and_then(|[x, z]| {
             let p = glam::Vec3::new(x, 0.0, z);
             let behind = (p - camera.eye).dot(camera.target - camera.eye) <= 0.0;
-            let at = on_screen(&camera, rect, p);
+            let at = on_screen(camera, rect, p);
             (!behind && rect.contains(at)).then_some(at)
         });
         if let Some(at) = self.mark {
@@ -652,8 +797,8 @@ impl GrassView {
         // The sphere, drawn over the picture where it is.
         if let Some(s) = sphere {
             let c = glam::Vec3::from(s.centre);
-            let to_screen = |p: glam::Vec3| on_screen(&camera, rect, p);
-            let (sy, cy) = orbit_side(&camera);
+            let to_screen = |p: glam::Vec3| on_screen(camera, rect, p);
+            let (sy, cy) = orbit_side(camera);
             let centre = to_screen(c);
             let edge = to_screen(c + glam::Vec3::new(sy, 0.0, cy) * s.radius);
             let r = centre.distance(edge);

@@ -3,6 +3,7 @@
 //! `Edit`; a drag or a typed value is one undo step.
 
 use super::{EditorApp, Sel};
+use crate::doc::bounds::{self, Bound};
 use crate::doc::{self, AmbientKind, Edit, Emission, Shape, TimeWindow, TreeProps};
 use eframe::egui::{self, RichText};
 
@@ -14,19 +15,24 @@ fn row(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut egui::Ui) -> egui::
     r.changed()
 }
 
-/// A labelled number field in a grid.
+/// What a direction field offers: any finite angle is valid (`validate`), and one turn
+/// either way reaches every direction.
+const ONE_TURN: Bound = Bound::new(-360.0, 360.0);
+
+/// A labelled number field in a grid, held to the field's bound (`doc::bounds`, which
+/// `validate` and the schema read too).
 fn num(
     ui: &mut egui::Ui,
     label: &str,
     v: &mut f32,
-    range: std::ops::RangeInclusive<f32>,
+    bound: Bound,
     speed: f64,
     suffix: &str,
 ) -> bool {
     row(ui, label, |ui| {
         ui.add(
             egui::DragValue::new(v)
-                .range(range)
+                .range(bound.range())
                 .speed(speed)
                 .suffix(suffix),
         )
@@ -215,8 +221,11 @@ fn node_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, i
                     .clamping(egui::SliderClamping::Never),
             )
         });
-        changed |= num(ui, "x", &mut pos[0], -1e5..=1e5, 0.1, " m");
-        changed |= num(ui, "z", &mut pos[1], -1e5..=1e5, 0.1, " m");
+        // The sliders show a working range and take any typed value; the bound holds it.
+        strength = strength.clamp(bounds::STRENGTH.lo(), bounds::STRENGTH.hi());
+        radius = radius.clamp(bounds::RADIUS.lo(), bounds::RADIUS.hi());
+        changed |= num(ui, "x", &mut pos[0], bounds::COORD, 0.1, " m");
+        changed |= num(ui, "z", &mut pos[1], bounds::COORD, 0.1, " m");
     });
     if is_root {
         ui.weak("The root's strength and radius are used for new arrows dragged out of it.");
@@ -258,9 +267,12 @@ fn tree_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, t
         }
         ui.end_row();
         if let TimeWindow::Between { start, end } = &mut p.window {
-            changed |= num(ui, "  start", start, 0.0..=1e6, 0.1, " s");
-            let lo = *start + 0.01;
-            changed |= num(ui, "  end", end, lo..=1e6, 0.1, " s");
+            changed |= num(ui, "  start", start, bounds::WINDOW_TIME, 0.1, " s");
+            let after_start = Bound {
+                min: f64::from(*start) + 0.01,
+                ..bounds::WINDOW_TIME
+            };
+            changed |= num(ui, "  end", end, after_start, 0.1, " s");
         }
         ui.label("Emission");
         let mut pulsed = matches!(p.emission, Emission::Pulsed { .. });
@@ -277,16 +289,16 @@ fn tree_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, t
         }
         ui.end_row();
         if let Emission::Pulsed { period, duty } = &mut p.emission {
-            changed |= num(ui, "  period", period, 0.05..=1e5, 0.05, " s");
+            changed |= num(ui, "  period", period, bounds::PERIOD, 0.05, " s");
             changed |= row(ui, "  duty", |ui| {
-                ui.add(egui::Slider::new(duty, 0.01..=1.0))
+                ui.add(egui::Slider::new(duty, bounds::DUTY.range()))
             });
         }
         changed |= num(
             ui,
             "Pulse speed",
             &mut p.propagation_speed,
-            0.1..=1e5,
+            bounds::PROPAGATION_SPEED,
             0.5,
             " m/s",
         );
@@ -313,9 +325,9 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
         changed |= row(ui, "Name", |ui| ui.text_edit_singleline(&mut o.name));
         match &mut o.shape {
             Shape::Circle { center, radius } => {
-                changed |= num(ui, "Centre x", &mut center[0], -1e5..=1e5, 0.1, " m");
-                changed |= num(ui, "Centre z", &mut center[1], -1e5..=1e5, 0.1, " m");
-                changed |= num(ui, "Radius", radius, 0.05..=1e5, 0.05, " m");
+                changed |= num(ui, "Centre x", &mut center[0], bounds::COORD, 0.1, " m");
+                changed |= num(ui, "Centre z", &mut center[1], bounds::COORD, 0.1, " m");
+                changed |= num(ui, "Radius", radius, bounds::RADIUS, 0.05, " m");
             }
             Shape::Polygon { points } => {
                 for (k, p) in points.iter_mut().enumerate() {
@@ -357,11 +369,32 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 pulse_magnitude,
                 pulse_frequency,
             } => {
-                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
-                changed |= num(ui, "Main", main, 0.0..=500.0, 0.05, " m/s");
-                changed |= num(ui, "Turbulence", turbulence, 0.0..=500.0, 0.05, " m/s");
-                changed |= num(ui, "Gust size", pulse_magnitude, 0.0..=10.0, 0.01, "");
-                changed |= num(ui, "Gusts per s", pulse_frequency, 0.0..=100.0, 0.01, " Hz");
+                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num(ui, "Main", main, bounds::AMBIENT_SPEED, 0.05, " m/s");
+                changed |= num(
+                    ui,
+                    "Turbulence",
+                    turbulence,
+                    bounds::AMBIENT_SPEED,
+                    0.05,
+                    " m/s",
+                );
+                changed |= num(
+                    ui,
+                    "Gust size",
+                    pulse_magnitude,
+                    bounds::PULSE_MAGNITUDE,
+                    0.01,
+                    "",
+                );
+                changed |= num(
+                    ui,
+                    "Gusts per s",
+                    pulse_frequency,
+                    bounds::PULSE_FREQUENCY,
+                    0.01,
+                    " Hz",
+                );
             }
             AmbientKind::Noise {
                 direction_deg,
@@ -369,10 +402,24 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 speed,
                 strength,
             } => {
-                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
-                changed |= num(ui, "Scale", scale, 0.1..=1e5, 0.1, " m");
-                changed |= num(ui, "Scroll speed", speed, 0.0..=1000.0, 0.05, " m/s");
-                changed |= num(ui, "Strength", strength, 0.0..=500.0, 0.05, " m/s");
+                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num(ui, "Scale", scale, bounds::FEATURE_LENGTH, 0.1, " m");
+                changed |= num(
+                    ui,
+                    "Scroll speed",
+                    speed,
+                    bounds::SCROLL_SPEED,
+                    0.05,
+                    " m/s",
+                );
+                changed |= num(
+                    ui,
+                    "Strength",
+                    strength,
+                    bounds::AMBIENT_SPEED,
+                    0.05,
+                    " m/s",
+                );
             }
             AmbientKind::Fft {
                 direction_deg,
@@ -382,9 +429,23 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 tile_size,
                 seed,
             } => {
-                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
-                changed |= num(ui, "Wind speed", wind_speed, 0.1..=500.0, 0.05, " m/s");
-                changed |= num(ui, "Amplitude", amplitude, 0.0..=500.0, 0.05, " m/s");
+                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num(
+                    ui,
+                    "Wind speed",
+                    wind_speed,
+                    bounds::FFT_WIND_SPEED,
+                    0.05,
+                    " m/s",
+                );
+                changed |= num(
+                    ui,
+                    "Amplitude",
+                    amplitude,
+                    bounds::AMBIENT_SPEED,
+                    0.05,
+                    " m/s",
+                );
                 let l = ui.label("Resolution");
                 egui::ComboBox::from_id_salt("fft res")
                     .selected_text(resolution.to_string())
@@ -396,7 +457,14 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                     .response
                     .labelled_by(l.id);
                 ui.end_row();
-                changed |= num(ui, "Tile size", tile_size, 1.0..=1e5, 0.5, " m");
+                changed |= num(
+                    ui,
+                    "Tile size",
+                    tile_size,
+                    bounds::FEATURE_LENGTH,
+                    0.5,
+                    " m",
+                );
                 changed |= row(ui, "Seed", |ui| ui.add(egui::DragValue::new(seed)));
             }
             AmbientKind::Sine {
@@ -405,10 +473,31 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 wavelength,
                 frequency,
             } => {
-                changed |= num(ui, "Direction", direction_deg, -360.0..=360.0, 1.0, "°");
-                changed |= num(ui, "Amplitude", amplitude, 0.0..=500.0, 0.05, " m/s");
-                changed |= num(ui, "Wavelength", wavelength, 0.1..=1e5, 0.1, " m");
-                changed |= num(ui, "Frequency", frequency, -100.0..=100.0, 0.01, " Hz");
+                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num(
+                    ui,
+                    "Amplitude",
+                    amplitude,
+                    bounds::AMBIENT_SPEED,
+                    0.05,
+                    " m/s",
+                );
+                changed |= num(
+                    ui,
+                    "Wavelength",
+                    wavelength,
+                    bounds::FEATURE_LENGTH,
+                    0.1,
+                    " m",
+                );
+                changed |= num(
+                    ui,
+                    "Frequency",
+                    frequency,
+                    bounds::SINE_FREQUENCY,
+                    0.01,
+                    " Hz",
+                );
             }
         }
     });
@@ -504,6 +593,15 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
     {
         app.edit_merged(ctx, Edit::Rename(name), "rename");
     }
+    world_section(app, ctx, ui);
+    sim_section(app, ctx, ui);
+    grass_section(app, ctx, ui);
+    ui.add_space(6.0);
+    ui.weak("Select a point, tree, obstacle or layer to edit it.");
+}
+
+/// The world: its size, grid and map backdrop.
+fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     ui.add_space(6.0);
     ui.label(RichText::new("World").strong());
     let mut w = app.doc.world.clone();
@@ -511,39 +609,25 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
     let mut image_changed = false;
     let mut dialog_failed = false;
     egui::Grid::new("world").num_columns(2).show(ui, |ui| {
-        changed |= num(
-            ui,
-            "Width",
-            &mut w.size[0],
-            1.0..=doc::GRID_AXIS_MAX as f32 * 100.0,
-            0.5,
-            " m",
-        );
-        changed |= num(
-            ui,
-            "Depth",
-            &mut w.size[1],
-            1.0..=doc::GRID_AXIS_MAX as f32 * 100.0,
-            0.5,
-            " m",
-        );
+        changed |= num(ui, "Width", &mut w.size[0], bounds::WORLD_SIZE, 0.5, " m");
+        changed |= num(ui, "Depth", &mut w.size[1], bounds::WORLD_SIZE, 0.5, " m");
         let l = ui.label("Grid");
         ui.horizontal(|ui| {
             changed |= ui
-                .add(egui::DragValue::new(&mut w.grid[0]).range(doc::GRID_AXIS_MIN..=2048))
+                .add(egui::DragValue::new(&mut w.grid[0]).range(bounds::GRID_AXIS.range()))
                 .labelled_by(l.id)
                 .changed();
             ui.label("×");
             changed |= ui
-                .add(egui::DragValue::new(&mut w.grid[1]).range(doc::GRID_AXIS_MIN..=2048))
+                .add(egui::DragValue::new(&mut w.grid[1]).range(bounds::GRID_AXIS.range()))
                 .labelled_by(l.id)
                 .changed();
         });
         ui.end_row();
-        image_changed = map_image_row(ui, &mut w.map, app.path.as_deref(), &mut dialog_failed);
+        image_changed = map_image_row(ui, &mut w.map, app.doc.path(), &mut dialog_failed);
         if let Some(map) = &mut w.map {
             changed |= row(ui, "Map opacity", |ui| {
-                ui.add(egui::Slider::new(&mut map.opacity, 0.0..=1.0))
+                ui.add(egui::Slider::new(&mut map.opacity, bounds::OPACITY.range()))
             });
         }
     });
@@ -561,6 +645,10 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
                 .to_string(),
         );
     }
+}
+
+/// The simulation's settings, and the advice on those that make bad wind.
+fn sim_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     ui.add_space(6.0);
     ui.label(RichText::new("Simulation").strong());
     let mut s = app.doc.sim;
@@ -569,42 +657,71 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
         changed |= choice(ui, "Pressure solve", &mut s.pressure);
         changed |= match s.pressure {
             doc::PressureSolve::Jacobi => row(ui, "Pressure iterations", |ui| {
-                ui.add(egui::Slider::new(&mut s.pressure_iterations, 1..=200))
+                ui.add(
+                    egui::Slider::new(&mut s.pressure_iterations, 1..=200)
+                        .clamping(egui::SliderClamping::Never),
+                )
             }),
             doc::PressureSolve::Multigrid => row(ui, "V-cycles", |ui| {
-                ui.add(egui::Slider::new(&mut s.pressure_cycles, 1..=20))
-                    .on_hover_text(
-                        "Each V-cycle removes most of the divergence left: one cuts a \
+                ui.add(
+                    egui::Slider::new(&mut s.pressure_cycles, 1..=20)
+                        .clamping(egui::SliderClamping::Never),
+                )
+                .on_hover_text(
+                    "Each V-cycle removes most of the divergence left: one cuts a \
                          running flow's about 100–500×, two reach float precision on most \
                          layouts. More cost time and change nothing you can see.",
-                    )
+                )
             }),
         };
         changed |= row(ui, "Vorticity", |ui| {
-            ui.add(egui::Slider::new(&mut s.vorticity, 0.0..=20.0))
+            ui.add(
+                egui::Slider::new(&mut s.vorticity, 0.0..=20.0)
+                    .clamping(egui::SliderClamping::Never),
+            )
         });
         changed |= row(ui, "Dissipation", |ui| {
-            ui.add(egui::Slider::new(&mut s.velocity_dissipation, 0.0..=5.0))
+            ui.add(
+                egui::Slider::new(&mut s.velocity_dissipation, 0.0..=5.0)
+                    .clamping(egui::SliderClamping::Never),
+            )
         });
         changed |= row(ui, "Arrow response", |ui| {
-            ui.add(egui::Slider::new(&mut s.arrow_response, 0.1..=30.0).suffix(" /s"))
+            ui.add(
+                egui::Slider::new(&mut s.arrow_response, 0.1..=30.0)
+                    .suffix(" /s")
+                    .clamping(egui::SliderClamping::Never),
+            )
         });
         if !app.doc.ambient.is_empty() {
             changed |= row(ui, "Ambient pull", |ui| {
-                ui.add(egui::Slider::new(&mut s.ambient_coupling, 0.0..=20.0).suffix(" /s"))
-                    .on_hover_text(
-                        "How fast the wind relaxes toward the ambient layers' wind: everywhere, \
+                ui.add(
+                    egui::Slider::new(&mut s.ambient_coupling, 0.0..=20.0)
+                        .suffix(" /s")
+                        .clamping(egui::SliderClamping::Never),
+                )
+                .on_hover_text(
+                    "How fast the wind relaxes toward the ambient layers' wind: everywhere, \
                          the arrows' jets included, so it holds them below their strength (a \
                          10 m/s arrow in a 4 m/s breeze settles near 8.8 m/s at 1 /s against \
                          an arrow response of 4 /s). Lower it, or raise Arrow response, to \
                          keep the jets at their strength.",
-                    )
+                )
             });
         }
         changed |= choice(ui, "Boundary", &mut s.boundary);
         changed |= choice(ui, "Advection", &mut s.advection);
     });
     if changed {
+        // The sliders show a working range and take any typed value; the bounds hold them.
+        let clamp = |v: &mut f32, b: Bound| *v = v.clamp(b.lo(), b.hi());
+        clamp(&mut s.vorticity, bounds::VORTICITY);
+        clamp(&mut s.velocity_dissipation, bounds::VELOCITY_DISSIPATION);
+        clamp(&mut s.arrow_response, bounds::ARROW_RESPONSE);
+        clamp(&mut s.ambient_coupling, bounds::AMBIENT_COUPLING);
+        let whole = |v: &mut u32, b: doc::Count| *v = (*v).clamp(b.min, b.max);
+        whole(&mut s.pressure_iterations, bounds::PRESSURE_ITERATIONS);
+        whole(&mut s.pressure_cycles, bounds::PRESSURE_CYCLES);
         app.edit_merged(ctx, Edit::SetSim(s), "sim");
     }
     for a in doc::advise(&app.doc) {
@@ -619,24 +736,63 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
         ui.label(RichText::new(format!("{field} {}", a.message)).color(ui.visuals().warn_fg_color))
             .on_hover_text(format!("{}: see docs/RELIABILITY.md, \"Findings\"", a.path));
     }
+}
+
+/// The grass's settings, folded away until opened.
+fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     ui.add_space(6.0);
     egui::CollapsingHeader::new(RichText::new("Grass").strong()).show(ui, |ui| {
         let mut g = app.doc.grass.clone();
         let mut changed = false;
         egui::Grid::new("grass").num_columns(2).show(ui, |ui| {
-            changed |= num(ui, "Density", &mut g.density, 0.1..=100_000.0, 1.0, " /m²");
-            changed |= num(ui, "k1 (gravity)", &mut g.k1, 0.0..=10.0, 0.005, "");
-            changed |= num(ui, "k2 (forward)", &mut g.k2, 0.0..=10.0, 0.005, "");
-            changed |= num(ui, "λ (stiffness)", &mut g.lambda, 0.0..=1.0, 0.01, "");
-            changed |= num(ui, "Height min", &mut g.height[0], 0.01..=100.0, 0.01, " m");
-            changed |= num(ui, "Height max", &mut g.height[1], 0.01..=100.0, 0.01, " m");
-            changed |= num(ui, "Width min", &mut g.width[0], 0.001..=10.0, 0.001, " m");
-            changed |= num(ui, "Width max", &mut g.width[1], 0.001..=10.0, 0.001, " m");
+            changed |= num(
+                ui,
+                "Density",
+                &mut g.density,
+                bounds::GRASS_DENSITY,
+                1.0,
+                " /m²",
+            );
+            changed |= num(ui, "k1 (gravity)", &mut g.k1, bounds::BEND, 0.005, "");
+            changed |= num(ui, "k2 (forward)", &mut g.k2, bounds::BEND, 0.005, "");
+            changed |= num(ui, "λ (stiffness)", &mut g.lambda, bounds::LAMBDA, 0.01, "");
+            changed |= num(
+                ui,
+                "Height min",
+                &mut g.height[0],
+                bounds::BLADE_HEIGHT,
+                0.01,
+                " m",
+            );
+            changed |= num(
+                ui,
+                "Height max",
+                &mut g.height[1],
+                bounds::BLADE_HEIGHT,
+                0.01,
+                " m",
+            );
+            changed |= num(
+                ui,
+                "Width min",
+                &mut g.width[0],
+                bounds::BLADE_WIDTH,
+                0.001,
+                " m",
+            );
+            changed |= num(
+                ui,
+                "Width max",
+                &mut g.width[1],
+                bounds::BLADE_WIDTH,
+                0.001,
+                " m",
+            );
             changed |= num(
                 ui,
                 "Stiffness min",
                 &mut g.stiffness[0],
-                0.01..=1000.0,
+                bounds::STIFFNESS,
                 0.01,
                 "",
             );
@@ -644,7 +800,7 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
                 ui,
                 "Stiffness max",
                 &mut g.stiffness[1],
-                0.01..=1000.0,
+                bounds::STIFFNESS,
                 0.01,
                 "",
             );
@@ -652,7 +808,7 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
                 ui,
                 "Shadow c1 (wind)",
                 &mut g.shadow.c1,
-                0.0..=10.0,
+                bounds::SHADOW_TERM,
                 0.005,
                 "",
             );
@@ -660,12 +816,26 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
                 ui,
                 "Shadow c2 (lift)",
                 &mut g.shadow.c2,
-                0.0..=10.0,
+                bounds::SHADOW_TERM,
                 0.01,
                 "",
             );
-            changed |= num(ui, "Shadow min", &mut g.shadow.m_min, 0.0..=10.0, 0.01, "");
-            changed |= num(ui, "Shadow max", &mut g.shadow.m_max, 0.0..=10.0, 0.01, "");
+            changed |= num(
+                ui,
+                "Shadow min",
+                &mut g.shadow.m_min,
+                bounds::SHADOW_CLAMP,
+                0.01,
+                "",
+            );
+            changed |= num(
+                ui,
+                "Shadow max",
+                &mut g.shadow.m_max,
+                bounds::SHADOW_CLAMP,
+                0.01,
+                "",
+            );
             changed |= row(ui, "Seed", |ui| ui.add(egui::DragValue::new(&mut g.seed)));
             for p in &mut g.palettes {
                 changed |= row(ui, &format!("Palette {}", p.name), |ui| {
@@ -683,6 +853,4 @@ fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui)
             app.edit_merged(ctx, Edit::SetGrass(g), "grass");
         }
     });
-    ui.add_space(6.0);
-    ui.weak("Select a point, tree, obstacle or layer to edit it.");
 }

@@ -19,13 +19,49 @@ pub enum Gesture {
     Circle { center: doc::Vec2 },
 }
 
+/// The map view's state: what it shows and where, the gesture in progress, its textures,
+/// and what it last read under the pointer.
+pub struct MapState {
+    pub camera: Option<Camera>,
+    /// The map's screen rectangle in the last frame.
+    pub rect: Rect,
+    pub(super) gesture: Option<Gesture>,
+    /// The corners of a polygon being drawn.
+    pub(super) polygon: Vec<doc::Vec2>,
+    pub(super) streaks: view::Streaks,
+    /// The wind drawn on the CPU, and the view, snapshot and scale it was drawn for.
+    pub(super) field_texture: Option<(super::ScaleKey, egui::TextureHandle, f32)>,
+    /// The backdrop's file and its texture (`None`: it could not be read).
+    pub(super) backdrop: Option<(std::path::PathBuf, Option<egui::TextureHandle>)>,
+    /// The world point under the pointer.
+    pub cursor_world: Option<doc::Vec2>,
+    /// The top of the map's colour scale as its legend last read (0: no legend).
+    pub legend_scale: f32,
+}
+
+impl Default for MapState {
+    fn default() -> Self {
+        Self {
+            camera: None,
+            rect: Rect::NOTHING,
+            gesture: None,
+            polygon: Vec::new(),
+            streaks: view::Streaks::new(),
+            field_texture: None,
+            backdrop: None,
+            cursor_world: None,
+            legend_scale: 0.0,
+        }
+    }
+}
+
 /// Hit radius for points, in screen points.
 const HIT: f32 = 10.0;
 
 pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
-    let before = std::mem::replace(&mut app.map_rect, rect);
-    if let Some(cam) = &mut app.camera {
+    let before = std::mem::replace(&mut app.map.rect, rect);
+    if let Some(cam) = &mut app.map.camera {
         // A pane that changed size (the window resized, the 3D view put beside the map) keeps
         // showing what it showed.
         if before.size() != rect.size() && before.width() > 0.0 && before.height() > 0.0 {
@@ -33,15 +69,16 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
         }
     }
     let cam = *app
+        .map
         .camera
         .get_or_insert_with(|| Camera::frame_all(&app.doc, rect));
     let ctx = ui.ctx().clone();
     let painter = ui.painter_at(rect);
 
-    navigate(app, ui, &response, rect);
-    let cam = app.camera.unwrap_or(cam);
+    navigate(&mut app.map, ui, &response, rect);
+    let cam = app.map.camera.unwrap_or(cam);
     let hover = response.hover_pos();
-    app.cursor_world = hover.map(|p| cam.to_world(rect, p));
+    app.map.cursor_world = hover.map(|p| cam.to_world(rect, p));
 
     // Background: the world rectangle, the backdrop, the wind, the grid.
     let (min, max) = app.doc.bounds();
@@ -50,7 +87,7 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     draw_backdrop(app, &ctx, &painter, world);
     let snap = app.live.snapshot();
     let max_speed = draw_wind(app, &ctx, &painter, &cam, rect, world, &snap);
-    app.legend_scale = max_speed;
+    app.map.legend_scale = max_speed;
     if app.settings.show_grid {
         draw_grid(&painter, &cam, rect, min, max);
     }
@@ -84,7 +121,7 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     }
 
     interact(app, &ctx, &response, rect, &cam, &painter);
-    draw_legend(&painter, rect, app.settings.wind_view, max_speed);
+    view::draw_legend(&painter, rect, app.settings.wind_view, max_speed);
     // Beside the 3D view: where its pointer is on the ground (last frame's).
     if app.settings.central == super::Central::Split
         && let Some(p) = app.grass_view.hover_ground
@@ -103,8 +140,8 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     painter.galley(at, hint, Color32::from_white_alpha(170));
 }
 
-fn navigate(app: &mut EditorApp, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
-    let Some(cam) = app.camera.as_mut() else {
+fn navigate(map: &mut MapState, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
+    let Some(cam) = map.camera.as_mut() else {
         return;
     };
     // Pan with the middle or right button.
@@ -124,12 +161,12 @@ fn navigate(app: &mut EditorApp, ui: &egui::Ui, response: &egui::Response, rect:
 
 fn draw_backdrop(app: &mut EditorApp, ctx: &egui::Context, painter: &egui::Painter, world: Rect) {
     let Some(map) = app.doc.world.map.clone() else {
-        app.backdrop = None;
+        app.map.backdrop = None;
         return;
     };
-    let base = crate::io::layout_base(app.path.as_deref());
+    let base = crate::io::layout_base(app.doc.path());
     let file = base.join(&map.image);
-    let stale = app.backdrop.as_ref().is_none_or(|(p, _)| p != &file);
+    let stale = app.map.backdrop.as_ref().is_none_or(|(p, _)| p != &file);
     if stale {
         let texture = match crate::io::load_backdrop(&base, &map) {
             Ok(img) => {
@@ -143,9 +180,9 @@ fn draw_backdrop(app: &mut EditorApp, ctx: &egui::Context, painter: &egui::Paint
                 None
             }
         };
-        app.backdrop = Some((file, texture));
+        app.map.backdrop = Some((file, texture));
     }
-    if let Some((_, Some(t))) = &app.backdrop {
+    if let Some((_, Some(t))) = &app.map.backdrop {
         painter.image(
             t.id(),
             world,
@@ -163,18 +200,18 @@ fn draw_wind(
     cam: &Camera,
     rect: Rect,
     world: Rect,
-    snap: &super::live::Snapshot,
+    snap: &crate::engine::live::Snapshot,
 ) -> f32 {
     let mode = app.settings.wind_view;
     if mode == WindView::Off || snap.nx == 0 {
         return 0.0;
     }
-    if app.gpu_view {
+    if app.gpu.map_on_gpu {
         // On the GPU the field is drawn where it lives; a CPU-run one is copied there first
         // (three arrays a snapshot, against tessellating thousands of streak segments).
-        let field = match (&snap.field, &app.render_state) {
+        let field = match (&snap.field, &app.gpu.render_state) {
             (Some(f), _) => Some(f.clone()),
-            (None, Some(rs)) => app.uploaded.field(rs, snap),
+            (None, Some(rs)) => app.gpu.uploaded.field(rs, snap),
             (None, None) => None,
         };
         if let Some(field) = field {
@@ -183,9 +220,13 @@ fn draw_wind(
     }
     let fixed = app.settings.speed_scale;
     let key = (snap.serial, mode, fixed);
-    let stale = app.field_texture.as_ref().is_none_or(|(k, _, _)| *k != key);
+    let stale = app
+        .map
+        .field_texture
+        .as_ref()
+        .is_none_or(|(k, _, _)| *k != key);
     if stale && let Some((img, scale)) = view::field_image(snap, mode, fixed) {
-        match &mut app.field_texture {
+        match &mut app.map.field_texture {
             Some((k, tex, s)) => {
                 tex.set(img, egui::TextureOptions::LINEAR);
                 *k = key;
@@ -193,11 +234,11 @@ fn draw_wind(
             }
             None => {
                 let tex = ctx.load_texture("wind", img, egui::TextureOptions::LINEAR);
-                app.field_texture = Some((key, tex, scale));
+                app.map.field_texture = Some((key, tex, scale));
             }
         }
     }
-    let Some((_, tex, scale)) = &app.field_texture else {
+    let Some((_, tex, scale)) = &app.map.field_texture else {
         return 0.0;
     };
     let scale = *scale;
@@ -211,10 +252,11 @@ fn draw_wind(
         WindView::Streaks => {
             if app.live.playing {
                 let dt = ctx.input(|i| i.stable_dt).min(0.1) * app.live.speed;
-                app.streaks
+                app.map
+                    .streaks
                     .advance(&app.doc, snap, dt, app.settings.streak_count);
             }
-            app.streaks.draw(painter, cam, rect, snap, scale);
+            app.map.streaks.draw(painter, cam, rect, snap, scale);
         }
         WindView::Glyphs => view::draw_glyphs(painter, cam, rect, &app.doc, snap, scale),
         _ => {}
@@ -230,17 +272,17 @@ fn draw_wind_gpu(
     painter: &egui::Painter,
     cam: &Camera,
     rect: Rect,
-    snap: &super::live::Snapshot,
+    snap: &crate::engine::live::Snapshot,
     field: crate::gpu::mapview::FieldBuffers,
 ) -> f32 {
     use crate::gpu::mapview::{Frame, Layer, Overlay};
     let mode = app.settings.wind_view;
     let key = (snap.serial, mode, app.settings.speed_scale);
-    let scale = match app.gpu_scale {
+    let scale = match app.gpu.scale {
         Some((k, scale)) if k == key => scale,
         _ => {
             let scale = view::field_scale(snap, mode, app.settings.speed_scale);
-            app.gpu_scale = Some((key, scale));
+            app.gpu.scale = Some((key, scale));
             scale
         }
     };
@@ -326,71 +368,6 @@ fn draw_grid(painter: &egui::Painter, cam: &Camera, rect: Rect, min: doc::Vec2, 
     }
 }
 
-/// The colour scale of view `mode` with its title and range (top right of `rect`): the map
-/// view's, and the 3D view's while it shows the wind colours.
-pub(super) fn draw_legend(painter: &egui::Painter, rect: Rect, mode: WindView, scale: f32) {
-    if mode == WindView::Off || scale <= 0.0 {
-        return;
-    }
-    // A plate 10 points inside the top right corner: the title, the bar, its range.
-    let w = 180.0;
-    let plate = Rect::from_min_size(
-        rect.right_top() + Vec2::new(-w - 30.0, 10.0),
-        Vec2::new(w + 20.0, 56.0),
-    );
-    let origin = plate.min + Vec2::new(10.0, 6.0);
-    let bar = Rect::from_min_size(origin + Vec2::new(0.0, 18.0), Vec2::new(w, 10.0));
-    painter.rect_filled(plate, 4.0, Color32::from_black_alpha(150));
-    let n = 32;
-    for k in 0..n {
-        let t = k as f32 / (n - 1) as f32;
-        let c = match mode {
-            WindView::Curl | WindView::Pressure => view::signed_colour(t * 2.0 - 1.0),
-            _ => view::speed_colour(t),
-        };
-        let x0 = bar.left() + w * k as f32 / n as f32;
-        painter.rect_filled(
-            Rect::from_min_size(
-                Pos2::new(x0, bar.top()),
-                Vec2::new(w / n as f32 + 0.5, bar.height()),
-            ),
-            0.0,
-            c,
-        );
-    }
-    let (title, lo, hi) = match mode {
-        WindView::Curl => (
-            "curl (1/s)",
-            format!("{:.2}", -scale),
-            format!("{scale:.2}"),
-        ),
-        WindView::Pressure => ("pressure", format!("{:.2}", -scale), format!("{scale:.2}")),
-        _ => ("wind speed (m/s)", "0".to_string(), format!("{scale:.1}")),
-    };
-    let font = egui::FontId::proportional(12.0);
-    painter.text(
-        origin,
-        egui::Align2::LEFT_TOP,
-        title,
-        font.clone(),
-        Color32::WHITE,
-    );
-    painter.text(
-        bar.left_bottom() + Vec2::new(0.0, 2.0),
-        egui::Align2::LEFT_TOP,
-        lo,
-        font.clone(),
-        Color32::WHITE,
-    );
-    painter.text(
-        bar.right_bottom() + Vec2::new(0.0, 2.0),
-        egui::Align2::RIGHT_TOP,
-        hi,
-        font,
-        Color32::WHITE,
-    );
-}
-
 /// Pointer handling for the current tool.
 fn interact(
     app: &mut EditorApp,
@@ -445,10 +422,10 @@ fn interact(
                         _ => None,
                     });
                 if let Some(parent) = parent {
-                    app.gesture = Some(Gesture::Arrow { parent });
+                    app.map.gesture = Some(Gesture::Arrow { parent });
                 }
             }
-            if let Some(super::map::Gesture::Arrow { parent }) = app.gesture.clone() {
+            if let Some(super::map::Gesture::Arrow { parent }) = app.map.gesture.clone() {
                 let from = app
                     .doc
                     .trees
@@ -467,7 +444,7 @@ fn interact(
                         view::ARROW_COLOUR.gamma_multiply(0.7),
                     );
                     if response.drag_stopped() {
-                        app.gesture = None;
+                        app.map.gesture = None;
                         if a.distance(b) > 6.0 {
                             let id = app.doc.next_id();
                             let node = Node::new(id, to, strength.max(1.0), radius);
@@ -484,7 +461,7 @@ fn interact(
                         }
                     }
                 } else if response.drag_stopped() {
-                    app.gesture = None;
+                    app.map.gesture = None;
                 }
             }
         }
@@ -493,11 +470,12 @@ fn interact(
                 && let Some(p) = response.interact_pointer_pos()
             {
                 let start = p - response.drag_delta();
-                app.gesture = Some(Gesture::Circle {
+                app.map.gesture = Some(Gesture::Circle {
                     center: app.snap(cam.to_world(rect, start)),
                 });
             }
-            if let (Some(Gesture::Circle { center }), Some(p)) = (app.gesture.clone(), pointer) {
+            if let (Some(Gesture::Circle { center }), Some(p)) = (app.map.gesture.clone(), pointer)
+            {
                 let w = cam.to_world(rect, p);
                 let r = (w[0] - center[0]).hypot(w[1] - center[1]);
                 painter.circle(
@@ -507,7 +485,7 @@ fn interact(
                     Stroke::new(1.0, Color32::WHITE),
                 );
                 if response.drag_stopped() {
-                    app.gesture = None;
+                    app.map.gesture = None;
                     if r * cam.zoom > 3.0 {
                         let id = app.doc.next_id();
                         let obstacle = doc::Obstacle {
@@ -533,6 +511,7 @@ fn interact(
                 let w = app.snap(cam.to_world(rect, p));
                 // Preview.
                 let pts: Vec<Pos2> = app
+                    .map
                     .polygon
                     .iter()
                     .map(|q| cam.to_screen(rect, *q))
@@ -544,16 +523,16 @@ fn interact(
                     painter.circle_stroke(pts[0], HIT * 0.8, Stroke::new(1.0, Color32::WHITE));
                 }
                 if response.clicked_by(egui::PointerButton::Primary) {
-                    let closes = app.polygon.len() >= 3
-                        && cam.to_screen(rect, app.polygon[0]).distance(p) <= HIT;
+                    let closes = app.map.polygon.len() >= 3
+                        && cam.to_screen(rect, app.map.polygon[0]).distance(p) <= HIT;
                     if closes {
                         close_polygon(app, ctx);
                     } else {
-                        app.polygon.push(w);
+                        app.map.polygon.push(w);
                     }
                 }
             }
-            if ctx.input(|i| i.key_pressed(egui::Key::Enter)) && app.polygon.len() >= 3 {
+            if ctx.input(|i| i.key_pressed(egui::Key::Enter)) && app.map.polygon.len() >= 3 {
                 close_polygon(app, ctx);
             }
         }
@@ -561,7 +540,7 @@ fn interact(
 }
 
 fn close_polygon(app: &mut EditorApp, ctx: &egui::Context) {
-    let points = std::mem::take(&mut app.polygon);
+    let points = std::mem::take(&mut app.map.polygon);
     let id = app.doc.next_id();
     let obstacle = doc::Obstacle {
         id,
@@ -623,35 +602,35 @@ fn select_tool(
                     }
                 }
                 let key = super::gesture_key(("move", ctx.input(|i| i.time).to_bits()));
-                app.gesture = Some(Gesture::Move {
+                app.map.gesture = Some(Gesture::Move {
                     last: cam.to_world(rect, start),
                     key,
                 });
             }
             None => {
-                app.gesture = Some(Gesture::Box {
+                app.map.gesture = Some(Gesture::Box {
                     start,
                     additive: shift,
                 })
             }
         }
     }
-    match app.gesture.clone() {
+    match app.map.gesture.clone() {
         Some(Gesture::Move { last, key }) => {
             if let Some(p) = response.interact_pointer_pos() {
                 let w = cam.to_world(rect, p);
                 let d = [w[0] - last[0], w[1] - last[1]];
                 if d != [0.0, 0.0] {
                     move_selection(app, ctx, d, key);
-                    app.gesture = Some(Gesture::Move { last: w, key });
+                    app.map.gesture = Some(Gesture::Move { last: w, key });
                 }
             }
             if response.drag_stopped() {
-                app.gesture = None;
+                app.map.gesture = None;
                 if app.settings.snap {
                     snap_selection(app, ctx, key);
                 }
-                app.history.end_gesture();
+                app.doc.end_gesture();
             }
         }
         Some(Gesture::Box { start, additive }) => {
@@ -665,7 +644,7 @@ fn select_tool(
                     egui::StrokeKind::Inside,
                 );
                 if response.drag_stopped() {
-                    app.gesture = None;
+                    app.map.gesture = None;
                     if !additive {
                         app.selection.clear();
                     }

@@ -1,9 +1,11 @@
 //! The editor (eframe/egui): AGC arrow-tree authoring over a top-down map, with the wind live.
 //!
-//! The app owns the document and its [`History`]; every change goes through an [`Edit`]. The
-//! simulation runs on a worker thread ([`live::LiveSim`]) and never blocks the UI.
+//! The app owns a [`Document`] (the layout, its undo history, its file and recovery copy);
+//! every change goes through an [`Edit`]. The simulation runs on a worker thread
+//! ([`LiveSim`]) and never blocks the UI.
 
-pub mod disk;
+mod document;
+pub use document::{AUTOSAVE_SECONDS, Document};
 pub mod export;
 mod files;
 mod gpu_view;
@@ -11,17 +13,17 @@ pub use crate::gpu::grass::Orbit;
 pub use gpu_view::SOFTWARE_BLADE_BUDGET;
 mod grass_controls;
 mod inspector;
-pub mod live;
 mod map;
 mod panels;
-pub mod recovery;
 pub mod view;
 
-use crate::doc::{self, Edit, History, Layout};
+use crate::doc::{self, Edit, Layout};
+use crate::engine::Backend;
+use crate::engine::live::LiveSim;
+use crate::io::{disk, recovery};
 use eframe::egui::{self, Pos2, Rect};
-use live::{BackendChoice, LiveSim};
 use std::path::{Path, PathBuf};
-use view::{Camera, Streaks, WindView};
+use view::{Camera, WindView};
 
 /// What the pointer does on the map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -94,27 +96,13 @@ pub enum Sel {
 }
 
 /// Command buffers from the simulation thread, each with the acknowledgement it waits for.
-type GpuSubmissions =
-    std::sync::mpsc::Receiver<(eframe::wgpu::CommandBuffer, std::sync::mpsc::SyncSender<()>)>;
-
 /// What the central area shows (View menu, toolbar; `windloom FILE --view map|3d|split`).
-#[derive(
-    Debug,
-    Clone,
-    Copy,
-    PartialEq,
-    Eq,
-    Default,
-    serde::Serialize,
-    serde::Deserialize,
-    clap::ValueEnum,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
 pub enum Central {
     /// The top-down map (authoring).
     #[default]
     Map,
     /// The grass in 3D in the live wind.
-    #[value(name = "3d")]
     Grass,
     /// Both, side by side.
     Split,
@@ -143,7 +131,7 @@ pub struct Settings {
     pub streak_count: usize,
     pub show_grid: bool,
     /// Where the live wind runs (View menu).
-    pub backend: BackendChoice,
+    pub backend: Backend,
     /// Map, 3D grass, or both (View menu, toolbar).
     pub central: Central,
     /// The 3D view's wind colours (its row of toggles): on or off, and their opacity.
@@ -168,7 +156,7 @@ impl Default for Settings {
             snap_step: 1.0,
             streak_count: 1500,
             show_grid: true,
-            backend: BackendChoice::Auto,
+            backend: Backend::Auto,
             central: Central::Map,
             wind_colours: false,
             wind_opacity: grass_controls::GrassControls::default().wind_opacity,
@@ -181,7 +169,6 @@ impl Default for Settings {
 const SETTINGS_KEY: &str = "windloom-settings";
 /// The fixed speed scale's range, m/s.
 pub const SPEED_SCALE: (f32, f32) = crate::colour::FIXED_SCALE_RANGE;
-const AUTOSAVE_SECONDS: f64 = 20.0;
 /// The name of a new layout (File → New), which its first save replaces by the file's.
 pub const UNTITLED: &str = "Untitled";
 /// Longest press that still counts as a click, in frame time (egui's default is 0.8 s).
@@ -232,52 +219,27 @@ pub enum Pending {
 
 /// The editor application state.
 pub struct EditorApp {
-    pub doc: Layout,
-    pub history: History,
-    pub path: Option<PathBuf>,
-    saved_json: String,
-    pub dirty: bool,
+    /// The layout, its history, its file and its recovery copy.
+    pub doc: Document,
     pub selection: Vec<Sel>,
     pub tool: Tool,
-    pub camera: Option<Camera>,
-    /// The map's screen rectangle in the last frame.
-    pub map_rect: Rect,
+    /// The map view's own state: its camera, rectangle, gesture, textures, readouts.
+    pub map: map::MapState,
     /// The status bar's rectangle in the last frame (tests mask it: it shows timings).
     pub status_rect: Rect,
     /// The toolbar's width in one row, as last drawn: it shares the menu bar's row while
     /// that has room, and takes a wrapped row of its own below it when not.
     toolbar_width: f32,
     pub settings: Settings,
-    /// GPU work the simulation thread hands the UI thread to submit (declared before `live`
-    /// so that it is dropped first: a worker waiting on it then gives up instead of blocking
-    /// the join).
-    gpu_submissions: Option<GpuSubmissions>,
+    /// eframe's GPU device as the editor uses it (declared before `live` so that its queue
+    /// of the simulation thread's GPU work is dropped first: a worker waiting on it then
+    /// gives up instead of blocking the join).
+    pub gpu: gpu_view::GpuBridge,
     pub live: LiveSim,
-    streaks: Streaks,
-    field_texture: Option<(ScaleKey, egui::TextureHandle, f32)>,
-    backdrop: Option<(PathBuf, Option<egui::TextureHandle>)>,
-    gesture: Option<map::Gesture>,
-    polygon: Vec<doc::Vec2>,
     pub dialog: Option<Dialog>,
     /// A short message shown in the status bar (why an edit was refused, what was saved)
     /// and when it was first shown (+∞ until the next frame shows it: [`Self::tell`]).
     pub message: Option<(String, f64)>,
-    doc_changed: bool,
-    last_autosave: f64,
-    recovery: Option<recovery::Recovery>,
-    /// Why the last autosave failed (shown in the status bar until one works).
-    pub recovery_error: Option<String>,
-    /// Recovery copies still to offer after the one in the dialog.
-    recover_queue: Vec<recovery::Found>,
-    /// The document's file as the editor last read or wrote it.
-    disk: Option<disk::Watch>,
-    /// A change to that file made by someone else, not yet answered (Reload / Keep mine).
-    pub disk_change: Option<disk::Change>,
-    last_disk_check: f64,
-    /// Wakes the editor when the file's stamp changes, and the file it was last told to poll.
-    disk_poller: disk::Poller,
-    polled: Option<PathBuf>,
-    pub adapter: String,
     frame_ms: f32,
     /// When the last frame began (editor seconds), and whether this one came after a rest
     /// (the status bar then says "idle" rather than a frame rate of frames long gone).
@@ -285,24 +247,12 @@ pub struct EditorApp {
     pub idle: bool,
     /// CPU milliseconds the last frames spent building the UI (smoothed).
     ui_ms: f32,
-    /// Whether the map can draw a GPU field (the map renderer is installed on eframe's
-    /// device).
-    gpu_view: bool,
-    /// eframe's render state, when the map draws on the GPU.
-    render_state: Option<egui_wgpu::RenderState>,
     /// For waking the UI from other threads.
     repaint: egui::Context,
-    /// A CPU-run field's copy on the GPU, for drawing it there.
-    uploaded: gpu_view::Uploaded,
     /// The 3D grass view.
     pub grass_view: gpu_view::GrassView,
-    /// The colour scale of the GPU-drawn view, from the last read-back: (serial, view, scale).
-    gpu_scale: Option<(ScaleKey, f32)>,
     /// The window title last sent to the window.
     sent_title: Option<String>,
-    pub cursor_world: Option<doc::Vec2>,
-    /// The top of the map's colour scale as its legend last read (0: no legend).
-    pub legend_scale: f32,
     allow_close: bool,
     pub export: export::ExportDialog,
     /// Help → User guide.
@@ -319,57 +269,29 @@ impl EditorApp {
         ctx.options_mut(|o| o.input_options.max_click_duration = CLICK_SECONDS);
         let repaint_ctx = ctx.clone();
         let live = LiveSim::start(&doc, move || repaint_ctx.request_repaint());
-        let saved_json = doc::to_json(&doc);
-        let disk = path.as_deref().map(disk::Watch::read);
+        let poller = {
+            let ctx = ctx.clone();
+            disk::Poller::start(move || ctx.request_repaint())
+        };
         Self {
-            doc,
-            history: History::new(),
-            path,
-            saved_json,
-            dirty: false,
+            doc: Document::new(doc, path, poller),
             selection: Vec::new(),
             tool: Tool::Select,
-            camera: None,
-            map_rect: Rect::NOTHING,
+            map: map::MapState::default(),
             status_rect: Rect::NOTHING,
             toolbar_width: 0.0,
             settings: Settings::default(),
-            gpu_submissions: None,
+            gpu: gpu_view::GpuBridge::default(),
             live,
-            streaks: Streaks::new(),
-            field_texture: None,
-            backdrop: None,
-            gesture: None,
-            polygon: Vec::new(),
             dialog: None,
             message: None,
-            doc_changed: false,
-            last_autosave: 0.0,
-            recovery: None,
-            recovery_error: None,
-            recover_queue: Vec::new(),
-            disk,
-            disk_change: None,
-            last_disk_check: 0.0,
-            disk_poller: {
-                let ctx = ctx.clone();
-                disk::Poller::start(move || ctx.request_repaint())
-            },
-            polled: None,
-            adapter: "no GPU adapter".into(),
             frame_ms: 0.0,
             last_frame_at: 0.0,
             idle: false,
             ui_ms: 0.0,
-            gpu_view: false,
-            render_state: None,
             repaint: ctx.clone(),
-            uploaded: Default::default(),
             grass_view: Default::default(),
-            gpu_scale: None,
             sent_title: None,
-            cursor_world: None,
-            legend_scale: 0.0,
             allow_close: false,
             export: export::ExportDialog::default(),
             guide: Default::default(),
@@ -434,10 +356,9 @@ impl EditorApp {
                     origin: None,
                 });
             }
-            app.recover_queue = found;
-            app.recover_queue.reverse();
+            app.doc.offer_found(found);
             app.next_recovery();
-            app.set_recovery_dir(Some(dir.join("recovery")));
+            app.doc.set_recovery_dir(Some(dir.join("recovery")));
         }
         app
     }
@@ -464,7 +385,7 @@ impl EditorApp {
     /// field runs there when the backend choice says so (View menu).
     pub fn attach_gpu(&mut self, rs: &egui_wgpu::RenderState) {
         let info = rs.adapter.get_info();
-        self.adapter = format!("{} ({:?})", info.name, info.backend);
+        self.gpu.adapter = format!("{} ({:?})", info.name, info.backend);
         log::info!(
             "editor device: {} ({:?}, {:?}, driver {} {})",
             info.name,
@@ -488,10 +409,10 @@ impl EditorApp {
                         let _ = done.recv_timeout(std::time::Duration::from_secs(10));
                     }
                 }));
-                self.gpu_submissions = Some(rx);
+                self.gpu.submissions = Some(rx);
                 gpu_view::install(rs);
-                self.gpu_view = true;
-                self.render_state = Some(rs.clone());
+                self.gpu.map_on_gpu = true;
+                self.gpu.render_state = Some(rs.clone());
                 self.live.set_gpu(ctx, self.settings.backend);
             }
             Err(e) => {
@@ -502,20 +423,20 @@ impl EditorApp {
 
     /// The wgpu resources the editor's device holds now (`None` without a GPU device).
     pub fn gpu_resources(&self) -> Option<crate::gpu::LiveResources> {
-        crate::gpu::LiveResources::of(&self.render_state.as_ref()?.instance)
+        crate::gpu::LiveResources::of(&self.gpu.render_state.as_ref()?.instance)
     }
 
     /// The 3D grass view, or why there is none.
     fn grass(&mut self, ui: &mut egui::Ui) {
-        match self.render_state.clone() {
+        match self.gpu.render_state.clone() {
             Some(rs) => {
                 let snap = self.live.snapshot();
                 // The map's visible part, when the map is beside the 3D view.
                 let footprint = (self.settings.central == Central::Split)
                     .then(|| {
-                        self.camera.map(|c| {
-                            let a = c.to_world(self.map_rect, self.map_rect.min);
-                            let b = c.to_world(self.map_rect, self.map_rect.max);
+                        self.map.camera.map(|c| {
+                            let a = c.to_world(self.map.rect, self.map.rect.min);
+                            let b = c.to_world(self.map.rect, self.map.rect.max);
                             let (lo, hi) = self.doc.bounds();
                             (
                                 [a[0].max(lo[0]), a[1].max(lo[1])],
@@ -524,12 +445,12 @@ impl EditorApp {
                         })
                     })
                     .flatten();
-                let base = crate::io::layout_base(self.path.as_deref());
+                let base = crate::io::layout_base(self.doc.path());
                 self.grass_view.speed_scale = self.settings.speed_scale;
                 // Beside the map (drawn first this frame), its pointer: marked in 3D too.
                 let beside = footprint.map(|footprint| gpu_view::MapBeside {
                     footprint,
-                    pointer: self.cursor_world,
+                    pointer: self.map.cursor_world,
                 });
                 self.grass_view
                     .show(ui, &rs, &self.doc, &snap, beside, &base);
@@ -537,7 +458,7 @@ impl EditorApp {
                 // the map, whichever view the pointer is over).
                 let hover = self.grass_view.hover_ground;
                 if hover.is_some() || self.settings.central == Central::Grass {
-                    self.cursor_world = hover;
+                    self.map.cursor_world = hover;
                 }
             }
             None => {
@@ -550,7 +471,7 @@ impl EditorApp {
 
     /// Submits the GPU work the simulation thread has handed over, in order.
     fn submit_gpu_work(&self) {
-        if let (Some(rx), Some(rs)) = (&self.gpu_submissions, &self.render_state) {
+        if let (Some(rx), Some(rs)) = (&self.gpu.submissions, &self.gpu.render_state) {
             while let Ok((cb, ack)) = rx.try_recv() {
                 rs.queue.submit([cb]);
                 let _ = ack.send(());
@@ -559,27 +480,30 @@ impl EditorApp {
     }
 
     /// Where the live wind should run; the running field is handed over.
-    pub fn set_backend(&mut self, choice: BackendChoice) {
+    pub fn set_backend(&mut self, choice: Backend) {
         self.settings.backend = choice;
         self.live.set_backend(choice);
     }
 
     /// Screen position of a world point in the map view (as of the last frame).
     pub fn screen_pos(&self, world: doc::Vec2) -> Pos2 {
-        self.camera.map_or(self.map_rect.center(), |c| {
-            c.to_screen(self.map_rect, world)
+        self.map.camera.map_or(self.map.rect.center(), |c| {
+            c.to_screen(self.map.rect, world)
         })
     }
 
     /// The window's title: the file's name, or the layout's when it has no file yet (the
     /// bundled default, a new layout).
     pub fn title(&self) -> String {
-        let what = match &self.path {
-            Some(_) => self.path_label(),
+        let what = match self.doc.path() {
+            Some(_) => self.doc.path_label(),
             None if self.doc.name.trim().is_empty() => "untitled".into(),
             None => self.doc.name.clone(),
         };
-        format!("{}{what} — windloom", if self.dirty { "● " } else { "" })
+        format!(
+            "{}{what} — windloom",
+            if self.doc.is_dirty() { "● " } else { "" }
+        )
     }
 
     fn say(&mut self, ctx: &egui::Context, text: impl Into<String>) {
@@ -595,25 +519,20 @@ impl EditorApp {
 
     /// Applies an edit as one undo step.
     pub fn edit(&mut self, ctx: &egui::Context, e: Edit) -> bool {
-        let r = self.history.apply(&mut self.doc, e);
+        let r = self.doc.apply(e);
         self.edited(ctx, r)
     }
 
     /// Applies an edit that continues a gesture (a drag, a slider): one undo step in all.
     pub fn edit_merged(&mut self, ctx: &egui::Context, e: Edit, key: impl std::hash::Hash) -> bool {
-        let r = self
-            .history
-            .apply_merged(&mut self.doc, e, gesture_key(key));
+        let r = self.doc.apply_merged(e, gesture_key(key));
         self.edited(ctx, r)
     }
 
     /// Notes an applied edit, or tells the user why it was refused.
     fn edited(&mut self, ctx: &egui::Context, r: Result<(), doc::EditError>) -> bool {
         match r {
-            Ok(()) => {
-                self.doc_changed = true;
-                true
-            }
+            Ok(()) => true,
             Err(err) => {
                 self.say(ctx, err.to_string());
                 false
@@ -622,15 +541,13 @@ impl EditorApp {
     }
 
     pub fn undo(&mut self) {
-        if self.history.undo(&mut self.doc) {
-            self.doc_changed = true;
+        if self.doc.undo() {
             self.prune_selection();
         }
     }
 
     pub fn redo(&mut self) {
-        if self.history.redo(&mut self.doc) {
-            self.doc_changed = true;
+        if self.doc.redo() {
             self.prune_selection();
         }
     }
@@ -842,23 +759,23 @@ impl EditorApp {
             self.delete_selection(ctx, false);
         }
         if pressed(KS::new(M::NONE, Key::F)) {
-            self.camera = Some(Camera::frame_all(&self.doc, self.map_rect));
+            self.map.camera = Some(Camera::frame_all(&self.doc, self.map.rect));
         }
         if pressed(KS::new(M::NONE, Key::Space)) {
             let p = !self.live.playing;
             self.live.set_playing(p);
         }
         if pressed(KS::new(M::NONE, Key::Escape)) {
-            if self.polygon.is_empty() {
+            if self.map.polygon.is_empty() {
                 self.selection.clear();
             } else {
-                self.polygon.clear();
+                self.map.polygon.clear();
             }
         }
         for t in Tool::ALL {
             if pressed(KS::new(M::NONE, t.key())) {
                 self.tool = t;
-                self.polygon.clear();
+                self.map.polygon.clear();
             }
         }
         let pan = 40.0;
@@ -869,7 +786,7 @@ impl EditorApp {
             (Key::ArrowDown, egui::vec2(0.0, -pan)),
         ] {
             if ctx.input(|i| i.key_down(key)) {
-                if let Some(c) = &mut self.camera {
+                if let Some(c) = &mut self.map.camera {
                     c.pan_pixels(d * ctx.input(|i| i.stable_dt).min(0.1) * 10.0);
                 }
                 ctx.request_repaint();
@@ -895,7 +812,8 @@ impl eframe::App for EditorApp {
         self.last_frame_at = now;
 
         // Closing the window with unsaved changes asks first.
-        if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.dirty {
+        if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.doc.is_dirty()
+        {
             ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
             self.dialog = Some(Dialog::Discard {
                 then: Pending::Quit,
@@ -904,7 +822,7 @@ impl eframe::App for EditorApp {
 
         // A gesture (drag, slider) ends when the pointer is released and no field is focused.
         if !ctx.input(|i| i.pointer.any_down()) && ctx.memory(|m| m.focused().is_none()) {
-            self.history.end_gesture();
+            self.doc.end_gesture();
         }
 
         self.shortcuts(&ctx);
@@ -941,12 +859,10 @@ impl eframe::App for EditorApp {
                 }
             });
         panels::dialogs(self, &ctx);
-        panels::guide_window(self, &ctx);
+        panels::guide_window(&mut self.guide, &ctx);
         self.export.ui(&ctx, &self.doc);
 
-        if self.doc_changed {
-            self.doc_changed = false;
-            self.dirty = doc::to_json(&self.doc) != self.saved_json;
+        if self.doc.take_changed() {
             self.live.set_layout(&self.doc);
         }
         // Every viewport command requests another frame: send the title only when it changes,
@@ -963,8 +879,8 @@ impl eframe::App for EditorApp {
             let wait = (at - now).max(0.0);
             ctx.request_repaint_after(std::time::Duration::from_secs_f64(wait));
         };
-        if self.dirty {
-            wake(self.last_autosave + AUTOSAVE_SECONDS);
+        if let Some(at) = self.doc.next_autosave() {
+            wake(at);
         }
         if let Some((_, at)) = &self.message
             && now - at < MESSAGE_SECONDS
@@ -973,17 +889,7 @@ impl eframe::App for EditorApp {
         }
         // The file on disk: looked at on the frames there are (at most once a second), and
         // by the poller's thread, which wakes an idle editor only when the file changed.
-        let watched = self.disk.as_ref().map(|w| w.path().to_path_buf());
-        if watched != self.polled {
-            self.disk_poller.watch(watched.as_deref());
-            self.polled = watched;
-        }
-        if self.disk.is_some()
-            && (self.disk_poller.poked() || now - self.last_disk_check >= disk::CHECK_SECONDS)
-        {
-            self.last_disk_check = now;
-            self.check_disk();
-        }
+        self.doc.watch_disk(now);
         if self.live.playing {
             ctx.request_repaint();
         }
@@ -1007,8 +913,8 @@ impl eframe::App for EditorApp {
 
     fn on_exit(&mut self) {
         self.export.shutdown();
-        if !self.dirty {
-            self.remove_recovery();
+        if !self.doc.is_dirty() {
+            self.doc.remove_recovery();
         }
     }
 }
@@ -1033,7 +939,7 @@ pub struct Launch {
     /// The layout's file (read from it, or to be saved there when it does not exist yet).
     pub path: Option<PathBuf>,
     /// Where the live wind runs, for this run (`--backend`).
-    pub backend: Option<BackendChoice>,
+    pub backend: Option<Backend>,
     /// The view to open on (`--view`).
     pub view: Option<Central>,
     /// Shown in the status bar at first.

@@ -51,7 +51,7 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 ui.separator();
                 if ui.button("Export/Bake…").clicked() {
                     app.export.open = true;
-                    app.export.suggest_out(app.path.as_deref());
+                    app.export.suggest_out(app.doc.path());
                 }
                 ui.separator();
                 if ui.button("Quit").clicked() {
@@ -60,21 +60,23 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             });
             ui.menu_button("Edit", |ui| {
                 let undo = app
-                    .history
+                    .doc
+                    .history()
                     .undo_label()
                     .map_or("Undo".to_string(), |l| format!("Undo {l}"));
                 if ui
-                    .add_enabled(app.history.can_undo(), egui::Button::new(undo))
+                    .add_enabled(app.doc.history().can_undo(), egui::Button::new(undo))
                     .clicked()
                 {
                     app.undo();
                 }
                 let redo = app
-                    .history
+                    .doc
+                    .history()
                     .redo_label()
                     .map_or("Redo".to_string(), |l| format!("Redo {l}"));
                 if ui
-                    .add_enabled(app.history.can_redo(), egui::Button::new(redo))
+                    .add_enabled(app.doc.history().can_redo(), egui::Button::new(redo))
                     .clicked()
                 {
                     app.redo();
@@ -110,7 +112,7 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 ui.separator();
                 ui.label("Wind runs on");
                 let mut choice = app.settings.backend;
-                for b in crate::app::live::BackendChoice::ALL {
+                for b in crate::engine::Backend::ALL {
                     ui.radio_value(&mut choice, b, b.label());
                 }
                 if choice != app.settings.backend {
@@ -119,7 +121,7 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 ui.separator();
                 ui.checkbox(&mut app.settings.show_grid, "Grid lines");
                 if ui.button("Frame all (F)").clicked() {
-                    app.camera = None;
+                    app.map.camera = None;
                 }
             });
             ui.menu_button("Help", |ui| {
@@ -221,7 +223,7 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
     let ctx = ui.ctx().clone();
     let r = egui::Panel::bottom("status").show(ui, |ui| {
         ui.horizontal(|ui| {
-            match app.cursor_world {
+            match app.map.cursor_world {
                 Some(p) => {
                     ui.label(format!("x {:.1} m  z {:.1} m", p[0], p[1]));
                     let v = app.live.with_snapshot(|s| s.velocity_at(p));
@@ -248,14 +250,14 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             };
             let timing = ui.label(format!(
                 "{} {:.1} ms/step · {rate}",
-                snap.backend.label(),
+                snap.runs_on.label(),
                 snap.ms_per_step,
             ));
             timing.on_hover_ui(|ui| frame_times(app, &snap, ui));
             if let Some(n) = &snap.notice {
                 ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
             }
-            if let Some(e) = &app.recovery_error {
+            if let Some(e) = &app.doc.recovery_error {
                 ui.colored_label(egui::Color32::from_rgb(255, 110, 90), "autosave failed")
                     .on_hover_text(format!(
                         "Unsaved work is not being autosaved: {e}\nSave the layout (Ctrl+S) to keep it."
@@ -295,7 +297,7 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
                 }
             }
             ui.separator();
-            ui.label(&app.adapter);
+            ui.label(&app.gpu.adapter);
             if let Some((msg, at)) = &app.message
                 && ctx.input(|i| i.time) - at < super::MESSAGE_SECONDS {
                     ui.separator();
@@ -313,7 +315,7 @@ pub fn status_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
 }
 
 /// The status bar's timing tooltip: where a frame's time goes.
-fn frame_times(app: &EditorApp, snap: &crate::app::live::Snapshot, ui: &mut egui::Ui) {
+fn frame_times(app: &EditorApp, snap: &crate::engine::live::Snapshot, ui: &mut egui::Ui) {
     egui::Grid::new("frame times")
         .num_columns(2)
         .show(ui, |ui| {
@@ -323,7 +325,7 @@ fn frame_times(app: &EditorApp, snap: &crate::app::live::Snapshot, ui: &mut egui
             ui.label("UI (CPU, this editor's work)");
             ui.label(format!("{:.2} ms", app.ui_ms));
             ui.end_row();
-            ui.label(format!("sim step ({}, wall)", snap.backend.label()));
+            ui.label(format!("sim step ({}, wall)", snap.runs_on.label()));
             ui.label(format!("{:.2} ms", snap.ms_per_step));
             ui.end_row();
             ui.label("sim step (GPU timestamps)");
@@ -338,7 +340,7 @@ fn frame_times(app: &EditorApp, snap: &crate::app::live::Snapshot, ui: &mut egui
                 ui.end_row();
             }
             ui.label("wind drawn");
-            ui.label(match (snap.field.is_some(), app.gpu_view) {
+            ui.label(match (snap.field.is_some(), app.gpu.map_on_gpu) {
                 (true, true) => "on the GPU, from the solver's buffers",
                 (false, true) => "on the GPU, from each snapshot uploaded",
                 _ => "by egui, from CPU snapshots",
@@ -611,7 +613,7 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
                     }
                     if ui.button("Discard changes").clicked() {
                         keep = false;
-                        app.dirty = false;
+                        app.doc.discard_changes();
                         app.run_pending(ctx, then.clone());
                     }
                     if ui.button("Cancel").clicked() {
@@ -653,64 +655,7 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
                 });
             }
             Dialog::Path { save, text, note } => {
-                ui.heading(if *save {
-                    "Save the layout as"
-                } else {
-                    "Open a layout"
-                });
-                if let Some(n) = note {
-                    egui::ScrollArea::vertical()
-                        .max_height(160.0)
-                        .show(ui, |ui| {
-                            ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
-                        });
-                }
-                let mut typed = text.clone();
-                let label = ui.label("Path of the layout file");
-                let field = ui
-                    .add(
-                        egui::TextEdit::singleline(&mut typed)
-                            .desired_width(520.0)
-                            .hint_text("/path/to/level.json"),
-                    )
-                    .labelled_by(label.id);
-                let enter = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
-                ui.horizontal(|ui| {
-                    let go = ui
-                        .add_enabled(
-                            !typed.trim().is_empty(),
-                            egui::Button::new(if *save { "Save" } else { "Open" }),
-                        )
-                        .clicked();
-                    if (go || enter) && !typed.trim().is_empty() {
-                        keep = false;
-                        let path = std::path::PathBuf::from(typed.trim());
-                        let done = if *save {
-                            app.save_typed(ui.ctx(), &path)
-                        } else {
-                            app.open_typed(&path)
-                        };
-                        // Failed: the prompt again, with what was typed and why.
-                        if let Err(why) = done {
-                            app.dialog = Some(Dialog::Path {
-                                save: *save,
-                                text: typed.clone(),
-                                note: Some(why),
-                            });
-                        }
-                    }
-                    if ui.button("Cancel").clicked() {
-                        keep = false;
-                    }
-                });
-                if keep && typed != *text {
-                    app.dialog = Some(Dialog::Path {
-                        save: *save,
-                        text: typed,
-                        note: note.clone(),
-                    });
-                    keep = false;
-                }
+                keep = path_dialog(app, ui, *save, text, note.as_ref());
             }
             Dialog::Shortcuts => {
                 ui.heading("Keyboard shortcuts");
@@ -740,6 +685,77 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
     }
     // More recovery copies (several editors died): the next one.
     app.next_recovery();
+}
+
+/// The typed-path prompt (File → Open path… / Save to path…, or where the system's dialog
+/// could not open): whether it stays open.
+fn path_dialog(
+    app: &mut EditorApp,
+    ui: &mut egui::Ui,
+    save: bool,
+    text: &str,
+    note: Option<&String>,
+) -> bool {
+    let mut keep = true;
+    ui.heading(if save {
+        "Save the layout as"
+    } else {
+        "Open a layout"
+    });
+    if let Some(n) = note {
+        egui::ScrollArea::vertical()
+            .max_height(160.0)
+            .show(ui, |ui| {
+                ui.colored_label(egui::Color32::from_rgb(255, 200, 80), n);
+            });
+    }
+    let mut typed = text.to_string();
+    let label = ui.label("Path of the layout file");
+    let field = ui
+        .add(
+            egui::TextEdit::singleline(&mut typed)
+                .desired_width(520.0)
+                .hint_text("/path/to/level.json"),
+        )
+        .labelled_by(label.id);
+    let enter = field.lost_focus() && ui.input(|i| i.key_pressed(egui::Key::Enter));
+    ui.horizontal(|ui| {
+        let go = ui
+            .add_enabled(
+                !typed.trim().is_empty(),
+                egui::Button::new(if save { "Save" } else { "Open" }),
+            )
+            .clicked();
+        if (go || enter) && !typed.trim().is_empty() {
+            keep = false;
+            let path = std::path::PathBuf::from(typed.trim());
+            let done = if save {
+                app.save_typed(ui.ctx(), &path)
+            } else {
+                app.open_typed(&path)
+            };
+            // Failed: the prompt again, with what was typed and why.
+            if let Err(why) = done {
+                app.dialog = Some(Dialog::Path {
+                    save,
+                    text: typed.clone(),
+                    note: Some(why),
+                });
+            }
+        }
+        if ui.button("Cancel").clicked() {
+            keep = false;
+        }
+    });
+    if keep && typed != text {
+        app.dialog = Some(Dialog::Path {
+            save,
+            text: typed,
+            note: note.cloned(),
+        });
+        keep = false;
+    }
+    keep
 }
 
 pub const SHORTCUTS: &[(&str, &str)] = &[
@@ -785,25 +801,25 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
 /// The question asked when the document's file changed on disk behind the editor's back: a
 /// strip under the menu bar, until answered (it does not block editing).
 pub fn disk_banner(app: &mut EditorApp, ui: &mut egui::Ui) {
-    let Some(change) = app.disk_change.clone() else {
+    let Some(change) = app.doc.disk_change.clone() else {
         return;
     };
-    let name = app.path_label();
+    let name = app.doc.path_label();
     egui::Panel::top("disk change")
         .frame(egui::Frame::side_top_panel(ui.style()).fill(egui::Color32::from_rgb(70, 56, 20)))
         .show(ui, |ui| {
             ui.horizontal(|ui| {
                 let text = match change {
-                    super::disk::Change::Modified => {
+                    crate::io::disk::Change::Modified => {
                         format!("{name} was changed on disk by another program.")
                     }
-                    super::disk::Change::Deleted => {
+                    crate::io::disk::Change::Deleted => {
                         format!("{name} was deleted or moved on disk.")
                     }
                 };
                 ui.label(RichText::new(text).color(egui::Color32::from_rgb(255, 220, 140)));
-                if change == super::disk::Change::Modified {
-                    let reload = ui.button("Reload").on_hover_text(if app.dirty {
+                if change == crate::io::disk::Change::Modified {
+                    let reload = ui.button("Reload").on_hover_text(if app.doc.is_dirty() {
                         "Load the file as it is now; your unsaved changes are discarded"
                     } else {
                         "Load the file as it is now"
@@ -816,7 +832,7 @@ pub fn disk_banner(app: &mut EditorApp, ui: &mut egui::Ui) {
                     "Keep the document as it is in the editor; the next Save writes it to the file",
                 );
                 if keep.clicked() {
-                    app.keep_mine();
+                    app.doc.keep_mine();
                 }
             });
         });
@@ -874,8 +890,8 @@ fn guide_text() -> &'static str {
     })
 }
 
-pub fn guide_window(app: &mut EditorApp, ctx: &egui::Context) {
-    let Guide { open, cache } = &mut app.guide;
+pub fn guide_window(guide: &mut Guide, ctx: &egui::Context) {
+    let Guide { open, cache } = guide;
     egui::Window::new("User guide")
         .open(open)
         .default_size([620.0, 640.0])

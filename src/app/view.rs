@@ -1,7 +1,7 @@
 //! The map view: world ↔ screen transform (pan, zoom), drawing and hit-testing.
 
-use super::live::Snapshot;
 use crate::doc::{Layout, Node, Shape, Vec2 as W2};
+use crate::engine::live::Snapshot;
 use eframe::egui::{self, Color32, Pos2, Rect, Stroke, Vec2};
 
 /// How the wind is shown on the map.
@@ -482,4 +482,69 @@ pub fn draw_pointer_mark(painter: &egui::Painter, at: Pos2) {
         painter.circle_stroke(at, 7.0, stroke);
     }
     painter.circle_filled(at, 2.0, Color32::WHITE);
+}
+
+/// The colour scale of view `mode` with its title and range (top right of `rect`): the map
+/// view's, and the 3D view's while it shows the wind colours.
+pub fn draw_legend(painter: &egui::Painter, rect: Rect, mode: WindView, scale: f32) {
+    if mode == WindView::Off || scale <= 0.0 {
+        return;
+    }
+    // A plate 10 points inside the top right corner: the title, the bar, its range.
+    let w = 180.0;
+    let plate = Rect::from_min_size(
+        rect.right_top() + Vec2::new(-w - 30.0, 10.0),
+        Vec2::new(w + 20.0, 56.0),
+    );
+    let origin = plate.min + Vec2::new(10.0, 6.0);
+    let bar = Rect::from_min_size(origin + Vec2::new(0.0, 18.0), Vec2::new(w, 10.0));
+    painter.rect_filled(plate, 4.0, Color32::from_black_alpha(150));
+    let n = 32;
+    for k in 0..n {
+        let t = k as f32 / (n - 1) as f32;
+        let c = match mode {
+            WindView::Curl | WindView::Pressure => signed_colour(t * 2.0 - 1.0),
+            _ => speed_colour(t),
+        };
+        let x0 = bar.left() + w * k as f32 / n as f32;
+        painter.rect_filled(
+            Rect::from_min_size(
+                Pos2::new(x0, bar.top()),
+                Vec2::new(w / n as f32 + 0.5, bar.height()),
+            ),
+            0.0,
+            c,
+        );
+    }
+    let (title, lo, hi) = match mode {
+        WindView::Curl => (
+            "curl (1/s)",
+            format!("{:.2}", -scale),
+            format!("{scale:.2}"),
+        ),
+        WindView::Pressure => ("pressure", format!("{:.2}", -scale), format!("{scale:.2}")),
+        _ => ("wind speed (m/s)", "0".to_string(), format!("{scale:.1}")),
+    };
+    let font = egui::FontId::proportional(12.0);
+    painter.text(
+        origin,
+        egui::Align2::LEFT_TOP,
+        title,
+        font.clone(),
+        Color32::WHITE,
+    );
+    painter.text(
+        bar.left_bottom() + Vec2::new(0.0, 2.0),
+        egui::Align2::LEFT_TOP,
+        lo,
+        font.clone(),
+        Color32::WHITE,
+    );
+    painter.text(
+        bar.right_bottom() + Vec2::new(0.0, 2.0),
+        egui::Align2::RIGHT_TOP,
+        hi,
+        font,
+        Color32::WHITE,
+    );
 }

@@ -4,13 +4,14 @@
 //! with their rows reversed relative to OpenEXR, while both read scanline images the same way.
 //! ZIP compression in blocks of 16 lines: lossless, and read by every EXR loader.
 
+use super::format::{Encoder, frame_names};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage, f16};
 
 /// The encoding every windloom EXR uses.
 pub(crate) const ENCODING: Encoding = Encoding::SMALL_LOSSLESS;
 
-pub(crate) fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> {
+fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> {
     let name = ctx.name("wind", k, "exr");
     let pixel = |p: Vec2<usize>| {
         let v = f.at(p.x(), p.y());
@@ -60,4 +61,24 @@ pub(crate) fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, 
         name,
         bytes,
     })
+}
+
+/// The EXR format.
+pub(crate) struct Exr;
+
+impl Encoder for Exr {
+    fn names(&self, count: usize) -> Vec<String> {
+        frame_names("wind", count, "exr")
+    }
+
+    /// The samples, what ZIP adds to incompressible data, the line-offset table and the header.
+    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, half: bool) -> u64 {
+        let raw = (nx * ny) as u64 * 3 * if half { 2 } else { 4 };
+        let blocks = ny.div_ceil(16) as u64;
+        frames as u64 * (raw + raw / 100 + blocks * 16 + 4096)
+    }
+
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError> {
+        frame(ctx, k, f).map(Some)
+    }
 }

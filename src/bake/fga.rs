@@ -5,7 +5,8 @@
 //! as the maximum, as Houdini, VectorayGen and Blender write them. At most 128 cells per axis:
 //! larger grids are area-averaged down.
 
-use super::{ExportContext, FGA_MAX, Field, FileEntry, Format, Output};
+use super::format::{Encoder, frame_names};
+use super::{BakeError, ExportContext, FGA_MAX, Field, FileEntry, Format, Output};
 use std::fmt::Write;
 
 /// Slab thickness of the 2D field as a volume, in Unreal units (cm).
@@ -31,9 +32,9 @@ pub(crate) fn note(nx: usize, ny: usize) -> Option<String> {
 
 /// Most bytes one vector line takes: three floats written without exponent (at most 48
 /// characters each, for the smallest subnormal) and their commas, plus the newline.
-pub(crate) const MAX_LINE: u64 = 3 * 49 + 1;
+const MAX_LINE: u64 = 3 * 49 + 1;
 
-pub(crate) fn frame(ctx: &ExportContext, k: usize, frame: &Field) -> Output {
+fn frame(ctx: &ExportContext, k: usize, frame: &Field) -> Output {
     let (nx, ny) = (frame.nx, frame.ny);
     let (fx, fy) = dims(nx, ny);
     let resampled = (fx, fy) != (nx, ny);
@@ -67,5 +68,24 @@ pub(crate) fn frame(ctx: &ExportContext, k: usize, frame: &Field) -> Output {
         },
         name,
         bytes: text.into_bytes(),
+    }
+}
+
+/// The FGA format.
+pub(crate) struct Fga;
+
+impl Encoder for Fga {
+    fn names(&self, count: usize) -> Vec<String> {
+        frame_names("wind", count, "fga")
+    }
+
+    /// One line a cell at most, and the three header lines.
+    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+        let (fx, fy) = dims(nx, ny);
+        frames as u64 * ((fx * fy) as u64 * MAX_LINE + 512)
+    }
+
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError> {
+        Ok(Some(frame(ctx, k, f)))
     }
 }

@@ -10,24 +10,29 @@
 mod exr;
 mod fga;
 mod folder;
+mod format;
 mod frames;
+mod manifest;
+mod options;
 mod png;
 mod raw;
-mod stepper;
 pub mod timing;
 mod vf;
 
+pub use format::Format;
+pub use manifest::{FileEntry, FramesInfo, LayoutInfo, MANIFEST, Manifest, WorldInfo, layout_hash};
+pub use options::{BakeOptions, DEFAULT_MAX_BYTES, FRAMES_MAX, SECONDS_MAX, SettingsError};
 pub use png::ATLAS_MAX_SIDE;
-pub use stepper::Backend;
 pub use timing::FrameTiming;
 
 use crate::doc::{self, Layout};
+use crate::engine::Stepper;
+use format::frame_name;
 use frames::{FrameReader, FrameWriter};
-use serde::Serialize;
-use sha2::Digest;
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+
 /// A baked frame: cell-centred world velocity `[x, z]` in m/s, row-major (`i` along +x fastest,
 /// row `j` along +z).
 #[derive(Debug, Clone, PartialEq)]
@@ -98,92 +103,6 @@ fn overlap_weights(n: usize, m: usize) -> Vec<Vec<(usize, f64)>> {
         .collect()
 }
 
-/// Output formats.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
-#[serde(rename_all = "lowercase")]
-pub enum Format {
-    /// OpenEXR, float RGB: R = world x, G = world z, B = speed (m/s).
-    Exr,
-    /// 8-bit PNG flowmap, RG centred on 0.5.
-    Png8,
-    /// 16-bit PNG flowmap, RG centred on 0.5.
-    Png16,
-    /// Unreal vector field (FGA), at most 128 cells per axis.
-    Fga,
-    /// Unity VFX Graph vector field (VF_V).
-    Vf,
-    /// Little-endian f32 pairs, all frames in one file.
-    Raw,
-    /// All frames in one 16-bit PNG flipbook.
-    Atlas,
-}
-
-impl Format {
-    pub const ALL: [Format; 7] = [
-        Format::Exr,
-        Format::Png8,
-        Format::Png16,
-        Format::Fga,
-        Format::Vf,
-        Format::Raw,
-        Format::Atlas,
-    ];
-
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Exr => "exr",
-            Self::Png8 => "png8",
-            Self::Png16 => "png16",
-            Self::Fga => "fga",
-            Self::Vf => "vf",
-            Self::Raw => "raw",
-            Self::Atlas => "atlas",
-        }
-    }
-}
-
-/// What to bake.
-#[derive(Debug, Clone, PartialEq)]
-pub struct BakeOptions {
-    pub formats: Vec<Format>,
-    /// Seconds simulated before the first captured frame (rounded to whole frames).
-    pub warmup: f32,
-    /// Frames to capture (1: one steady frame).
-    pub frames: usize,
-    /// Frames per second of the captured sequence.
-    pub fps: f32,
-    /// Make the sequence loop seamlessly.
-    pub looped: bool,
-    /// Override the layout's grid.
-    pub grid: Option<[u32; 2]>,
-    /// Write EXR as 16-bit half floats instead of 32-bit.
-    pub half: bool,
-    /// Most disk the bake may take, in bytes, counted before it starts (an upper bound of
-    /// what every output and the temporary frame files need).
-    pub max_bytes: u64,
-    /// Which solver runs the bake.
-    pub backend: Backend,
-}
-
-/// The default disk budget of a bake: 16 GiB.
-pub const DEFAULT_MAX_BYTES: u64 = 16 << 30;
-
-impl Default for BakeOptions {
-    fn default() -> Self {
-        Self {
-            formats: Format::ALL.to_vec(),
-            warmup: 5.0,
-            frames: 1,
-            fps: 30.0,
-            looped: false,
-            grid: None,
-            half: false,
-            max_bytes: DEFAULT_MAX_BYTES,
-            backend: Backend::Cpu,
-        }
-    }
-}
-
 /// Bytes as a person reads them: `512 B`, `3.2 MiB`, `1.50 GiB`.
 pub fn human_bytes(bytes: u64) -> String {
     const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
@@ -203,7 +122,7 @@ pub fn human_bytes(bytes: u64) -> String {
 #[derive(Debug, thiserror::Error)]
 pub enum BakeError {
     #[error("invalid bake settings: {0}")]
-    Settings(String),
+    Settings(#[from] SettingsError),
     #[error("the layout is invalid: {0}")]
     Layout(String),
     #[error("cannot use output folder {}: {source}", path.display())]
@@ -219,14 +138,17 @@ pub enum BakeError {
     #[error("encoding {name}: {message}")]
     Encode { name: String, message: String },
     #[error(
-        "this bake needs up to {} of disk, more than {limit}; bake fewer frames, formats or cells{hint}",
-        human_bytes(*need)
+        "this bake needs up to {} of disk, more than {limit}; bake fewer frames, formats or cells{}",
+        human_bytes(*need),
+        if *budget { ", or raise the disk budget" } else { "" }
     )]
     Disk {
         need: u64,
         /// What it exceeds, e.g. `the 16.00 GiB budget`.
         limit: String,
-        hint: &'static str,
+        /// Whether it exceeds the budget asked for ([`BakeOptions::max_bytes`]), rather than
+        /// the free space.
+        budget: bool,
     },
     #[error("cancelled; no files were written")]
     Cancelled,
@@ -337,138 +259,6 @@ pub fn check_finite(field: &[[f32; 2]], frame: usize) -> Result<(), BakeError> {
 /// Progress reports: `(done, total, what)`.
 pub type Progress<'a> = &'a mut dyn FnMut(usize, usize, &str);
 
-/// One file of a bake, as the manifest describes it.
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct FileEntry {
-    pub name: String,
-    pub format: Format,
-    /// Which frame (absent for files holding all frames).
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub frame: Option<usize>,
-    /// Cells per axis in this file (after any resampling).
-    pub grid: [usize; 2],
-    /// The baked grid this file was area-averaged down from, if it was.
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub resampled_from: Option<[usize; 2]>,
-    /// How stored values map to world velocity.
-    pub encoding: serde_json::Value,
-    /// How the file's axes map to the world's.
-    pub axes: serde_json::Value,
-    pub bytes: u64,
-}
-
-/// The bake's `manifest.json`.
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct Manifest {
-    pub format: &'static str,
-    pub version: u32,
-    pub layout: LayoutInfo,
-    pub grid: [usize; 2],
-    pub world: WorldInfo,
-    pub axes: serde_json::Value,
-    pub frames: FramesInfo,
-    /// Largest wind speed over all frames, m/s (the PNG flowmap scale).
-    pub max_speed: f32,
-    /// The solver that ran: `cpu`, or `gpu: ADAPTER`.
-    pub solver: String,
-    pub notes: Vec<String>,
-    pub files: Vec<FileEntry>,
-}
-
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct LayoutInfo {
-    pub name: String,
-    /// `sha256:` of the layout's canonical JSON.
-    pub hash: String,
-}
-
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct WorldInfo {
-    pub min: [f32; 2],
-    pub max: [f32; 2],
-    pub units: &'static str,
-    pub cell_size: [f32; 2],
-}
-
-#[derive(Debug, Clone, Serialize, PartialEq)]
-pub struct FramesInfo {
-    pub count: usize,
-    pub fps: f32,
-    #[serde(rename = "loop")]
-    pub looped: bool,
-    #[serde(skip_serializing_if = "Option::is_none")]
-    pub loop_method: Option<&'static str>,
-    /// Simulated seconds before frame 0 (the asked warm-up rounded to whole frames). Frame
-    /// `k` is the wind at `warmup_seconds + k / fps` (for loops, see `loop_method`).
-    pub warmup_seconds: f64,
-    /// The solver step used: `1 / (fps · steps_per_frame)`, at most the layout's `sim.dt`.
-    pub sim_dt: f32,
-    pub steps_per_frame: usize,
-    /// The layout's own `sim.dt`, the longest step the bake may take.
-    pub layout_dt: f32,
-}
-
-pub const MANIFEST: &str = "manifest.json";
-/// Unreal's importer rejects larger axes.
-pub const FGA_MAX: usize = 128;
-/// Longest sequence a bake takes (about an hour at 30 fps); the disk budget usually binds first.
-pub const FRAMES_MAX: usize = 100_000;
-
-/// The content hash the manifest records: sha256 of the canonical layout JSON.
-pub fn layout_hash(layout: &Layout) -> String {
-    let digest = sha2::Sha256::digest(doc::to_json(layout).as_bytes());
-    let hex: String = digest.iter().map(|b| format!("{b:02x}")).collect();
-    format!("sha256:{hex}")
-}
-
-/// The most simulated seconds a bake runs before its first frame (`--warmup`), and between
-/// its first frame and its last (`--frames` ÷ `--fps`): ten hours each.
-pub const SECONDS_MAX: f32 = 36_000.0;
-
-fn check_settings(opts: &BakeOptions) -> Result<(), BakeError> {
-    let bad = |m: String| Err(BakeError::Settings(m));
-    if opts.formats.is_empty() {
-        return bad("no --format given".into());
-    }
-    if !(1..=FRAMES_MAX).contains(&opts.frames) {
-        return bad(format!(
-            "--frames must be 1 to {FRAMES_MAX}, got {}",
-            opts.frames
-        ));
-    }
-    if !(opts.fps.is_finite() && opts.fps > 0.0 && opts.fps <= 1000.0) {
-        return bad(format!(
-            "--fps must be between 0 and 1000, got {}",
-            opts.fps
-        ));
-    }
-    if !(opts.warmup.is_finite() && opts.warmup >= 0.0 && opts.warmup <= SECONDS_MAX) {
-        return bad(format!(
-            "--warmup must be 0 to {SECONDS_MAX} seconds, got {}",
-            opts.warmup
-        ));
-    }
-    if opts.looped && opts.frames < 2 {
-        return bad("--loop needs --frames 2 or more".into());
-    }
-    // The frames' span in simulated seconds (a loop simulates twice its frames).
-    let simulated = if opts.looped { 2 } else { 1 } * opts.frames;
-    let span = (simulated.saturating_sub(1)) as f64 / f64::from(opts.fps);
-    if span > f64::from(SECONDS_MAX) {
-        return bad(format!(
-            "{} frames at {} fps span {span:.0} simulated seconds{}, more than the {SECONDS_MAX} a bake may; raise --fps or bake fewer --frames",
-            opts.frames,
-            opts.fps,
-            if opts.looped {
-                " (a loop simulates twice its frames)"
-            } else {
-                ""
-            },
-        ));
-    }
-    Ok(())
-}
-
 /// Frame `k` of a seamless loop of `n` frames from `2n` simulated ones `S`: it blends
 /// `S[k+n]` (weight `1 − k/n`) with `S[k]` (weight `k/n`). Frame 0 is `S[n]`; the last frame is
 /// almost `S[n−1]`, whose natural successor is `S[n]`, so playing the last frame then the
@@ -487,36 +277,28 @@ pub fn crossfade(late: &Field, early: &Field, k: usize, n: usize) -> Field {
     }
 }
 
-/// The file name of frame `k` of `count` with extension `ext`.
-fn frame_name(stem: &str, k: usize, count: usize, ext: &str) -> String {
-    if count == 1 {
-        format!("{stem}.{ext}")
-    } else {
-        format!("{stem}_{k:04}.{ext}")
+/// Unreal's importer rejects larger axes.
+pub const FGA_MAX: usize = 128;
+
+/// The file that writes `format`.
+fn encoder(format: Format) -> &'static dyn format::Encoder {
+    match format {
+        Format::Exr => &exr::Exr,
+        Format::Png8 => &png::Flowmap { sixteen: false },
+        Format::Png16 => &png::Flowmap { sixteen: true },
+        Format::Fga => &fga::Fga,
+        Format::Vf => &vf::Vf,
+        Format::Raw => &raw::Raw,
+        Format::Atlas => &png::AtlasFormat,
     }
 }
 
 /// Every file a bake of `count` frames in `formats` writes, the manifest last.
 pub fn output_names(formats: &[Format], count: usize) -> Vec<String> {
-    let mut names = Vec::new();
-    for f in formats {
-        let (stem, ext) = match f {
-            Format::Exr => ("wind", "exr"),
-            Format::Png8 => ("flow8", "png"),
-            Format::Png16 => ("flow16", "png"),
-            Format::Fga => ("wind", "fga"),
-            Format::Vf => ("wind", "vf"),
-            Format::Raw => {
-                names.push(raw::NAME.to_string());
-                continue;
-            }
-            Format::Atlas => {
-                names.push(png::ATLAS_NAME.to_string());
-                continue;
-            }
-        };
-        names.extend((0..count).map(|k| frame_name(stem, k, count, ext)));
-    }
+    let mut names: Vec<String> = formats
+        .iter()
+        .flat_map(|&f| encoder(f).names(count))
+        .collect();
     names.push(MANIFEST.to_string());
     names
 }
@@ -532,31 +314,12 @@ pub fn disk_need(
     looped: bool,
     half: bool,
 ) -> u64 {
-    let cells = (nx * ny) as u64;
     let n = frames as u64;
-    let frame_raw = cells * 8;
+    let frame_raw = (nx * ny) as u64 * 8;
     // The frame stream (kept as wind.f32 or deleted at the end), and a loop's source frames.
     let mut need = frame_raw * n + if looped { frame_raw * 2 * n } else { 0 };
-    let blocks = ny.div_ceil(16) as u64;
     for f in formats {
-        need += match f {
-            Format::Exr => {
-                let raw = cells * 3 * if half { 2 } else { 4 };
-                n * (raw + raw / 100 + blocks * 16 + 4096)
-            }
-            Format::Png8 => n * png::max_size(nx, ny, 3),
-            Format::Png16 => n * png::max_size(nx, ny, 6),
-            Format::Fga => {
-                let (fx, fy) = fga::dims(nx, ny);
-                n * ((fx * fy) as u64 * fga::MAX_LINE + 512)
-            }
-            Format::Vf => n * vf::size(nx, ny),
-            Format::Raw => 0,
-            Format::Atlas => {
-                let (c, r) = png::atlas_grid(frames);
-                png::max_size(c * nx, r * ny, 6)
-            }
-        };
+        need += encoder(*f).max_bytes(nx, ny, frames, half);
     }
     // The manifest: a few hundred bytes per file.
     need + 64 * 1024 + 1024 * output_names(formats, frames).len() as u64
@@ -628,7 +391,7 @@ fn bake_staged(
     cancel: &AtomicBool,
     progress: Progress<'_>,
 ) -> Result<Manifest, BakeError> {
-    check_settings(opts)?;
+    options::check(opts)?;
     let mut layout = layout.clone();
     if let Some(g) = opts.grid {
         layout.world.grid = g;
@@ -643,21 +406,14 @@ fn bake_staged(
     formats.sort();
     formats.dedup();
     if formats.contains(&Format::Atlas) {
-        let (c, r) = png::atlas_grid(n);
-        if c * nx > ATLAS_MAX_SIDE || r * ny > ATLAS_MAX_SIDE {
-            return Err(BakeError::Settings(format!(
-                "the atlas of {n} frames of {nx}x{ny} would be {}x{} pixels, over the {ATLAS_MAX_SIDE} a GPU texture allows; bake fewer frames or cells, or leave out --format atlas",
-                c * nx,
-                r * ny
-            )));
-        }
+        options::check_atlas(n, nx, ny)?;
     }
     let need = disk_need(nx, ny, &formats, n, opts.looped, opts.half);
     if need > opts.max_bytes {
         return Err(BakeError::Disk {
             need,
             limit: format!("the {} budget", human_bytes(opts.max_bytes)),
-            hint: ", or raise --max-disk",
+            budget: true,
         });
     }
     let staging = folder::Staging::new(out)?;
@@ -667,7 +423,7 @@ fn bake_staged(
         return Err(BakeError::Disk {
             need,
             limit: format!("the {} free on {}", human_bytes(free), out.display()),
-            hint: "",
+            budget: false,
         });
     }
     let names = output_names(&formats, n);
@@ -687,10 +443,11 @@ fn bake_staged(
     } else {
         frames_path.clone()
     };
-    let (mut solver, solver_note) = stepper::Stepper::new(&sim_layout, opts.backend)?;
+    let (mut solver, solver_note) =
+        Stepper::new(&sim_layout, opts.backend).map_err(SettingsError::Gpu)?;
     let solver_name = solver.describe();
     let mut steps = 0;
-    let mut advance = |solver: &mut stepper::Stepper, count: usize| -> Result<(), BakeError> {
+    let mut advance = |solver: &mut Stepper, count: usize| -> Result<(), BakeError> {
         for _ in 0..count {
             if cancel.load(Ordering::Relaxed) {
                 return Err(BakeError::Cancelled);
@@ -707,12 +464,12 @@ fn bake_staged(
     };
     let mut writer = FrameWriter::create(&source_path, nx, ny)?;
     advance(&mut solver, timing.warmup_steps)?;
-    let first = solver.velocity_field()?;
+    let first = solver.velocity_field().map_err(SettingsError::Gpu)?;
     check_finite(&first, 0)?;
     writer.push(&first)?;
     for k in 1..simulated {
         advance(&mut solver, timing.steps_per_frame)?;
-        let field = solver.velocity_field()?;
+        let field = solver.velocity_field().map_err(SettingsError::Gpu)?;
         check_finite(&field, k)?;
         writer.push(&field)?;
     }
@@ -761,13 +518,8 @@ fn bake_staged(
         }
         let f = reader.read(k)?;
         for &format in &formats {
-            let output = match format {
-                Format::Exr => exr::frame(&ctx, k, &f)?,
-                Format::Png8 => png::flowmap(&ctx, k, &f, false)?,
-                Format::Png16 => png::flowmap(&ctx, k, &f, true)?,
-                Format::Fga => fga::frame(&ctx, k, &f),
-                Format::Vf => vf::frame(&ctx, k, &f),
-                Format::Raw | Format::Atlas => continue,
+            let Some(output) = encoder(format).frame(&ctx, k, &f)? else {
+                continue;
             };
             let mut entry = output.entry;
             entry.bytes = write_file(&dir, &output.name, &output.bytes)?;

@@ -1,6 +1,7 @@
 //! PNG flowmaps (8 and 16 bit) and the flipbook atlas: R = 0.5 + 0.5·vx/max_speed,
 //! G = 0.5 + 0.5·vz/max_speed, B = 0; decode with `rg * 2 − 1` times `max_speed`.
 
+use super::format::{Encoder, frame_names};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 use image::{ImageBuffer, ImageEncoder, Rgb};
 use std::io::Write;
@@ -70,17 +71,12 @@ fn row16(f: &Field, j: usize, scale: f32, out: &mut Vec<u8>, bytes: fn(u16) -> [
 
 /// Most bytes a PNG of `w × h` pixels of `bytes_per_pixel` takes: the filtered rows, what
 /// deflate adds to incompressible data (5 bytes per 16 KiB block), and the chunks around it.
-pub(crate) fn max_size(w: usize, h: usize, bytes_per_pixel: usize) -> u64 {
+fn max_size(w: usize, h: usize, bytes_per_pixel: usize) -> u64 {
     let raw = ((w * bytes_per_pixel + 1) * h) as u64;
     raw + raw / 1024 + 4096
 }
 
-pub(crate) fn flowmap(
-    ctx: &ExportContext,
-    k: usize,
-    f: &Field,
-    sixteen: bool,
-) -> Result<Output, BakeError> {
+fn flowmap(ctx: &ExportContext, k: usize, f: &Field, sixteen: bool) -> Result<Output, BakeError> {
     let scale = ctx.flow_scale();
     let (stem, format, bits) = if sixteen {
         ("flow16", Format::Png16, 16)
@@ -243,5 +239,42 @@ impl Atlas {
             .finish()
             .map_err(|e| encode_error(ATLAS_NAME, e))?;
         Ok((self.path, self.entry))
+    }
+}
+
+/// The PNG flowmaps, 8 or 16 bits a channel.
+pub(crate) struct Flowmap {
+    pub sixteen: bool,
+}
+
+impl Encoder for Flowmap {
+    fn names(&self, count: usize) -> Vec<String> {
+        frame_names(if self.sixteen { "flow16" } else { "flow8" }, count, "png")
+    }
+
+    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+        frames as u64 * max_size(nx, ny, if self.sixteen { 6 } else { 3 })
+    }
+
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError> {
+        flowmap(ctx, k, f, self.sixteen).map(Some)
+    }
+}
+
+/// The atlas: one file, written by [`Atlas`] as the frames arrive.
+pub(crate) struct AtlasFormat;
+
+impl Encoder for AtlasFormat {
+    fn names(&self, _count: usize) -> Vec<String> {
+        vec![ATLAS_NAME.to_string()]
+    }
+
+    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+        let (c, r) = atlas_grid(frames);
+        max_size(c * nx, r * ny, 6)
+    }
+
+    fn frame(&self, _: &ExportContext, _: usize, _: &Field) -> Result<Option<Output>, BakeError> {
+        Ok(None)
     }
 }

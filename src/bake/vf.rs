@@ -3,14 +3,15 @@
 //! Z = north, so a world row `j` (counted southward) becomes Z index `ny − 1 − j` and the
 //! world z velocity is negated.
 
-use super::{ExportContext, Field, FileEntry, Format, Output};
+use super::format::{Encoder, frame_names};
+use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 
 /// Bytes of one file for an `nx × ny` grid.
-pub(crate) fn size(nx: usize, ny: usize) -> u64 {
+fn size(nx: usize, ny: usize) -> u64 {
     10 + 12 * (nx * ny) as u64
 }
 
-pub(crate) fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
+fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
     let (nx, ny) = (f.nx, f.ny);
     let mut bytes = Vec::with_capacity(size(nx, ny) as usize);
     bytes.extend_from_slice(b"VF_V");
@@ -44,5 +45,22 @@ pub(crate) fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
         },
         name,
         bytes,
+    }
+}
+
+/// The VF format.
+pub(crate) struct Vf;
+
+impl Encoder for Vf {
+    fn names(&self, count: usize) -> Vec<String> {
+        frame_names("wind", count, "vf")
+    }
+
+    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+        frames as u64 * size(nx, ny)
+    }
+
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError> {
+        Ok(Some(frame(ctx, k, f)))
     }
 }

@@ -594,10 +594,80 @@ fn cancelled_or_failed_bakes_leave_no_files() {
         &AtomicBool::new(false),
         &mut |_, _, _| {},
     )
-    .unwrap_err()
-    .to_string();
-    assert!(err.contains("--loop needs --frames 2"), "{err}");
+    .unwrap_err();
+    // The library names the setting as the Export dialog does; the CLI says it with its
+    // flags (`cli_says_bake_settings_with_its_flags`).
+    assert!(
+        matches!(
+            err,
+            bake::BakeError::Settings(bake::SettingsError::LoopTooShort)
+        ),
+        "{err}"
+    );
+    assert!(
+        err.to_string().contains("a loop needs 2 frames or more"),
+        "{err}"
+    );
     assert!(entries(&out).is_empty());
+}
+
+/// The settings a bake refuses, said on the command line with the flags that change them
+/// (the library's errors are typed and name no flag: the Export dialog shows the same ones).
+#[test]
+fn cli_says_bake_settings_with_its_flags() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bake");
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/meadow.json");
+    let cases: [(&[&str], &str); 6] = [
+        (&["--frames", "0"], "--frames must be 1 to 100000, got 0"),
+        (&["--fps", "0"], "--fps must be between 0 and 1000, got 0"),
+        (
+            &["--warmup=-1"],
+            "--warmup must be 0 to 36000 seconds, got -1",
+        ),
+        (&["--loop"], "--loop needs --frames 2 or more"),
+        (
+            &["--frames", "90000", "--fps", "1"],
+            "raise --fps or bake fewer --frames",
+        ),
+        (
+            &["--frames", "5000", "--format", "atlas", "--grid", "512x512"],
+            "or leave out --format atlas",
+        ),
+    ];
+    for (flags, said) in cases {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+            .args([
+                "bake",
+                layout.to_str().unwrap(),
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .args(flags)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{flags:?}: {err}");
+        assert!(
+            err.starts_with("error: invalid bake settings: "),
+            "{flags:?}: {err}"
+        );
+        assert!(err.contains(said), "{flags:?}: {err}");
+        assert!(!out.exists(), "{flags:?} wrote nothing");
+    }
+    // A budget too small is said with the flag that raises it.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args([
+            "bake",
+            layout.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--max-disk", "1K"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(err.contains("or raise --max-disk"), "{err}");
 }
 
 #[test]

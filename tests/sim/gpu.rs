@@ -440,7 +440,7 @@ fn a_2048_grid_runs_on_the_gpu_and_agrees_with_the_cpu() {
     assert!(err <= 1e-3 * peak, "max |Δv| {err} of peak {peak}");
 }
 
-fn bake_raw(backend: windloom::bake::Backend) -> (Vec<f32>, windloom::bake::Manifest) {
+fn bake_raw(backend: windloom::engine::Backend) -> (Vec<f32>, windloom::bake::Manifest) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bake");
     let opts = windloom::bake::BakeOptions {
@@ -473,7 +473,7 @@ fn bake_raw(backend: windloom::bake::Backend) -> (Vec<f32>, windloom::bake::Mani
 #[test]
 fn a_gpu_bake_agrees_with_a_cpu_bake() {
     let Some(_ctx) = context() else { return };
-    use windloom::bake::Backend;
+    use windloom::engine::Backend;
     let (cpu, mc) = bake_raw(Backend::Cpu);
     let (gpu, mg) = bake_raw(Backend::Gpu);
     assert_eq!(mc.solver, "cpu");

@@ -63,7 +63,7 @@ fn authoring_a_tree_with_the_mouse_then_inspector_and_undo() {
 
     // Inspector: the strength slider changes the node.
     let before = child.strength;
-    let inspector_left = h.state().map_rect.right();
+    let inspector_left = h.state().map.rect.right();
     let slider = h
         .get_all_by_role(egui::accesskit::Role::Slider)
         .find(|s| s.rect().left() > inspector_left)
@@ -88,7 +88,10 @@ fn authoring_a_tree_with_the_mouse_then_inspector_and_undo() {
     h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Y);
     h.run_steps(2);
     assert_eq!(h.state().doc.trees[0].root.children.len(), 1);
-    assert!(h.state().dirty, "an edited document is marked dirty");
+    assert!(
+        h.state().doc.is_dirty(),
+        "an edited document is marked dirty"
+    );
 }
 
 /// The inspector says when the simulation settings are known to run away (MacCormack with
@@ -103,7 +106,7 @@ fn the_inspector_warns_of_settings_that_run_away() {
     assert!(h.query_by_label_contains(warning).is_none());
     let mut sim = h.state().doc.sim;
     sim.advection = doc::Advection::MacCormack;
-    h.state_mut().doc.sim = sim;
+    h.state_mut().doc.apply(doc::Edit::SetSim(sim)).unwrap();
     h.run_steps(2);
     assert!(
         h.query_by_label_contains(warning).is_some(),
@@ -119,7 +122,7 @@ fn the_inspector_warns_of_settings_that_run_away() {
         "the export dialog shows the advice"
     );
     sim.vorticity = 0.5;
-    h.state_mut().doc.sim = sim;
+    h.state_mut().doc.apply(doc::Edit::SetSim(sim)).unwrap();
     h.run_steps(2);
     assert!(
         h.query_by_label_contains("MacCormack advection can drive")
@@ -169,7 +172,7 @@ fn a_duplicate_is_named_apart_from_its_original() {
     assert_ne!(tree_copy.root.id, tree.root.id);
     assert!(doc::validate(&app.doc).is_empty(), "ids stay unique");
     app.undo();
-    assert_eq!(doc::to_json(&app.doc), before, "one undo step");
+    assert_eq!(doc::to_json(app.doc.layout()), before, "one undo step");
 }
 
 /// The simulation's and the grass's choices read as words a designer knows (not the Rust
@@ -246,7 +249,7 @@ fn the_map_stays_put_when_the_selection_changes() {
     let node = doc.trees[0].root.children[0].id;
     let obstacle = doc.obstacles[0].id;
     let mut h = harness(doc);
-    let still = h.state().map_rect;
+    let still = h.state().map.rect;
     for sel in [
         vec![Sel::Node(node)],
         vec![Sel::Obstacle(obstacle)],
@@ -256,7 +259,7 @@ fn the_map_stays_put_when_the_selection_changes() {
         h.state_mut().selection = sel.clone();
         h.run_steps(3);
         assert_eq!(
-            h.state().map_rect,
+            h.state().map.rect,
             still,
             "the map moved with {sel:?} selected"
         );
@@ -294,7 +297,7 @@ fn the_map_image_is_set_in_the_inspector() {
     type_in(&mut h, "top-down.png");
     let map = h.state().doc.world.map.clone().expect("a map image");
     assert_eq!((map.image.as_str(), map.opacity), ("top-down.png", 1.0));
-    assert!(h.state().dirty);
+    assert!(h.state().doc.is_dirty());
     // It loads from the layout's folder: no "could not read" message, as a missing one gets.
     assert!(h.query_by_label_contains("shown without it").is_none());
     type_in(&mut h, "missing.png");
@@ -337,7 +340,7 @@ fn a_narrow_window_wraps_the_toolbar_instead_of_hiding_it() {
             "{label} at {r:?}: on screen, under the menus"
         );
     }
-    assert!(h.state().map_rect.top() > row(&h, "Map + 3D").bottom());
+    assert!(h.state().map.rect.top() > row(&h, "Map + 3D").bottom());
     h.set_size(egui::vec2(1280.0, 800.0));
     h.run_steps(4);
     assert!((row(&h, "Map + 3D").center().y - file.center().y).abs() < 2.0);
@@ -466,7 +469,7 @@ fn long_names_keep_the_panels_and_the_guide_opens() {
     }
     let mut h = harness(example("meadow.json"));
     h.run_steps(2);
-    let map_left = h.state().map_rect.left();
+    let map_left = h.state().map.rect.left();
     let ctx = h.ctx.clone();
     let id = h.state().doc.trees[0].id;
     let mut props = windloom::doc::TreeProps::of(&h.state().doc.trees[0]);
@@ -479,7 +482,7 @@ fn long_names_keep_the_panels_and_the_guide_opens() {
     );
     h.run_steps(3);
     assert_eq!(
-        h.state().map_rect.left(),
+        h.state().map.rect.left(),
         map_left,
         "the Layers panel widened"
     );

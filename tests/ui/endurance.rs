@@ -64,46 +64,46 @@ fn views_in_this_process() {
         std::env::var_os("WINDLOOM_ENDURANCE_CHILD").is_some(),
         "run through every_view_keeps_its_memory_flat"
     );
-    let cases: [(&str, Central, BackendChoice, bool, doc::GrassModel); 6] = [
+    let cases: [(&str, Central, Backend, bool, doc::GrassModel); 6] = [
         (
             "map, running, CPU wind",
             Central::Map,
-            BackendChoice::Cpu,
+            Backend::Cpu,
             true,
             doc::GrassModel::CwdQuadratic,
         ),
         (
             "map, running, GPU wind",
             Central::Map,
-            BackendChoice::Gpu,
+            Backend::Gpu,
             true,
             doc::GrassModel::CwdQuadratic,
         ),
         (
             "3D grass, running",
             Central::Grass,
-            BackendChoice::Cpu,
+            Backend::Cpu,
             true,
             doc::GrassModel::CwdQuadratic,
         ),
         (
             "3D grass, paused",
             Central::Grass,
-            BackendChoice::Cpu,
+            Backend::Cpu,
             false,
             doc::GrassModel::CwdQuadratic,
         ),
         (
             "3D Bezier grass, running, GPU wind",
             Central::Grass,
-            BackendChoice::Gpu,
+            Backend::Gpu,
             true,
             doc::GrassModel::BezierPhysics,
         ),
         (
             "map + 3D, running",
             Central::Split,
-            BackendChoice::Cpu,
+            Backend::Cpu,
             true,
             doc::GrassModel::CwdQuadratic,
         ),
@@ -190,7 +190,7 @@ fn every_view_rests_when_paused() {
         // new data that wakes the view (as it should).
         let mut h = gpu_harness_sized(doc, egui::vec2(800.0, 500.0), move |app| {
             app.settings.central = central;
-            app.settings.backend = BackendChoice::Cpu;
+            app.settings.backend = Backend::Cpu;
         });
         // The first field arrives, the blades are built, the counters come back from the
         // GPU (real time), the Bezier blades settle (editor time: 1/60 s a frame).

@@ -90,10 +90,10 @@ fn the_suggested_export_folder_is_the_layout_s_own() {
     let folder = |name: &str| levels.join(name).display().to_string();
     assert_eq!(open_dialog(&mut h), folder("meadow-bake"));
     // Another file opened: the suggestion follows it.
-    h.state_mut().path = Some(levels.join("forest.json"));
+    h.state_mut().doc.set_path(Some(levels.join("forest.json")));
     assert_eq!(open_dialog(&mut h), folder("forest-bake"));
     // A folder the user typed stays, whatever is opened next.
     h.state_mut().export.out = "/srv/game/wind".into();
-    h.state_mut().path = Some(levels.join("meadow.json"));
+    h.state_mut().doc.set_path(Some(levels.join("meadow.json")));
     assert_eq!(open_dialog(&mut h), "/srv/game/wind");
 }

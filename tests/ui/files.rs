@@ -17,7 +17,7 @@ fn a_bad_file_shows_the_errors_and_keeps_the_document() {
     let mut app = EditorApp::new(example("branching.json"), None, &ctx);
     let before = doc::to_json(&app.doc);
     app.open_path(&bad);
-    assert_eq!(doc::to_json(&app.doc), before);
+    assert_eq!(doc::to_json(app.doc.layout()), before);
     match &app.dialog {
         Some(windloom::app::Dialog::Error { text, .. }) => {
             assert!(text.contains("radius: must be > 0, got -7"), "{text}");
@@ -32,7 +32,7 @@ fn unsaved_work_is_autosaved_and_a_save_clears_the_recovery_copy() {
     let dir = tempfile::tempdir().unwrap();
     let ctx = egui::Context::default();
     let mut app = EditorApp::new(example("meadow.json"), None, &ctx);
-    app.set_recovery_dir(Some(dir.path().join("recovery")));
+    app.doc.set_recovery_dir(Some(dir.path().join("recovery")));
     let id = app.doc.trees[0].root.children[0].id;
     assert!(app.edit(
         &ctx,
@@ -41,39 +41,43 @@ fn unsaved_work_is_autosaved_and_a_save_clears_the_recovery_copy() {
             pos: [1.0, 2.0]
         }
     ));
-    let recovery = app.write_recovery().unwrap();
+    let recovery = app.doc.write_recovery().unwrap();
     let restored = windloom::io::load(&recovery).unwrap();
     assert_eq!(
-        restored, app.doc,
+        restored,
+        *app.doc.layout(),
         "the recovery copy holds the unsaved edit"
     );
     let target = dir.path().join("level.json");
     assert!(app.save_to(&ctx, &target));
     assert!(!recovery.exists(), "saving removes the recovery copy");
-    assert!(!app.dirty);
-    assert_eq!(app.path.as_deref(), Some(target.as_path()));
+    assert!(!app.doc.is_dirty());
+    assert_eq!(app.doc.path(), Some(target.as_path()));
 }
 
 /// Two editors keep separate recovery copies; an editor that died leaves its copy to be
 /// offered, and restoring it brings back the file it was editing, so Save goes there.
 #[test]
 fn each_document_has_its_own_recovery_copy_and_a_restore_keeps_its_path() {
-    use windloom::app::recovery::Recovery;
+    use windloom::io::recovery::Recovery;
     let dir = tempfile::tempdir().unwrap();
     let rec = dir.path().join("recovery");
     let ctx = egui::Context::default();
     let level = dir.path().join("level.json");
     windloom::io::save(&level, &example("meadow.json")).unwrap();
     let mut a = EditorApp::new(example("meadow.json"), Some(level.clone()), &ctx);
-    a.set_recovery_dir(Some(rec.clone()));
+    a.doc.set_recovery_dir(Some(rec.clone()));
     let mut b = EditorApp::new(example("obstacles.json"), None, &ctx);
-    b.set_recovery_dir(Some(rec.clone()));
+    b.doc.set_recovery_dir(Some(rec.clone()));
     let mut grass = a.doc.grass.clone();
     grass.density = 7.0;
     assert!(a.edit(&ctx, doc::Edit::SetGrass(grass)));
-    let (pa, pb) = (a.write_recovery().unwrap(), b.write_recovery().unwrap());
+    let (pa, pb) = (
+        a.doc.write_recovery().unwrap(),
+        b.doc.write_recovery().unwrap(),
+    );
     assert_ne!(pa, pb, "two documents, two copies");
-    assert_eq!(windloom::io::load(&pb).unwrap(), b.doc);
+    assert_eq!(windloom::io::load(&pb).unwrap(), *b.doc.layout());
     // Editor a "crashes" (it never removes its copy); a new editor finds both copies (their
     // writer, this process, is not another running editor) and restores a's.
     let edited = a.doc.clone();
@@ -89,11 +93,11 @@ fn each_document_has_its_own_recovery_copy_and_a_restore_keeps_its_path() {
         Some(level.canonicalize().unwrap().as_path())
     );
     let mut c = EditorApp::new(windloom::doc::default_layout(), None, &ctx);
-    c.set_recovery_dir(Some(rec.clone()));
+    c.doc.set_recovery_dir(Some(rec.clone()));
     c.restore(fa).unwrap();
-    assert_eq!(c.doc, edited, "the unsaved edit is back");
+    assert_eq!(*c.doc.layout(), edited, "the unsaved edit is back");
     assert_eq!(
-        c.path.as_deref(),
+        c.doc.path(),
         Some(level.canonicalize().unwrap().as_path()),
         "Save goes to the file it was editing"
     );
@@ -112,13 +116,13 @@ fn a_failed_autosave_is_reported() {
     std::fs::write(&blocker, b"x").unwrap();
     let ctx = egui::Context::default();
     let mut app = EditorApp::new(example("meadow.json"), None, &ctx);
-    app.set_recovery_dir(Some(blocker.join("recovery")));
-    let e = app.write_recovery().unwrap_err();
+    app.doc.set_recovery_dir(Some(blocker.join("recovery")));
+    let e = app.doc.write_recovery().unwrap_err();
     assert!(e.contains("not-a-folder"), "{e}");
-    assert_eq!(app.recovery_error.as_deref(), Some(e.as_str()));
-    app.set_recovery_dir(Some(dir.path().join("recovery")));
-    app.write_recovery().unwrap();
-    assert!(app.recovery_error.is_none(), "cleared once it works");
+    assert_eq!(app.doc.recovery_error.as_deref(), Some(e.as_str()));
+    app.doc.set_recovery_dir(Some(dir.path().join("recovery")));
+    app.doc.write_recovery().unwrap();
+    assert!(app.doc.recovery_error.is_none(), "cleared once it works");
 }
 
 /// Where the system's file dialog cannot open, the editor still saves and opens: File →
@@ -135,10 +139,10 @@ fn a_new_file_is_written_by_the_first_save() {
     let ctx = egui::Context::default();
     let mut app = EditorApp::new(layout, Some(path.clone()), &ctx);
     app.tell("fresh.json is new: Save creates it");
-    assert!(!app.dirty && !path.exists());
+    assert!(!app.doc.is_dirty() && !path.exists());
     assert!(app.save(&ctx), "the save failed");
     assert!(app.dialog.is_none());
-    assert_eq!(windloom::io::load(&path).unwrap(), app.doc);
+    assert_eq!(windloom::io::load(&path).unwrap(), *app.doc.layout());
     assert_eq!(app.doc.name, "fresh");
     // A file that someone else makes at the path before the first Save is not overwritten
     // unasked.
@@ -171,8 +175,11 @@ fn a_typed_path_saves_and_opens_without_a_file_dialog() {
     h.run_steps(1);
     h.get_by_label("Save").click();
     h.run_steps(2);
-    assert_eq!(windloom::io::load(&target).unwrap(), h.state().doc);
-    assert_eq!(h.state().path.as_deref(), Some(target.as_path()));
+    assert_eq!(
+        windloom::io::load(&target).unwrap(),
+        *h.state().doc.layout()
+    );
+    assert_eq!(h.state().doc.path(), Some(target.as_path()));
     assert!(h.state().dialog.is_none());
     // And open it through Open path… after a change on disk.
     let mut other = example("obstacles.json");
@@ -203,7 +210,7 @@ fn a_file_changed_on_disk_is_offered_for_reload_and_never_overwritten_unasked() 
     // Our own save is not someone else's change.
     let ctx = h.ctx.clone();
     assert!(h.state_mut().save(&ctx));
-    h.state_mut().check_disk();
+    h.state_mut().doc.check_disk();
     h.run_steps(2);
     assert!(
         h.query_by_label("Reload").is_none(),
@@ -213,7 +220,7 @@ fn a_file_changed_on_disk_is_offered_for_reload_and_never_overwritten_unasked() 
     // A second editor saves another layout over it.
     let theirs = example("obstacles.json");
     windloom::io::save(&level, &theirs).unwrap();
-    h.state_mut().check_disk();
+    h.state_mut().doc.check_disk();
     h.run_steps(2);
     assert!(h.query_by_label("Reload").is_some(), "the editor asks");
     assert!(
@@ -227,23 +234,23 @@ fn a_file_changed_on_disk_is_offered_for_reload_and_never_overwritten_unasked() 
     );
     h.get_by_label("Reload").click();
     h.run_steps(3);
-    assert_eq!(h.state().doc, theirs, "reloaded");
-    assert!(!h.state().dirty);
+    assert_eq!(*h.state().doc.layout(), theirs, "reloaded");
+    assert!(!h.state().doc.is_dirty());
     assert!(h.query_by_label("Reload").is_none(), "answered");
 
     // Changed again; this time the user keeps the editor's document and saves it over.
     windloom::io::save(&level, &example("two-winds.json")).unwrap();
-    h.state_mut().check_disk();
+    h.state_mut().doc.check_disk();
     h.run_steps(2);
     h.get_by_label("Keep mine").click();
     h.run_steps(3);
-    assert!(h.state().dirty, "kept, so unsaved");
+    assert!(h.state().doc.is_dirty(), "kept, so unsaved");
     assert!(h.state_mut().save(&ctx));
     assert_eq!(windloom::io::load(&level).unwrap(), theirs);
 
     // Deleted: the editor says so; Keep mine and Save write it again.
     std::fs::remove_file(&level).unwrap();
-    h.state_mut().check_disk();
+    h.state_mut().doc.check_disk();
     h.run_steps(2);
     assert!(h.query_by_label("Reload").is_none(), "nothing to reload");
     h.get_by_label("Keep mine").click();
@@ -453,7 +460,7 @@ fn a_killed_editor_s_last_edit_is_restored() {
         )
     });
 
-    let found = windloom::app::recovery::Recovery::found(&rec);
+    let found = windloom::io::recovery::Recovery::found(&rec);
     let listing: Vec<_> = std::fs::read_dir(&rec)
         .unwrap()
         .map(|e| e.unwrap().file_name())
@@ -466,7 +473,8 @@ fn a_killed_editor_s_last_edit_is_restored() {
     );
     let ctx = egui::Context::default();
     let mut app = EditorApp::new(doc::default_layout(), None, &ctx);
-    app.set_recovery_dir(Some(home.path().join("other-recovery")));
+    app.doc
+        .set_recovery_dir(Some(home.path().join("other-recovery")));
     app.restore(&found[0]).unwrap();
     assert_eq!(
         app.doc.trees.len(),
@@ -474,7 +482,7 @@ fn a_killed_editor_s_last_edit_is_restored() {
         "the edit is back"
     );
     assert_eq!(
-        app.path.as_deref(),
+        app.doc.path(),
         Some(level.canonicalize().unwrap().as_path())
     );
     assert_eq!(
@@ -561,7 +569,7 @@ fn the_typed_path_prompt_starts_in_the_layout_s_folder_and_keeps_what_was_typed(
     h.get_by_label("Save").click();
     h.run_steps(2);
     assert!(h.state().dialog.is_none());
-    assert_eq!(windloom::io::load(&deep).unwrap(), h.state().doc);
+    assert_eq!(windloom::io::load(&deep).unwrap(), *h.state().doc.layout());
 
     // A file that cannot be opened: the prompt again, with the typed path and the reason.
     let bad = dir.path().join("not-there.json");
@@ -584,5 +592,5 @@ fn the_typed_path_prompt_starts_in_the_layout_s_folder_and_keeps_what_was_typed(
         }
         _ => panic!("the prompt closed after the error"),
     }
-    assert_eq!(h.state().path.as_deref(), Some(deep.as_path()));
+    assert_eq!(h.state().doc.path(), Some(deep.as_path()));
 }

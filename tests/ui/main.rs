@@ -9,9 +9,10 @@ use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use std::path::Path;
 use std::time::{Duration, Instant};
-use windloom::app::live::{Backend, BackendChoice, LiveSim};
 use windloom::app::{EditorApp, Sel, Tool};
 use windloom::doc::{self, Layout};
+use windloom::engine::live::LiveSim;
+use windloom::engine::{Backend, RunsOn};
 
 fn in_ci() -> bool {
     std::env::var_os("CI").is_some()
@@ -145,7 +146,7 @@ fn drag(h: &mut Harness<'_, EditorApp>, from: Pos2, to: Pos2) {
 
 /// World distance that one screen point covers, for position tolerances.
 fn metres_per_point(h: &Harness<'_, EditorApp>) -> f32 {
-    1.0 / h.state().camera.expect("the map has been drawn").zoom
+    1.0 / h.state().map.camera.expect("the map has been drawn").zoom
 }
 
 /// The device the editor would make: kittest's software-preferring setup with windloom's
@@ -160,7 +161,7 @@ fn windloom_wgpu_setup() -> eframe::egui_wgpu::WgpuSetup {
 
 /// Steps the paused worker `n` times and waits until the snapshot shows them, on `backend`,
 /// drawing frames meanwhile (the UI thread submits the simulation's GPU work).
-fn step_and_wait(h: &mut Harness<'_, EditorApp>, n: usize, backend: Backend) {
+fn step_and_wait(h: &mut Harness<'_, EditorApp>, n: usize, backend: RunsOn) {
     let before = h.state().live.snapshot().time;
     let dt = h.state().doc.sim.dt;
     for _ in 0..n {
@@ -169,7 +170,7 @@ fn step_and_wait(h: &mut Harness<'_, EditorApp>, n: usize, backend: Backend) {
     let deadline = Instant::now() + Duration::from_secs(240);
     loop {
         let s = h.state().live.snapshot();
-        if s.backend == backend && s.time >= before + n as f32 * dt - 1e-3 {
+        if s.runs_on == backend && s.time >= before + n as f32 * dt - 1e-3 {
             return;
         }
         assert!(
@@ -177,7 +178,7 @@ fn step_and_wait(h: &mut Harness<'_, EditorApp>, n: usize, backend: Backend) {
             "the simulation did not reach t = {} on {backend:?} (at {} on {:?}; {:?})",
             before + n as f32 * dt,
             s.time,
-            s.backend,
+            s.runs_on,
             s.notice
         );
         h.step();

@@ -12,10 +12,10 @@ fn editor_window_snapshot_drawn_on_the_gpu() {
         return;
     }
     let mut h = gpu_harness(example("obstacles.json"), |app| {
-        app.settings.backend = BackendChoice::Gpu;
+        app.settings.backend = Backend::Gpu;
     });
     h.state_mut().settings.wind_view = windloom::app::view::WindView::Glyphs;
-    step_and_wait(&mut h, 120, Backend::Gpu);
+    step_and_wait(&mut h, 120, RunsOn::Gpu);
     let snap = h.state().live.snapshot();
     assert!(snap.field.is_some(), "the map draws from the GPU's buffers");
     h.run_steps(3);
@@ -26,16 +26,16 @@ fn editor_window_snapshot_drawn_on_the_gpu() {
     // The same field run on the CPU is drawn by the same GPU passes from an uploaded copy:
     // after a hand-over (bit for bit) the map looks the same.
     let on_gpu = h.render().expect("renders");
-    h.state_mut().set_backend(BackendChoice::Cpu);
+    h.state_mut().set_backend(Backend::Cpu);
     let deadline = Instant::now() + Duration::from_secs(60);
-    while h.state().live.snapshot().backend != Backend::Cpu {
+    while h.state().live.snapshot().runs_on != RunsOn::Cpu {
         assert!(Instant::now() < deadline, "no hand-over to the CPU");
         h.step();
         std::thread::sleep(Duration::from_millis(20));
     }
     h.run_steps(3);
     let on_cpu = h.render().expect("renders");
-    let map = h.state().map_rect;
+    let map = h.state().map.rect;
     let ppp = h.ctx.pixels_per_point();
     let mut differ = 0;
     let mut total = 0;
@@ -66,12 +66,12 @@ fn switching_backends_keeps_the_running_field() {
     let layout = example("meadow.json");
     let mut live = LiveSim::start(&layout, || {});
     live.set_playing(false);
-    live.set_gpu(ctx, BackendChoice::Cpu);
-    let wait = |live: &LiveSim, serial: u64, backend: Backend| {
+    live.set_gpu(ctx, Backend::Cpu);
+    let wait = |live: &LiveSim, serial: u64, backend: RunsOn| {
         let deadline = Instant::now() + Duration::from_secs(120);
         loop {
             let s = live.snapshot();
-            if s.serial > serial && s.backend == backend {
+            if s.serial > serial && s.runs_on == backend {
                 return s;
             }
             assert!(
@@ -82,7 +82,7 @@ fn switching_backends_keeps_the_running_field() {
             std::thread::sleep(Duration::from_millis(10));
         }
     };
-    let steps = |live: &LiveSim, n: usize, backend: Backend| {
+    let steps = |live: &LiveSim, n: usize, backend: RunsOn| {
         let mut s = live.snapshot();
         for _ in 0..n {
             live.step_once();
@@ -91,18 +91,18 @@ fn switching_backends_keeps_the_running_field() {
         s
     };
     // A running field on the CPU.
-    let cpu = steps(&live, 30, Backend::Cpu);
+    let cpu = steps(&live, 30, RunsOn::Cpu);
     assert!(cpu.time > 0.4 && cpu.velocity.iter().any(|v| v[0] != 0.0));
     // Onto the GPU: the same field, the same clock.
-    live.set_backend(BackendChoice::Gpu);
-    let on_gpu = wait(&live, cpu.serial, Backend::Gpu);
+    live.set_backend(Backend::Gpu);
+    let on_gpu = wait(&live, cpu.serial, RunsOn::Gpu);
     assert_eq!(on_gpu.time, cpu.time, "the clock carries over");
     assert!(
         on_gpu.velocity == cpu.velocity && on_gpu.pressure == cpu.pressure,
         "the GPU starts from the CPU's field, bit for bit"
     );
     // Ten steps on the GPU stay with ten on a CPU solver from the same field.
-    let gpu_later = steps(&live, 10, Backend::Gpu);
+    let gpu_later = steps(&live, 10, RunsOn::Gpu);
     let mut reference = windloom::sim::Solver::new(&layout);
     {
         // Replay the CPU's 30 steps, then 10 more.
@@ -126,8 +126,8 @@ fn switching_backends_keeps_the_running_field() {
         "after the hand-over the GPU drifts from the CPU: {err} (peak {peak})"
     );
     // And back to the CPU: the field the GPU had.
-    live.set_backend(BackendChoice::Cpu);
-    let back = wait(&live, gpu_later.serial, Backend::Cpu);
+    live.set_backend(Backend::Cpu);
+    let back = wait(&live, gpu_later.serial, RunsOn::Cpu);
     assert_eq!(back.time, gpu_later.time);
     assert!(
         back.velocity == gpu_later.velocity,
@@ -150,13 +150,13 @@ fn map_and_3d_side_by_side_each_get_their_half() {
     let world = |h: &Harness<'_, EditorApp>| {
         egui::Rect::from_min_max(h.state().screen_pos(lo), h.state().screen_pos(hi))
     };
-    let full = h.state().map_rect;
+    let full = h.state().map.rect;
     let framed = world(&h);
     assert!(full.contains_rect(framed), "{framed:?} in {full:?}");
 
     h.state_mut().settings.central = windloom::app::Central::Split;
     h.run_steps(3);
-    let map = h.state().map_rect;
+    let map = h.state().map.rect;
     let view = h.state().grass_view.rect.expect("the 3D view is drawn");
     assert!(
         (map.width() - full.width() / 2.0).abs() <= 1.0,
@@ -205,7 +205,7 @@ fn map_and_3d_side_by_side_each_get_their_half() {
         let (lo, hi) = h.state().doc.bounds();
         [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0]
     };
-    let on_map = h.state().camera.unwrap().to_screen(map, centre);
+    let on_map = h.state().map.camera.unwrap().to_screen(map, centre);
     h.event(Event::PointerMoved(on_map));
     h.run_steps(2);
     let view = h.state().grass_view.rect.unwrap();
@@ -252,17 +252,21 @@ fn a_fixed_speed_scale_holds_the_speed_colours_still() {
     use windloom::app::view::{WindView, field_image, field_scale, speed_colour};
     let mut h = harness(example("meadow.json"));
     h.state_mut().settings.wind_view = WindView::Speed;
-    step_and_wait(&mut h, 30, Backend::Cpu);
+    step_and_wait(&mut h, 30, RunsOn::Cpu);
     h.run_steps(2);
     let snap = h.state().live.snapshot();
     let peak = field_scale(&snap, WindView::Speed, None);
     assert!(peak > 1.0, "the meadow's wind after 30 steps: {peak}");
-    assert_eq!(h.state().legend_scale, peak, "the legend reads the peak");
+    assert_eq!(
+        h.state().map.legend_scale,
+        peak,
+        "the legend reads the peak"
+    );
 
     h.state_mut().settings.speed_scale = Some(2.0 * peak);
     h.run_steps(2);
     assert_eq!(
-        h.state().legend_scale,
+        h.state().map.legend_scale,
         2.0 * peak,
         "the legend reads the fixed scale"
     );
@@ -349,9 +353,9 @@ fn the_3d_grass_view_answers_grass_edits() {
     // automatic choice runs it on a hardware GPU (lavapipe measures and takes the CPU).
     let mut h = gpu_harness(example("meadow.json"), |app| {
         app.settings.central = windloom::app::Central::Grass;
-        app.settings.backend = BackendChoice::Cpu;
+        app.settings.backend = Backend::Cpu;
     });
-    step_and_wait(&mut h, 60, Backend::Cpu);
+    step_and_wait(&mut h, 60, RunsOn::Cpu);
     h.run_steps(3);
     let all = windloom::grass::scatter(&h.state().doc).len() as u32;
     let g = &h.state().grass_view;
@@ -425,6 +429,7 @@ fn the_3d_grass_view_answers_grass_edits() {
     let target = h.state().grass_view.orbit.unwrap().target;
     let at = h
         .state()
+        .map
         .cursor_world
         .expect("a ground point under the pointer");
     assert!(
@@ -433,7 +438,7 @@ fn the_3d_grass_view_answers_grass_edits() {
     );
     h.event(Event::PointerMoved(Pos2::new(5.0, 400.0)));
     h.run_steps(2);
-    assert_eq!(h.state().cursor_world, None, "off the 3D view");
+    assert_eq!(h.state().map.cursor_world, None, "off the 3D view");
 
     // Every test off: every blade drawn at full detail.
     let mut c = h.state().grass_view.controls.cull.expect("defaults");
@@ -587,5 +592,16 @@ fn the_3d_view_s_controls_fit_their_pane() {
                 );
             }
         }
+    }
+}
+
+/// The 3D view's wind colours decode the speed scale's sRGB bytes exactly as egui does, so
+/// they agree with the map's to the bit (`colour.rs` keeps egui out of the ground floor).
+#[test]
+fn wind_colours_decode_srgb_as_egui_does() {
+    for s in 0..=255u8 {
+        let ours = windloom::colour::linear(s);
+        let egui = egui::ecolor::linear_f32_from_gamma_u8(s);
+        assert_eq!(ours.to_bits(), egui.to_bits(), "byte {s}");
     }
 }

@@ -128,11 +128,13 @@ pub(crate) fn scatter_for(
 }
 
 /// A picture of `layout`'s grass in its wind after `time` seconds: RGBA8 sRGB pixels, `size`
-/// wide and high. `windloom render --view grass`.
+/// wide and high, the ground under the grass showing `backdrop` (the layout's map image,
+/// decoded by the caller: `io::layout_backdrop`) at the map's opacity.
+/// `windloom render --view grass`.
 pub fn picture(
     ctx: &crate::gpu::GpuContext,
     layout: &Layout,
-    base: &std::path::Path,
+    backdrop: Option<&image::RgbaImage>,
     o: &PictureOptions,
 ) -> Result<Vec<u8>, GpuError> {
     let (size, time) = (o.size, o.time);
@@ -145,13 +147,7 @@ pub fn picture(
     );
     grass.set_paper_literal(o.paper_literal);
     grass.set_model(&ctx.device, &ctx.queue, layout.grass.model);
-    // A backdrop that cannot be read leaves the plain ground (`render` says why).
-    if let Some(Ok(img)) = layout
-        .world
-        .map
-        .as_ref()
-        .map(|m| crate::io::load_backdrop(base, m))
-    {
+    if let Some(img) = backdrop {
         let size = [img.width(), img.height()];
         let opacity = layout.world.map.as_ref().map_or(1.0, |m| m.opacity);
         grass.set_backdrop(&ctx.device, &ctx.queue, Some((img.as_raw(), size, opacity)));
@@ -373,8 +369,7 @@ mod tests {
             time: 0.5,
             ..Default::default()
         };
-        let base = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
-        let pixels = picture(&ctx, &layout, &base, &o).expect("a thinned picture");
+        let pixels = picture(&ctx, &layout, None, &o).expect("a thinned picture");
         assert_eq!(pixels.len(), 96 * 64 * 4);
         assert!(ctx.fault().is_none(), "{:?}", ctx.fault());
 

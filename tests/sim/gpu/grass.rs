@@ -4,6 +4,12 @@ use windloom::gpu::GpuContext;
 use windloom::gpu::grass::{Camera, GrassRenderer, SEGMENTS, render_offscreen};
 use windloom::grass::{cwd, scatter, wind_cell};
 
+/// The layout's map backdrop from `base`, decoded as `render` decodes it (none when it has
+/// none or it cannot be read).
+fn backdrop(l: &Layout, base: &std::path::Path) -> Option<image::RgbaImage> {
+    windloom::io::layout_backdrop(l, base).and_then(Result::ok)
+}
+
 fn layout(density: f32) -> Layout {
     let mut l = example("meadow.json");
     l.world.size = [12.0, 8.0];
@@ -477,7 +483,10 @@ fn a_grass_picture_from_a_faulted_device_is_an_error() {
         ..Default::default()
     };
     let dir = tempfile::tempdir().unwrap();
-    assert!(windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).is_ok());
+    assert!(
+        windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, dir.path()).as_ref(), &options)
+            .is_ok()
+    );
     // An invalid buffer (mapped both ways), outside any error scope.
     let _ = ctx.device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("invalid on purpose"),
@@ -485,7 +494,9 @@ fn a_grass_picture_from_a_faulted_device_is_an_error() {
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::MAP_WRITE,
         mapped_at_creation: false,
     });
-    let Err(err) = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options) else {
+    let Err(err) =
+        windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, dir.path()).as_ref(), &options)
+    else {
         panic!("a faulted device drew a picture");
     };
     let text = err.to_string();
@@ -527,7 +538,8 @@ fn the_ground_shows_the_map_backdrop() {
         camera: Some(camera),
         ..Default::default()
     };
-    let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
+    let px = windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, dir.path()).as_ref(), &options)
+        .unwrap();
     let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
     let (left, right) = (at(w / 4, h / 2), at(3 * w / 4, h / 2));
     println!("ground left {left:?}, right {right:?}");
@@ -541,7 +553,8 @@ fn the_ground_shows_the_map_backdrop() {
     );
     // Without the backdrop (the same picture otherwise), soil.
     l.world.map = None;
-    let px = windloom::gpu::grass::picture(&ctx, &l, dir.path(), &options).unwrap();
+    let px = windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, dir.path()).as_ref(), &options)
+        .unwrap();
     let soil = &px[(((h / 2) * w + w / 4) * 4) as usize..][..3];
     assert!(
         soil[0] < 120 && soil[2] < 60,
@@ -681,7 +694,8 @@ fn the_default_grass_picture_shows_the_whole_level() {
         let mut l = example(name);
         // Fewer blades: the framing, not the grass, is under test.
         l.grass.density = l.grass.density.min(4.0);
-        let px = windloom::gpu::grass::picture(&ctx, &l, &dir, &options).unwrap();
+        let px =
+            windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, &dir).as_ref(), &options).unwrap();
         let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
         let sky = at(0, 0).to_vec();
         let is_sky = |p: &[u8]| p.iter().zip(&sky).all(|(a, b)| a.abs_diff(*b) <= 3);
@@ -727,7 +741,7 @@ fn the_grass_picture_takes_a_fixed_speed_scale() {
             speed_scale,
             ..Default::default()
         };
-        windloom::gpu::grass::picture(&ctx, &l, &dir, &o).unwrap()
+        windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, &dir).as_ref(), &o).unwrap()
     };
     let plain = picture(None);
     assert!(
@@ -823,7 +837,7 @@ fn a_grass_picture_can_leave_out_the_arrows() {
             arrows,
             ..Default::default()
         };
-        windloom::gpu::grass::picture(&ctx, &l, &dir, &options).unwrap()
+        windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, &dir).as_ref(), &options).unwrap()
     };
     // The arrows' saturated blue; the sky is a pale blue, the grass and soil are not blue.
     let blue = |p: &[u8]| p.chunks(4).filter(|c| c[2] > 200 && c[0] < 120).count();

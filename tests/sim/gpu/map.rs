@@ -1,6 +1,6 @@
 use super::{context, random_solver};
-use windloom::app::live::Snapshot;
 use windloom::doc::Boundary;
+use windloom::engine::live::Snapshot;
 use windloom::gpu::mapview::{Frame, Layer, MapRenderer, Overlay, Particle};
 use windloom::gpu::{GpuContext, GpuSolver};
 use windloom::sim::Solver;

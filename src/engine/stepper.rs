@@ -1,44 +1,25 @@
-//! Which solver a bake steps: the CPU one, or the GPU one where it covers the layout.
+//! The solver a bake steps: the CPU one, or the GPU one where it covers the layout.
 
-use super::BakeError;
+use super::Backend;
 use crate::doc::Layout;
-use crate::gpu::{GpuContext, GpuSolver};
+use crate::gpu::{GpuContext, GpuError, GpuSolver};
 use crate::sim::Solver;
 
-/// The solver a bake asks for.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
-pub enum Backend {
-    /// The CPU solver (the reference).
-    #[default]
-    Cpu,
-    /// The GPU solver; an error when there is no adapter or it does not cover the layout.
-    Gpu,
-    /// The GPU when a hardware adapter exists and covers the layout, else the CPU (with a
-    /// note in the manifest saying why).
-    Auto,
-}
-
-pub(crate) enum Stepper {
+/// A solver a caller steps itself (a bake): the CPU one, or the GPU one on a headless device.
+pub enum Stepper {
     Cpu(Box<Solver>),
     Gpu(Box<(GpuContext, GpuSolver)>),
 }
 
-fn gpu_error(e: crate::gpu::GpuError) -> BakeError {
-    BakeError::Settings(format!("--backend gpu: {e}"))
-}
-
 impl Stepper {
     /// The stepper for `backend`, and a note when `auto` fell back to the CPU.
-    pub(crate) fn new(
-        layout: &Layout,
-        backend: Backend,
-    ) -> Result<(Self, Option<String>), BakeError> {
+    pub fn new(layout: &Layout, backend: Backend) -> Result<(Self, Option<String>), GpuError> {
         let cpu = || Self::Cpu(Box::new(Solver::new(layout)));
         match backend {
             Backend::Cpu => Ok((cpu(), None)),
             Backend::Gpu => {
-                let ctx = GpuContext::headless().map_err(gpu_error)?;
-                let s = GpuSolver::new(&ctx, layout).map_err(gpu_error)?;
+                let ctx = GpuContext::headless()?;
+                let s = GpuSolver::new(&ctx, layout)?;
                 Ok((Self::Gpu(Box::new((ctx, s))), None))
             }
             Backend::Auto => {
@@ -59,14 +40,14 @@ impl Stepper {
     }
 
     /// `"cpu"` or `"gpu: ADAPTER"`, for the manifest.
-    pub(crate) fn describe(&self) -> String {
+    pub fn describe(&self) -> String {
         match self {
             Self::Cpu(_) => "cpu".into(),
             Self::Gpu(g) => format!("gpu: {}", g.0.describe()),
         }
     }
 
-    pub(crate) fn step(&mut self) {
+    pub fn step(&mut self) {
         match self {
             Self::Cpu(s) => s.step(),
             Self::Gpu(g) => {
@@ -76,17 +57,17 @@ impl Stepper {
         }
     }
 
-    pub(crate) fn set_time(&mut self, t: f32) {
+    pub fn set_time(&mut self, t: f32) {
         match self {
             Self::Cpu(s) => s.time = t,
             Self::Gpu(g) => g.1.time = t,
         }
     }
 
-    pub(crate) fn velocity_field(&mut self) -> Result<Vec<[f32; 2]>, BakeError> {
+    pub fn velocity_field(&mut self) -> Result<Vec<[f32; 2]>, GpuError> {
         match self {
             Self::Cpu(s) => Ok(s.velocity_field()),
-            Self::Gpu(g) => g.1.velocity_field(&g.0).map_err(gpu_error),
+            Self::Gpu(g) => g.1.velocity_field(&g.0),
         }
     }
 }

@@ -1,5 +1,8 @@
 //! The file system edge: loading layouts with diagnostics and writing files atomically.
 
+pub mod disk;
+pub mod recovery;
+
 use crate::doc::{self, Diagnostics, Layout};
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -63,6 +66,14 @@ pub fn relative_to(path: &Path, base: &Path) -> String {
             .join("/"),
         Err(_) => path.display().to_string(),
     }
+}
+
+/// The layout's map backdrop decoded ([`load_backdrop`]), if it has one.
+pub fn layout_backdrop(
+    layout: &Layout,
+    base: &Path,
+) -> Option<Result<image::RgbaImage, BackdropError>> {
+    layout.world.map.as_ref().map(|m| load_backdrop(base, m))
 }
 
 /// The map backdrop's image (`map.image`, relative to the layout's folder `base`), as RGBA8:

@@ -161,7 +161,9 @@ impl Recovery {
         let path = self.path_for(doc_path);
         std::fs::create_dir_all(&self.dir)
             .map_err(|e| format!("could not create {}: {e}", self.dir.display()))?;
-        crate::io::save(&path, doc).map_err(|e| format!("{}: {e}", path.display()))?;
+        // The owner (which file the copy is of) first: an editor killed between the two
+        // writes then leaves the old copy with its owner, never a new copy without one
+        // (restored as untitled, its way back to the level's file lost).
         let owner = Owner {
             pid: std::process::id(),
             path: doc_path.map(|p| p.canonicalize().unwrap_or_else(|_| p.to_path_buf())),
@@ -170,6 +172,7 @@ impl Recovery {
         let owner_path = path.with_extension("owner");
         crate::io::write_atomic(&owner_path, &json)
             .map_err(|e| format!("{}: {e}", owner_path.display()))?;
+        crate::io::save(&path, doc).map_err(|e| format!("{}: {e}", path.display()))?;
         if let Some(old) = self.written.replace(path.clone())
             && old != path
         {

@@ -7,6 +7,7 @@
 //! a read-back at most [`READBACK_SECONDS`] apart. Switching backends hands the running field
 //! over.
 
+use super::{Backend, RunsOn};
 use crate::doc::Layout;
 use crate::gpu::mapview::FieldBuffers;
 use crate::gpu::{GpuContext, GpuSolver};
@@ -37,7 +38,7 @@ pub struct Snapshot {
     /// Increases with every published snapshot.
     pub serial: u64,
     /// Where the field is running.
-    pub backend: Backend,
+    pub runs_on: RunsOn,
     /// On the GPU: the buffers the field lives in, to draw it from.
     pub field: Option<FieldBuffers>,
     /// GPU milliseconds per step from timestamp queries (GPU backend, where the adapter has
@@ -47,47 +48,6 @@ pub struct Snapshot {
     pub measured: Option<[f32; 2]>,
     /// Why the GPU is not in use when it was asked for (no device, an error), if so.
     pub notice: Option<String>,
-}
-
-/// Where the live field runs.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
-pub enum Backend {
-    #[default]
-    Cpu,
-    Gpu,
-}
-
-impl Backend {
-    pub fn label(self) -> &'static str {
-        match self {
-            Backend::Cpu => "CPU",
-            Backend::Gpu => "GPU",
-        }
-    }
-}
-
-/// What the user asked for in the View menu.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-pub enum BackendChoice {
-    /// The GPU on a hardware adapter; on a software one, whichever measures faster for the
-    /// current grid.
-    #[default]
-    Auto,
-    Cpu,
-    Gpu,
-}
-
-impl BackendChoice {
-    pub const ALL: [BackendChoice; 3] =
-        [BackendChoice::Auto, BackendChoice::Cpu, BackendChoice::Gpu];
-
-    pub fn label(self) -> &'static str {
-        match self {
-            BackendChoice::Auto => "Automatic (fastest)",
-            BackendChoice::Cpu => "CPU",
-            BackendChoice::Gpu => "GPU",
-        }
-    }
 }
 
 /// Longest time between two read-backs of a GPU field (the cursor readout, the legend).
@@ -132,8 +92,8 @@ impl Snapshot {
 
 enum Command {
     Layout(Box<Layout>),
-    Gpu(Box<GpuContext>, BackendChoice),
-    Backend(BackendChoice),
+    Gpu(Box<GpuContext>, Backend),
+    Backend(Backend),
     Play(bool),
     Step,
     Reset,
@@ -172,12 +132,12 @@ impl LiveSim {
     }
 
     /// Hands the worker a GPU device (the editor's) and says where the field should run.
-    pub fn set_gpu(&self, ctx: GpuContext, choice: BackendChoice) {
+    pub fn set_gpu(&self, ctx: GpuContext, choice: Backend) {
         let _ = self.tx.send(Command::Gpu(Box::new(ctx), choice));
     }
 
     /// Where the field should run; a change hands the running field over.
-    pub fn set_backend(&self, choice: BackendChoice) {
+    pub fn set_backend(&self, choice: Backend) {
         let _ = self.tx.send(Command::Backend(choice));
     }
 
@@ -247,7 +207,7 @@ struct Engine {
     cpu: Solver,
     gpu: Option<GpuSolver>,
     ctx: Option<GpuContext>,
-    choice: BackendChoice,
+    choice: Backend,
     measured: Option<[f32; 2]>,
     notice: Option<String>,
     serial: u64,
@@ -266,7 +226,7 @@ impl Engine {
             cpu: Solver::new(layout),
             gpu: None,
             ctx: None,
-            choice: BackendChoice::Auto,
+            choice: Backend::Auto,
             measured: None,
             notice: None,
             serial: 0,
@@ -346,37 +306,37 @@ impl Engine {
     /// Decides where the field runs for `layout` and moves it there.
     fn choose(&mut self, layout: &Layout) {
         let want = match (self.choice, &self.ctx) {
-            (BackendChoice::Cpu, _) => Backend::Cpu,
+            (Backend::Cpu, _) => RunsOn::Cpu,
             (_, Some(ctx)) if ctx.fault().is_some() => {
                 let why = ctx.fault().unwrap_or_default();
                 self.notice = Some(format!("GPU unusable ({why}): running on the CPU"));
-                Backend::Cpu
+                RunsOn::Cpu
             }
             (_, None) => {
-                if self.choice == BackendChoice::Gpu {
+                if self.choice == Backend::Gpu {
                     self.notice = Some("no GPU device: running on the CPU".into());
                 }
-                Backend::Cpu
+                RunsOn::Cpu
             }
-            (BackendChoice::Gpu, Some(_)) => Backend::Gpu,
-            (BackendChoice::Auto, Some(ctx)) => {
+            (Backend::Gpu, Some(_)) => RunsOn::Gpu,
+            (Backend::Auto, Some(ctx)) => {
                 if ctx.is_software() {
                     match measure(layout, ctx) {
                         Ok(m) => {
                             self.measured = Some(m);
                             if m[1] < m[0] {
-                                Backend::Gpu
+                                RunsOn::Gpu
                             } else {
-                                Backend::Cpu
+                                RunsOn::Cpu
                             }
                         }
                         Err(e) => {
                             self.notice = Some(format!("GPU unusable, running on the CPU: {e}"));
-                            Backend::Cpu
+                            RunsOn::Cpu
                         }
                     }
                 } else {
-                    Backend::Gpu
+                    RunsOn::Gpu
                 }
             }
         };
@@ -393,9 +353,9 @@ impl Engine {
     }
 
     /// Hands the running field to `want`'s solver.
-    fn move_to(&mut self, want: Backend, layout: &Layout) {
+    fn move_to(&mut self, want: RunsOn, layout: &Layout) {
         match (want, self.gpu.is_some(), &self.ctx) {
-            (Backend::Gpu, false, Some(ctx)) => {
+            (RunsOn::Gpu, false, Some(ctx)) => {
                 match GpuSolver::from_solver(ctx, layout, &self.cpu) {
                     Ok(g) => {
                         g.enable_profiling(ctx);
@@ -406,7 +366,7 @@ impl Engine {
                     Err(e) => self.notice = Some(format!("GPU unusable, running on the CPU: {e}")),
                 }
             }
-            (Backend::Cpu, true, _) => {
+            (RunsOn::Cpu, true, _) => {
                 if let (Some(g), Some(ctx)) = (self.gpu.take(), &self.ctx)
                     && let Err(e) = g.read_into(ctx, &mut self.cpu)
                 {
@@ -432,8 +392,8 @@ impl Engine {
     /// time frozen, meanwhile.
     fn rebuild_showing(&mut self, layout: &Layout, keep_time: bool, show: impl FnOnce(&mut Self)) {
         let on_gpu = self.new_solver(layout, keep_time);
-        let remeasure = self.choice == BackendChoice::Auto
-            && self.ctx.as_ref().is_some_and(|c| c.is_software());
+        let remeasure =
+            self.choice == Backend::Auto && self.ctx.as_ref().is_some_and(|c| c.is_software());
         if remeasure {
             // Made for the old grid; the tooltip must not show it as the new one's.
             self.measured = None;
@@ -442,7 +402,7 @@ impl Engine {
         if remeasure {
             self.choose(layout);
         } else if on_gpu {
-            self.move_to(Backend::Gpu, layout);
+            self.move_to(RunsOn::Gpu, layout);
         }
     }
 
@@ -471,7 +431,7 @@ impl Engine {
         let on_gpu = self.gpu.is_some();
         // The field as it is now: on the GPU, read back first. A field that blew up is not
         // carried (it was zeroed); the new solver runs, as after a rebuild.
-        self.move_to(Backend::Cpu, layout);
+        self.move_to(RunsOn::Cpu, layout);
         let field = (!self.halted).then(|| {
             let (u, v) = self.cpu.faces_mut();
             (u.to_vec(), v.to_vec())
@@ -484,7 +444,7 @@ impl Engine {
             self.cpu.enforce_boundaries();
         }
         if on_gpu {
-            self.move_to(Backend::Gpu, layout);
+            self.move_to(RunsOn::Gpu, layout);
         }
     }
 
@@ -542,10 +502,10 @@ impl Engine {
             time: solver.time,
             ms_per_step: self.ms,
             serial: self.serial,
-            backend: if field.is_some() {
-                Backend::Gpu
+            runs_on: if field.is_some() {
+                RunsOn::Gpu
             } else {
-                Backend::Cpu
+                RunsOn::Cpu
             },
             field,
             gpu_ms_per_step: self.gpu_ms.filter(|_| self.gpu.is_some()),
@@ -779,17 +739,17 @@ mod tests {
             for _ in 0..30 {
                 e.step();
             }
-            e.move_to(Backend::Cpu, layout);
+            e.move_to(RunsOn::Cpu, layout);
             let before = e.cpu.kinetic_energy();
             let t = e.cpu.time;
             if on_gpu {
-                e.move_to(Backend::Gpu, layout);
+                e.move_to(RunsOn::Gpu, layout);
             }
             let with_rock = rock(layout);
             assert!(needs_rebuild(layout, &with_rock) && same_grid(layout, &with_rock));
             e.carry_over(&with_rock);
             assert_eq!(e.gpu.is_some(), on_gpu, "where the wind runs is kept");
-            e.move_to(Backend::Cpu, &with_rock);
+            e.move_to(RunsOn::Cpu, &with_rock);
             let after = e.cpu.kinetic_energy();
             assert_eq!(e.cpu.time, t, "the time is kept");
             assert!(
@@ -819,7 +779,7 @@ mod tests {
     fn gpu_engine(ctx: &GpuContext, layout: &Layout) -> Engine {
         let mut e = Engine::new(layout);
         e.ctx = Some(ctx.clone());
-        e.choice = BackendChoice::Gpu;
+        e.choice = Backend::Gpu;
         e.choose(layout);
         e
     }

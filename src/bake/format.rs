@@ -1,0 +1,83 @@
+//! The formats a bake writes. [`Format`] is what a user picks; each format's own file answers
+//! for it through [`Encoder`]: the names of its files, an upper bound of their size, and the
+//! encoding of a frame. `bake` finds each format's file (`encoder`), loops over the chosen
+//! formats and asks them.
+
+use super::{BakeError, ExportContext, Field, Output};
+use serde::Serialize;
+
+/// Output formats.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
+#[serde(rename_all = "lowercase")]
+pub enum Format {
+    /// OpenEXR, float RGB: R = world x, G = world z, B = speed (m/s).
+    Exr,
+    /// 8-bit PNG flowmap, RG centred on 0.5.
+    Png8,
+    /// 16-bit PNG flowmap, RG centred on 0.5.
+    Png16,
+    /// Unreal vector field (FGA), at most 128 cells per axis.
+    Fga,
+    /// Unity VFX Graph vector field (VF_V).
+    Vf,
+    /// Little-endian f32 pairs, all frames in one file.
+    Raw,
+    /// All frames in one 16-bit PNG flipbook.
+    Atlas,
+}
+
+impl Format {
+    pub const ALL: [Format; 7] = [
+        Format::Exr,
+        Format::Png8,
+        Format::Png16,
+        Format::Fga,
+        Format::Vf,
+        Format::Raw,
+        Format::Atlas,
+    ];
+
+    /// The name on the command line (`--format`), in the manifest and in the Export dialog.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Exr => "exr",
+            Self::Png8 => "png8",
+            Self::Png16 => "png16",
+            Self::Fga => "fga",
+            Self::Vf => "vf",
+            Self::Raw => "raw",
+            Self::Atlas => "atlas",
+        }
+    }
+}
+
+/// What a format's file answers for it.
+pub(crate) trait Encoder: Sync {
+    /// The files it writes in a bake of `count` frames.
+    fn names(&self, count: usize) -> Vec<String>;
+
+    /// An upper bound of the bytes it writes for `frames` frames of `nx × ny` cells (`half`:
+    /// 16-bit floats where the format has them).
+    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, half: bool) -> u64;
+
+    /// The file of frame `k`, for a format with one file per frame; `None` for one whose
+    /// single file holds every frame (written beside the frame loop: `raw`, `atlas`).
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError>;
+}
+
+/// The file name of frame `k` of `count` with extension `ext`: `STEM.EXT` for one frame,
+/// `STEM_0000.EXT`… for a sequence.
+pub(crate) fn frame_name(stem: &str, k: usize, count: usize, ext: &str) -> String {
+    if count == 1 {
+        format!("{stem}.{ext}")
+    } else {
+        format!("{stem}_{k:04}.{ext}")
+    }
+}
+
+/// The names of a format with one file per frame.
+pub(crate) fn frame_names(stem: &str, count: usize, ext: &str) -> Vec<String> {
+    (0..count)
+        .map(|k| frame_name(stem, k, count, ext))
+        .collect()
+}
