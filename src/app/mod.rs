@@ -4,8 +4,7 @@
 //! every change goes through an [`Edit`]. The simulation runs on a worker thread
 //! ([`LiveSim`]) and never blocks the UI.
 
-mod document;
-pub use document::{AUTOSAVE_SECONDS, Document};
+pub use crate::io::{AUTOSAVE_SECONDS, Document};
 pub mod export;
 mod files;
 mod gpu_view;

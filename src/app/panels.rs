@@ -10,132 +10,10 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
     let ctx = ui.ctx().clone();
     egui::Panel::top("menu").show(ui, |ui| {
         egui::MenuBar::new().ui(ui, |ui| {
-            ui.menu_button("File", |ui| {
-                if ui.button("New").clicked() {
-                    app.request(&ctx, Pending::New);
-                }
-                if ui.button("Open…").clicked() {
-                    app.request(&ctx, Pending::Open(None));
-                }
-                if ui
-                    .button("Open path…")
-                    .on_hover_text("Type the path of a layout (no system file dialog)")
-                    .clicked()
-                {
-                    app.request(&ctx, Pending::OpenTyped);
-                }
-                ui.menu_button("Open Recent", |ui| {
-                    if app.settings.recent.is_empty() {
-                        ui.weak("No recent files");
-                    }
-                    for p in app.settings.recent.clone() {
-                        if ui.button(p.display().to_string()).clicked() {
-                            app.request(&ctx, Pending::Open(Some(p)));
-                        }
-                    }
-                });
-                ui.separator();
-                if ui.button("Save").clicked() {
-                    app.save(&ctx);
-                }
-                if ui.button("Save As…").clicked() {
-                    app.save_as(&ctx);
-                }
-                if ui
-                    .button("Save to path…")
-                    .on_hover_text("Type where to save (no system file dialog)")
-                    .clicked()
-                {
-                    app.path_prompt(true, false);
-                }
-                ui.separator();
-                if ui.button("Export/Bake…").clicked() {
-                    app.export.open = true;
-                    app.export.suggest_out(app.doc.path());
-                }
-                ui.separator();
-                if ui.button("Quit").clicked() {
-                    app.request(&ctx, Pending::Quit);
-                }
-            });
-            ui.menu_button("Edit", |ui| {
-                let undo = app
-                    .doc
-                    .history()
-                    .undo_label()
-                    .map_or("Undo".to_string(), |l| format!("Undo {l}"));
-                if ui
-                    .add_enabled(app.doc.history().can_undo(), egui::Button::new(undo))
-                    .clicked()
-                {
-                    app.undo();
-                }
-                let redo = app
-                    .doc
-                    .history()
-                    .redo_label()
-                    .map_or("Redo".to_string(), |l| format!("Redo {l}"));
-                if ui
-                    .add_enabled(app.doc.history().can_redo(), egui::Button::new(redo))
-                    .clicked()
-                {
-                    app.redo();
-                }
-                ui.separator();
-                let any = !app.selection.is_empty();
-                if ui.add_enabled(any, egui::Button::new("Delete")).clicked() {
-                    app.delete_selection(&ctx, false);
-                }
-                if ui
-                    .add_enabled(any, egui::Button::new("Duplicate"))
-                    .clicked()
-                {
-                    app.duplicate_selection(&ctx);
-                }
-                ui.separator();
-                ui.checkbox(&mut app.settings.snap, "Snap to grid");
-            });
-            ui.menu_button("View", |ui| {
-                for c in crate::app::Central::ALL {
-                    ui.radio_value(&mut app.settings.central, c, c.label());
-                }
-                ui.checkbox(&mut app.grass_view.controls.arrows, "Arrows in the 3D view")
-                    .on_hover_text(
-                        "The wind trees' arrows drawn over the grass (off: the grass as the \
-                         game will show it)",
-                    );
-                ui.separator();
-                for v in WindView::ALL {
-                    ui.radio_value(&mut app.settings.wind_view, v, v.label());
-                }
-                speed_scale_menu(app, ui);
-                ui.separator();
-                ui.label("Wind runs on");
-                let mut choice = app.settings.backend;
-                for b in crate::engine::Backend::ALL {
-                    ui.radio_value(&mut choice, b, b.label());
-                }
-                if choice != app.settings.backend {
-                    app.set_backend(choice);
-                }
-                ui.separator();
-                ui.checkbox(&mut app.settings.show_grid, "Grid lines");
-                if ui.button("Frame all (F)").clicked() {
-                    app.map.camera = None;
-                }
-            });
-            ui.menu_button("Help", |ui| {
-                if ui
-                    .button("User guide")
-                    .on_hover_text("docs/EDITOR.md: tools, views, files, shortcuts")
-                    .clicked()
-                {
-                    app.guide.open = true;
-                }
-                if ui.button("Keyboard shortcuts").clicked() {
-                    app.dialog = Some(Dialog::Shortcuts);
-                }
-            });
+            ui.menu_button("File", |ui| file_menu(app, &ctx, ui));
+            ui.menu_button("Edit", |ui| edit_menu(app, &ctx, ui));
+            ui.menu_button("View", |ui| view_menu(app, ui));
+            ui.menu_button("Help", |ui| help_menu(app, ui));
             ui.separator();
             if ui.available_width() >= app.toolbar_width {
                 app.toolbar_width = ui.scope(|ui| toolbar(app, ui)).response.rect.width();
@@ -151,6 +29,140 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             ui.visuals_mut().button_frame = false;
             ui.horizontal_wrapped(|ui| toolbar(app, ui));
         });
+    }
+}
+
+/// File: new, open (dialog, typed path, recent), save (dialog, typed path), export, quit.
+fn file_menu(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
+    if ui.button("New").clicked() {
+        app.request(ctx, Pending::New);
+    }
+    if ui.button("Open…").clicked() {
+        app.request(ctx, Pending::Open(None));
+    }
+    if ui
+        .button("Open path…")
+        .on_hover_text("Type the path of a layout (no system file dialog)")
+        .clicked()
+    {
+        app.request(ctx, Pending::OpenTyped);
+    }
+    ui.menu_button("Open Recent", |ui| {
+        if app.settings.recent.is_empty() {
+            ui.weak("No recent files");
+        }
+        for p in app.settings.recent.clone() {
+            if ui.button(p.display().to_string()).clicked() {
+                app.request(ctx, Pending::Open(Some(p)));
+            }
+        }
+    });
+    ui.separator();
+    if ui.button("Save").clicked() {
+        app.save(ctx);
+    }
+    if ui.button("Save As…").clicked() {
+        app.save_as(ctx);
+    }
+    if ui
+        .button("Save to path…")
+        .on_hover_text("Type where to save (no system file dialog)")
+        .clicked()
+    {
+        app.path_prompt(true, false);
+    }
+    ui.separator();
+    if ui.button("Export/Bake…").clicked() {
+        app.export.open = true;
+        app.export.suggest_out(app.doc.path());
+    }
+    ui.separator();
+    if ui.button("Quit").clicked() {
+        app.request(ctx, Pending::Quit);
+    }
+}
+
+/// Edit: undo and redo (named), delete, duplicate, snap.
+fn edit_menu(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
+    let undo = app
+        .doc
+        .history()
+        .undo_label()
+        .map_or("Undo".to_string(), |l| format!("Undo {l}"));
+    if ui
+        .add_enabled(app.doc.history().can_undo(), egui::Button::new(undo))
+        .clicked()
+    {
+        app.undo();
+    }
+    let redo = app
+        .doc
+        .history()
+        .redo_label()
+        .map_or("Redo".to_string(), |l| format!("Redo {l}"));
+    if ui
+        .add_enabled(app.doc.history().can_redo(), egui::Button::new(redo))
+        .clicked()
+    {
+        app.redo();
+    }
+    ui.separator();
+    let any = !app.selection.is_empty();
+    if ui.add_enabled(any, egui::Button::new("Delete")).clicked() {
+        app.delete_selection(ctx, false);
+    }
+    if ui
+        .add_enabled(any, egui::Button::new("Duplicate"))
+        .clicked()
+    {
+        app.duplicate_selection(ctx);
+    }
+    ui.separator();
+    ui.checkbox(&mut app.settings.snap, "Snap to grid");
+}
+
+/// View: the central view, arrows in 3D, the wind view and its scale, the backend, the grid.
+fn view_menu(app: &mut EditorApp, ui: &mut egui::Ui) {
+    for c in crate::app::Central::ALL {
+        ui.radio_value(&mut app.settings.central, c, c.label());
+    }
+    ui.checkbox(&mut app.grass_view.controls.arrows, "Arrows in the 3D view")
+        .on_hover_text(
+            "The wind trees' arrows drawn over the grass (off: the grass as the \
+             game will show it)",
+        );
+    ui.separator();
+    for v in WindView::ALL {
+        ui.radio_value(&mut app.settings.wind_view, v, v.label());
+    }
+    speed_scale_menu(app, ui);
+    ui.separator();
+    ui.label("Wind runs on");
+    let mut choice = app.settings.backend;
+    for b in crate::engine::Backend::ALL {
+        ui.radio_value(&mut choice, b, b.label());
+    }
+    if choice != app.settings.backend {
+        app.set_backend(choice);
+    }
+    ui.separator();
+    ui.checkbox(&mut app.settings.show_grid, "Grid lines");
+    if ui.button("Frame all (F)").clicked() {
+        app.map.camera = None;
+    }
+}
+
+/// Help: the user guide and the shortcuts.
+fn help_menu(app: &mut EditorApp, ui: &mut egui::Ui) {
+    if ui
+        .button("User guide")
+        .on_hover_text("docs/EDITOR.md: tools, views, files, shortcuts")
+        .clicked()
+    {
+        app.guide.open = true;
+    }
+    if ui.button("Keyboard shortcuts").clicked() {
+        app.dialog = Some(Dialog::Shortcuts);
     }
 }
 

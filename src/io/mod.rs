@@ -1,7 +1,10 @@
 //! The file system edge: loading layouts with diagnostics and writing files atomically.
 
 pub mod disk;
+mod document;
 pub mod recovery;
+
+pub use document::{AUTOSAVE_SECONDS, Document};
 
 use crate::doc::{self, Diagnostics, Layout};
 use std::io::Write;

@@ -1,13 +1,14 @@
 //! The document the editor owns: the layout, its undo history, its file (the path, what was
 //! last read or written there, the watch on it) and its recovery copy. No egui: the editor's
-//! panels ask it and tell it; what they show of it is theirs.
+//! panels ask it and tell it; what they show of it is theirs. It lives at the file system's
+//! edge beside the watch (`disk.rs`) and the recovery copies (`recovery.rs`) it keeps.
 //!
 //! The layout is read through `Deref` (`app.doc.trees`) and changed only by an [`Edit`]
 //! (one undo step, or one gesture) or by replacing it whole (New, Open, Restore), so every
 //! change is undoable, validated and noticed.
 
+use super::{disk, recovery};
 use crate::doc::{self, Edit, EditError, History, Layout};
-use crate::io::{disk, recovery};
 use std::path::{Path, PathBuf};
 
 /// Seconds between two autosaves of unsaved work.
