@@ -1,6 +1,7 @@
 //! Unreal FGA vector fields. Line 1: `SizeX,SizeY,SizeZ,`; line 2: the minimum corner
 //! `MinX,MinY,MinZ,`; line 3: the maximum corner `MaxX,MaxY,MaxZ,`; then one `x,y,z,` vector
-//! per line, X fastest. Unreal's own parser splits on commas and does not mind the lines, but
+//! per line, X fastest, the last without its comma (the file then ends where Unreal's
+//! importer stops reading, and it imports without a warning). Unreal's own parser splits on commas and does not mind the lines, but
 //! line-based readers (Blender's FGA add-on and others) take line 2 as the minimum and line 3
 //! as the maximum, as Houdini, VectorayGen and Blender write them. At most 128 cells per axis:
 //! larger grids are area-averaged down.
@@ -45,8 +46,12 @@ fn frame(ctx: &ExportContext, k: usize, frame: &Field) -> Output {
     let _ = writeln!(text, "{fx},{fy},1,");
     let _ = writeln!(text, "{},{},{},", min[0], min[1], min[2]);
     let _ = writeln!(text, "{},{},{},", max[0], max[1], max[2]);
-    for v in &f.data {
-        let _ = writeln!(text, "{},{},0,", v[0] * CM, v[1] * CM);
+    // Every line ends with a comma but the last: Unreal's importer reads the values between
+    // commas and warns "File contains additional information" when anything (a newline)
+    // follows the last comma it needs.
+    for (k, v) in f.data.iter().enumerate() {
+        let end = if k + 1 == f.data.len() { "" } else { "," };
+        let _ = writeln!(text, "{},{},0{end}", v[0] * CM, v[1] * CM);
     }
     let name = ctx.name("wind", k, "fga");
     Output {

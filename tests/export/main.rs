@@ -169,6 +169,99 @@ fn fga_reads_back_per_the_unreal_format() {
     assert_eq!(text.lines().count(), 3 + sx * sy);
 }
 
+/// Reads an FGA as Unreal's importer does (`VectorFieldFactory.cpp`'s `ParseFGA`): each value
+/// runs to the next comma (or the end of the file) and is read by `atoi`/`atof`, which skip
+/// leading whitespace and stop at the first character that is not part of a number; three
+/// sizes, six bounds, then `SizeX·SizeY·SizeZ·3` values. It fails when the file ends before
+/// them, and warns "File contains additional information" when anything is left after them.
+/// Returns the sizes, the bounds, the values and whether it warned.
+fn fga_as_unreal_reads_it(text: &str) -> ([i64; 3], [f64; 6], Vec<f64>, bool) {
+    /// The value up to the next comma (or the end), and what follows that comma.
+    fn next(rest: &str) -> (&str, &str) {
+        match rest.find(',') {
+            Some(i) => (&rest[..i], &rest[i + 1..]),
+            None => (rest, ""),
+        }
+    }
+    // atof: leading whitespace, then the longest prefix that is a number.
+    let atof = |t: &str| {
+        let t = t.trim_start();
+        (1..=t.len())
+            .rev()
+            .find_map(|n| t.get(..n).and_then(|p| p.parse::<f64>().ok()))
+            .unwrap_or(0.0)
+    };
+    let mut rest = text;
+    let read = |rest: &mut &str| {
+        let (token, after) = next(rest);
+        *rest = after;
+        atof(token)
+    };
+    let size = [0; 3].map(|_| read(&mut rest) as i64);
+    let bounds = [0; 6].map(|_| read(&mut rest));
+    let count = (size[0] * size[1] * size[2] * 3) as usize;
+    let mut values = Vec::with_capacity(count);
+    // Values while the file lasts, as many as the sizes say.
+    while values.len() < count {
+        values.push(read(&mut rest));
+        if rest.is_empty() {
+            break;
+        }
+    }
+    assert_eq!(values.len(), count, "Unreal: Expected {count} values");
+    (size, bounds, values, !rest.is_empty())
+}
+
+/// Unreal imports every FGA a bake writes without a warning ("File contains additional
+/// information", which every file drew while each line, the last too, ended with a comma),
+/// with the sizes, bounds and vectors the manifest describes.
+#[test]
+fn fga_imports_into_unreal_without_a_warning() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Fga, Format::Raw],
+        ..small(2)
+    };
+    run(&example("two-winds.json"), dir.path(), &opts);
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    for (k, entry) in file_of(&m, "fga").into_iter().enumerate() {
+        let name = entry["name"].as_str().unwrap();
+        let text = std::fs::read_to_string(dir.path().join(name)).unwrap();
+        let (size, bounds, values, warned) = fga_as_unreal_reads_it(&text);
+        assert!(!warned, "{name}: Unreal warns of additional information");
+        assert_eq!(size, [48, 32, 1], "{name}");
+        assert_eq!(
+            bounds.to_vec(),
+            entry["axes"]["bounds_cm"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|v| v.as_f64().unwrap())
+                .collect::<Vec<_>>()
+        );
+        for (i, j) in [(0, 0), (47, 0), (3, 5), (47, 31)] {
+            let at = (i + 48 * j) * 3;
+            let want = raw.at(k, i, j);
+            assert!(
+                (values[at] - f64::from(want[0]) * 100.0).abs() < 1e-2,
+                "{name} x {i},{j}"
+            );
+            assert!(
+                (values[at + 1] - f64::from(want[1]) * 100.0).abs() < 1e-2,
+                "{name} y {i},{j}"
+            );
+            assert_eq!(values[at + 2], 0.0);
+        }
+    }
+    // The emulation tells the two apart: the old ending drew the warning.
+    let old = "2,1,1,\n0,0,0,\n100,100,200,\n1,2,0,\n3,4,0,\n";
+    assert!(
+        fga_as_unreal_reads_it(old).3,
+        "a trailing comma and newline warn"
+    );
+}
+
 /// Reads an FGA the way line-based readers do (Blender's FGA add-on and others): line 1 the
 /// sizes, line 2 the minimum corner, line 3 the maximum corner, then one vector per line.
 fn fga_by_lines(text: &str) -> ([usize; 3], [f64; 3], [f64; 3], Vec<[f64; 3]>) {
