@@ -548,6 +548,103 @@ fn atlas_holds_every_frame_where_the_manifest_says() {
     assert!((i32::from(p[0]) - 32768).abs() <= 1 && (i32::from(p[1]) - 32768).abs() <= 1);
 }
 
+/// The Godot grass shader (`docs/engines/windloom_grass.gdshader`) reads the animated atlas
+/// as Godot samples it — linear filtering, clamped at the texture's edge, 8 bits a channel
+/// (Godot's PNG loader keeps 8 of the 16) — and gets each frame's wind at every cell, the
+/// level's edges included: its uv stops half a texel inside the frame's sub-image. With the
+/// 0.001 margin it had, a sample at the edge took 40 % of the next frame.
+#[test]
+fn godot_reads_each_atlas_frame_to_the_level_s_edge() {
+    let shader = include_str!("../../docs/engines/windloom_grass.gdshader");
+    // The emulation below is this line's arithmetic.
+    assert!(
+        shader.contains(
+            "vec2 half_texel = 0.5 * vec2(atlas_grid) / vec2(textureSize(wind_atlas, 0));"
+        ) && shader.contains("clamp(uv, half_texel, vec2(1.0) - half_texel)"),
+        "the shader clamps as emulated here"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Atlas, Format::Raw],
+        ..small(5)
+    };
+    run(&example("two-winds.json"), dir.path(), &opts);
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let entry = file_of(&m, "atlas")[0];
+    let sub = &entry["axes"]["sub_images"];
+    let grid = [
+        sub["columns"].as_u64().unwrap() as f64,
+        sub["rows"].as_u64().unwrap() as f64,
+    ];
+    let scale = entry["encoding"]["scale"].as_f64().unwrap();
+    let img = image::open(dir.path().join("atlas.png"))
+        .unwrap()
+        .to_rgb16();
+    let (w, h) = (f64::from(img.width()), f64::from(img.height()));
+    // Godot's 8-bit texel, as a unit value.
+    let texel = |x: i64, y: i64, c: usize| {
+        let x = x.clamp(0, w as i64 - 1) as u32;
+        let y = y.clamp(0, h as i64 - 1) as u32;
+        f64::from((img.get_pixel(x, y)[c] >> 8) as u8) / 255.0
+    };
+    // Linear filtering at texture coordinate `t` (texel centres at (i + 0.5) / size).
+    let sample = |t: [f64; 2], c: usize| {
+        let (x, y) = (t[0] * w - 0.5, t[1] * h - 0.5);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let row = |y| texel(x0, y, c) * (1.0 - fx) + texel(x0 + 1, y, c) * fx;
+        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
+    };
+    let half = [0.5 * grid[0] / w, 0.5 * grid[1] / h];
+    let (nx, ny) = (raw.nx, raw.ny);
+    // 8-bit rounding of a 16-bit value, decoded: at most one 8-bit step.
+    let step = 2.0 * scale / 255.0;
+    for frame in 0..5 {
+        let cell = [
+            (frame % grid[0] as usize) as f64,
+            (frame / grid[0] as usize) as f64,
+        ];
+        // The level's edge and corners, where the world uv is 0 or 1.
+        for (i, j) in [
+            (0, 0),
+            (nx - 1, 0),
+            (0, ny - 1),
+            (nx - 1, ny - 1),
+            (0, ny / 2),
+            (nx / 2, 0),
+        ] {
+            let uv = [
+                if i == 0 { 0.0 } else { 1.0 },
+                if j == 0 { 0.0 } else { 1.0 },
+            ];
+            let uv = [
+                if i == nx / 2 {
+                    (i as f64 + 0.5) / nx as f64
+                } else {
+                    uv[0]
+                },
+                if j == ny / 2 {
+                    (j as f64 + 0.5) / ny as f64
+                } else {
+                    uv[1]
+                },
+            ];
+            let auv = [0, 1].map(|a| (cell[a] + uv[a].clamp(half[a], 1.0 - half[a])) / grid[a]);
+            let want = raw.at(frame, i, j);
+            for c in 0..2 {
+                let got = (sample(auv, c) * 2.0 - 1.0) * scale;
+                assert!(
+                    (got - f64::from(want[c])).abs() <= step,
+                    "frame {frame} cell {i},{j} channel {c}: {got} against {}",
+                    want[c]
+                );
+            }
+        }
+    }
+}
+
 fn rms_diff(raw: &Raw, a: usize, b: usize) -> f32 {
     let mut s = 0.0f64;
     for j in 0..raw.ny {
