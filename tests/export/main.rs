@@ -395,17 +395,125 @@ fn vf_reads_back_per_the_unity_format() {
     assert_eq!(size, vec![48, 1, 32]);
     assert_eq!(bytes.len(), 10 + 4 * 3 * 48 * 32, "exact length");
     let v = f32s(&bytes[10..]);
-    // Unity Z points north: Z index k holds grid row ny-1-k; vectors (x, 0, -z).
+    // Unity Z points north: Z index k holds grid row ny-1-k; vectors (x, 0, -z) m/s divided
+    // by the box's size on each axis (the world's 100 m width and depth here).
+    let scale: Vec<f32> = file_of(&m, "vf")[0]["encoding"]["scale"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| s.as_f64().unwrap() as f32)
+        .collect();
+    let (lo, hi) = example("two-winds.json").bounds();
+    assert_eq!(scale, [hi[0] - lo[0], 1.0, hi[1] - lo[1]]);
     for (i, j) in [(0, 0), (47, 31), (24, 16), (3, 29)] {
         let k = 31 - j;
         let idx = (i + 48 * k) * 3;
         let want = raw.at(0, i, j);
         assert_eq!(
             [v[idx], v[idx + 1], v[idx + 2]],
-            [want[0], 0.0, -want[1]],
+            [want[0] / scale[0], 0.0, -want[1] / scale[2]],
             "cell {i},{j}"
         );
     }
+}
+
+/// VFX Graph's *Vector Field Force*, as `VectorFieldForce.cs` writes it: the particle's
+/// position into the box's space (`InvFieldTransform`), `+ 0.5`, a trilinear sample of the
+/// imported `Texture3D` (wrap Clamp, as the guide sets it), `* 2 - 1` only with Data Encoding
+/// Unsigned Normalized (the guide says Signed), then `mul(FieldTransform, float4(value, 0))`
+/// (each axis times the box size) and `* Intensity`. Followed as `docs/engines/unity.md` and
+/// the manifest say, the force target is the baked wind in m/s in Unity's axes at every
+/// cell; with the block's defaults (Unsigned Normalized) it is not.
+#[test]
+fn unity_s_vector_field_force_gives_the_wind_in_m_s() {
+    let dir = tempfile::tempdir().unwrap();
+    // A world that is not square (the box scales its axes differently).
+    let mut layout = example("meadow.json");
+    layout.world.grid = [60, 40];
+    run(&layout, dir.path(), &small(1));
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let entry = file_of(&m, "vf")[0];
+    let unity = &entry["encoding"]["unity_vfx_graph"];
+    assert_eq!(unity["data_encoding"], "Signed");
+    assert_eq!(unity["import"]["wrap_mode"], "Clamp");
+    let vec3 = |v: &serde_json::Value| -> [f64; 3] {
+        let a = v.as_array().unwrap();
+        [0, 1, 2].map(|k| a[k].as_f64().unwrap())
+    };
+    let (centre, size) = (vec3(&unity["box_center"]), vec3(&unity["box_size"]));
+    let intensity = unity["intensity"].as_f64().unwrap();
+    let bytes = std::fs::read(dir.path().join("wind.vf")).unwrap();
+    let dims: Vec<usize> = bytes[4..10]
+        .chunks_exact(2)
+        .map(|c| u16::from_le_bytes([c[0], c[1]]) as usize)
+        .collect();
+    let v = f32s(&bytes[10..]);
+    let (w, h, d) = (dims[0], dims[1], dims[2]);
+    let texel = |x: i64, y: i64, z: i64| -> [f64; 3] {
+        let (x, y, z) = (
+            x.clamp(0, w as i64 - 1) as usize,
+            y.clamp(0, h as i64 - 1) as usize,
+            z.clamp(0, d as i64 - 1) as usize,
+        );
+        let i = (x + w * (y + h * z)) * 3;
+        [0, 1, 2].map(|c| f64::from(v[i + c]))
+    };
+    // Trilinear filtering at texture coordinate `t` (texel centres at (i + 0.5) / size).
+    let sample = |t: [f64; 3]| -> [f64; 3] {
+        let p = [
+            t[0] * w as f64 - 0.5,
+            t[1] * h as f64 - 0.5,
+            t[2] * d as f64 - 0.5,
+        ];
+        let f = p.map(|x| x - x.floor());
+        let b = p.map(|x| x.floor() as i64);
+        let mut out = [0.0; 3];
+        for corner in 0..8 {
+            let o = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
+            let weight: f64 = (0..3)
+                .map(|a| if o[a] == 1 { f[a] } else { 1.0 - f[a] })
+                .product();
+            let t = texel(b[0] + o[0] as i64, b[1] + o[1] as i64, b[2] + o[2] as i64);
+            for (o, t) in out.iter_mut().zip(t) {
+                *o += weight * t;
+            }
+        }
+        out
+    };
+    let force = |position: [f64; 3], unsigned: bool| -> [f64; 3] {
+        // An axis-aligned box: InvFieldTransform is (p - centre) / size.
+        let coord = [0, 1, 2].map(|a| (position[a] - centre[a]) / size[a] + 0.5);
+        let mut value = sample(coord);
+        if unsigned {
+            value = value.map(|x| x * 2.0 - 1.0);
+        }
+        [0, 1, 2].map(|a| value[a] * size[a] * intensity)
+    };
+    let (lo, hi) = layout.bounds();
+    let (nx, ny) = (raw.nx, raw.ny);
+    let mut worst_default = 0.0f64;
+    for j in 0..ny {
+        for i in 0..nx {
+            // The cell's centre in Unity's axes (z north), on the field's mid-height.
+            let x = f64::from(lo[0]) + (i as f64 + 0.5) * f64::from(hi[0] - lo[0]) / nx as f64;
+            let z = f64::from(lo[1]) + (j as f64 + 0.5) * f64::from(hi[1] - lo[1]) / ny as f64;
+            let p = [x, 0.0, -z];
+            let want = raw.at(0, i, j);
+            let want = [f64::from(want[0]), 0.0, -f64::from(want[1])];
+            let got = force(p, false);
+            for (a, (got, want)) in got.iter().zip(want).enumerate() {
+                assert!(
+                    (got - want).abs() <= 1e-4 * (1.0 + want.abs()),
+                    "cell {i},{j} axis {a}: {got} m/s, the bake says {want}"
+                );
+            }
+            let default = force(p, true);
+            worst_default = worst_default.max((default[0] - want[0]).abs());
+        }
+    }
+    // The block's default encoding would not give the wind: the guide must say Signed.
+    assert!(worst_default > 1.0, "{worst_default}");
 }
 
 #[test]
@@ -633,12 +741,11 @@ fn godot_reads_each_atlas_frame_to_the_level_s_edge() {
             ];
             let auv = [0, 1].map(|a| (cell[a] + uv[a].clamp(half[a], 1.0 - half[a])) / grid[a]);
             let want = raw.at(frame, i, j);
-            for c in 0..2 {
+            for (c, &want) in want.iter().enumerate() {
                 let got = (sample(auv, c) * 2.0 - 1.0) * scale;
                 assert!(
-                    (got - f64::from(want[c])).abs() <= step,
-                    "frame {frame} cell {i},{j} channel {c}: {got} against {}",
-                    want[c]
+                    (got - f64::from(want)).abs() <= step,
+                    "frame {frame} cell {i},{j} channel {c}: {got} against {want}"
                 );
             }
         }
