@@ -752,6 +752,109 @@ fn godot_reads_each_atlas_frame_to_the_level_s_edge() {
     }
 }
 
+/// The Unreal guide's animated path (`docs/engines/unreal.md`): the atlas imported as HDR
+/// (each 16-bit channel a half float), sampled bilinearly at the guide's UV (half a texel
+/// inside the frame's sub-image), decoded `(rg * 2 - 1) * scale * 100` into cm/s with
+/// Unreal X = world x and Y = world z. At every frame's edges and corners it is the bake's
+/// wind within a half float's rounding.
+#[test]
+fn unreal_reads_each_atlas_frame_to_the_level_s_edge() {
+    let guide = include_str!("../../docs/engines/unreal.md");
+    assert!(
+        guide.contains("float2 halfTexel = 0.5 * Grid / AtlasSize;")
+            && guide.contains("OutUV = (cell + clamp(uv, halfTexel, 1.0 - halfTexel)) / Grid;")
+            && guide.contains("(Sample.rg * 2 - 1) * Scale * 100"),
+        "the guide's HLSL is what this test follows"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Atlas, Format::Raw],
+        ..small(7)
+    };
+    let layout = example("two-winds.json");
+    run(&layout, dir.path(), &opts);
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let entry = file_of(&m, "atlas")[0];
+    let sub = &entry["axes"]["sub_images"];
+    let grid = [
+        sub["columns"].as_u64().unwrap() as f64,
+        sub["rows"].as_u64().unwrap() as f64,
+    ];
+    let scale = entry["encoding"]["scale"].as_f64().unwrap();
+    let img = image::open(dir.path().join("atlas.png"))
+        .unwrap()
+        .to_rgb16();
+    let size = [f64::from(img.width()), f64::from(img.height())];
+    // HDR import: the unit value as a half float.
+    let texel = |x: i64, y: i64, c: usize| {
+        let x = x.clamp(0, size[0] as i64 - 1) as u32;
+        let y = y.clamp(0, size[1] as i64 - 1) as u32;
+        f64::from(half::f16::from_f32(f32::from(img.get_pixel(x, y)[c]) / 65535.0).to_f32())
+    };
+    let sample = |t: [f64; 2], c: usize| {
+        let (x, y) = (t[0] * size[0] - 0.5, t[1] * size[1] - 0.5);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let row = |y| texel(x0, y, c) * (1.0 - fx) + texel(x0 + 1, y, c) * fx;
+        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
+    };
+    let (lo, hi) = layout.bounds();
+    let min_cm = [f64::from(lo[0]) * 100.0, f64::from(lo[1]) * 100.0];
+    let size_cm = [
+        f64::from(hi[0] - lo[0]) * 100.0,
+        f64::from(hi[1] - lo[1]) * 100.0,
+    ];
+    let half_texel = [0.5 * grid[0] / size[0], 0.5 * grid[1] / size[1]];
+    let fps = entry["axes"]["sub_images"]["fps"].as_f64().unwrap();
+    let (nx, ny) = (raw.nx, raw.ny);
+    // A half float near 1 holds 11 bits: the decoded wind to 2 · scale · 2^-11, plus the
+    // 16-bit step.
+    let tolerance = 2.0 * scale * (2f64.powi(-11) + 1.0 / 65535.0);
+    for frame in 0..7 {
+        let time = (frame as f64 + 0.5) / fps;
+        let frame_at = (time * fps).floor() as usize % 7;
+        assert_eq!(frame_at, frame);
+        let cell = [
+            (frame % grid[0] as usize) as f64,
+            (frame / grid[0] as usize) as f64,
+        ];
+        for (i, j) in [
+            (0, 0),
+            (nx - 1, 0),
+            (0, ny - 1),
+            (nx - 1, ny - 1),
+            (nx - 1, ny / 2),
+        ] {
+            // The particle at the level's edge or corner, in cm (Unreal X, Y = world x, z).
+            let at = |k: usize, n: usize, a: usize| {
+                let u = if k == 0 {
+                    0.0
+                } else if k == n - 1 {
+                    1.0
+                } else {
+                    (k as f64 + 0.5) / n as f64
+                };
+                min_cm[a] + u * size_cm[a]
+            };
+            let position = [at(i, nx, 0), at(j, ny, 1)];
+            let uv = [0, 1].map(|a| (position[a] - min_cm[a]) / size_cm[a]);
+            let out_uv = [0, 1]
+                .map(|a| (cell[a] + uv[a].clamp(half_texel[a], 1.0 - half_texel[a])) / grid[a]);
+            let want = raw.at(frame, i, j);
+            for (c, &want) in want.iter().enumerate() {
+                let cm_s = (sample(out_uv, c) * 2.0 - 1.0) * scale * 100.0;
+                assert!(
+                    (cm_s / 100.0 - f64::from(want)).abs() <= tolerance,
+                    "frame {frame} cell {i},{j} axis {c}: {} m/s, the bake says {want}",
+                    cm_s / 100.0
+                );
+            }
+        }
+    }
+}
+
 fn rms_diff(raw: &Raw, a: usize, b: usize) -> f32 {
     let mut s = 0.0f64;
     for j in 0..raw.ny {
