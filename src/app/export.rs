@@ -17,6 +17,8 @@ pub struct ExportDialog {
     pub fps: f32,
     pub warmup: f32,
     pub looped: bool,
+    /// Flowmaps and the atlas with green growing up the image (`bake --flip-green`).
+    pub flip_green: bool,
     pub grid: [u32; 2],
     pub use_layout_grid: bool,
     pub out: String,
@@ -47,6 +49,7 @@ impl Default for ExportDialog {
             fps: 30.0,
             warmup: 5.0,
             looped: false,
+            flip_green: false,
             grid: [128, 128],
             use_layout_grid: true,
             out: "bake".into(),
@@ -76,6 +79,7 @@ impl ExportDialog {
             looped: self.looped,
             grid: (!self.use_layout_grid).then_some(self.grid),
             half: false,
+            flip_green: self.flip_green,
             max_bytes: bake::DEFAULT_MAX_BYTES,
             backend: crate::engine::Backend::Cpu,
         }
@@ -238,6 +242,15 @@ impl ExportDialog {
                         let l = ui.label("Loop");
                         ui.checkbox(&mut self.looped, "seamless (cross-fade)")
                             .labelled_by(l.id);
+                        ui.end_row();
+                        let l = ui.label("Flowmap green");
+                        ui.checkbox(&mut self.flip_green, "flipped (grows up the image)")
+                            .labelled_by(l.id)
+                            .on_hover_text(
+                                "PNG flowmaps and the atlas store green as the wind toward \
+                                 north (up the image), as shaders whose v runs up the image \
+                                 expect; off, green grows down the image (south)",
+                            );
                         ui.end_row();
                         let l = ui.label("Grid");
                         ui.horizontal(|ui| {

@@ -504,6 +504,7 @@ fn bake_staged(
         max,
         half: opts.half,
         fps: opts.fps,
+        flip_green: opts.flip_green,
     };
     let mut files: BTreeMap<Format, Vec<FileEntry>> = BTreeMap::new();
     let mut atlas = if formats.contains(&Format::Atlas) {
@@ -612,6 +613,8 @@ pub(crate) struct ExportContext {
     pub max: [f32; 2],
     pub half: bool,
     pub fps: f32,
+    /// Flowmaps and the atlas store green as the world −z wind (up the image).
+    pub flip_green: bool,
 }
 
 impl ExportContext {

@@ -22,6 +22,9 @@ pub struct BakeOptions {
     pub grid: Option<[u32; 2]>,
     /// Write EXR as 16-bit half floats instead of 32-bit.
     pub half: bool,
+    /// Store the flowmaps' and the atlas's green as the world −z wind, so green grows up the
+    /// image (toward north), as shaders whose v coordinate runs up the image expect.
+    pub flip_green: bool,
     /// Most disk the bake may take, in bytes, counted before it starts (an upper bound of
     /// what every output and the temporary frame files need).
     pub max_bytes: u64,
@@ -49,6 +52,7 @@ impl Default for BakeOptions {
             looped: false,
             grid: None,
             half: false,
+            flip_green: false,
             max_bytes: DEFAULT_MAX_BYTES,
             backend: Backend::Cpu,
         }

@@ -17,7 +17,14 @@ fn encode(v: f32, scale: f32, levels: f32) -> f32 {
 fn flow_encoding(ctx: &ExportContext, bits: u32) -> serde_json::Value {
     serde_json::json!({
         "bits": bits,
-        "R": "world x velocity", "G": "world z velocity", "B": "unused (0)",
+        "R": "world x velocity",
+        "G": if ctx.flip_green {
+            "world -z velocity (flipped: green grows up the image, toward north)"
+        } else {
+            "world z velocity"
+        },
+        "B": "unused (0)",
+        "green_flipped": ctx.flip_green,
         "decode": "velocity = (channel / max_value * 2 - 1) * scale",
         "max_value": if bits == 8 { 255 } else { 65535 },
         "scale": ctx.flow_scale(), "offset": -1.0,
@@ -25,12 +32,21 @@ fn flow_encoding(ctx: &ExportContext, bits: u32) -> serde_json::Value {
     })
 }
 
-fn flow_axes() -> serde_json::Value {
+fn flow_axes(flip_green: bool) -> serde_json::Value {
     serde_json::json!({
         "pixel_x": "+x (east), column 0 at world min x",
         "pixel_y": "+z (south), row 0 (top of the image) at world min z",
-        "v_flip": "none: green grows toward +z, which is down the image; flip G (1 - g) for shaders that expect green to point up the image",
+        "v_flip": if flip_green {
+            "green flipped (--flip-green): green grows toward -z, which is up the image, as shaders whose v runs up the image (OpenGL-style) expect"
+        } else {
+            "none: green grows toward +z, which is down the image; bake with --flip-green (or flip G: 1 - g) for shaders that expect green to point up the image"
+        },
     })
+}
+
+/// The green channel's velocity: the world z wind, negated when flipped.
+fn green(v: [f32; 2], flip: bool) -> f32 {
+    if flip { -v[1] } else { v[1] }
 }
 
 fn encode_error(name: &str, e: impl std::fmt::Display) -> BakeError {
@@ -56,12 +72,19 @@ fn png_bytes(
 
 /// One row of 16-bit RGB samples, each written with `bytes` (PNG's big-endian order for the
 /// streamed atlas, native order for the image encoder).
-fn row16(f: &Field, j: usize, scale: f32, out: &mut Vec<u8>, bytes: fn(u16) -> [u8; 2]) {
+fn row16(
+    f: &Field,
+    j: usize,
+    scale: f32,
+    flip: bool,
+    out: &mut Vec<u8>,
+    bytes: fn(u16) -> [u8; 2],
+) {
     for i in 0..f.nx {
         let v = f.at(i, j);
         for c in [
             encode(v[0], scale, 65535.0) as u16,
-            encode(v[1], scale, 65535.0) as u16,
+            encode(green(v, flip), scale, 65535.0) as u16,
             0,
         ] {
             out.extend_from_slice(&bytes(c));
@@ -88,7 +111,7 @@ fn flowmap(ctx: &ExportContext, k: usize, f: &Field, sixteen: bool) -> Result<Ou
         // The encoder takes 16-bit samples in native order.
         let mut native = Vec::with_capacity(f.nx * f.ny * 6);
         for j in 0..f.ny {
-            row16(f, j, scale, &mut native, u16::to_ne_bytes);
+            row16(f, j, scale, ctx.flip_green, &mut native, u16::to_ne_bytes);
         }
         png_bytes(
             &name,
@@ -103,7 +126,7 @@ fn flowmap(ctx: &ExportContext, k: usize, f: &Field, sixteen: bool) -> Result<Ou
                 let v = f.at(x as usize, y as usize);
                 Rgb([
                     encode(v[0], scale, 255.0) as u8,
-                    encode(v[1], scale, 255.0) as u8,
+                    encode(green(v, ctx.flip_green), scale, 255.0) as u8,
                     0,
                 ])
             });
@@ -123,7 +146,7 @@ fn flowmap(ctx: &ExportContext, k: usize, f: &Field, sixteen: bool) -> Result<Ou
             grid: [f.nx, f.ny],
             resampled_from: None,
             encoding: flow_encoding(ctx, bits),
-            axes: flow_axes(),
+            axes: flow_axes(ctx.flip_green),
             bytes: 0,
         },
         name,
@@ -150,6 +173,7 @@ pub(crate) struct Atlas {
     band: Vec<Field>,
     entry: FileEntry,
     scale: f32,
+    flip_green: bool,
 }
 
 impl Atlas {
@@ -181,7 +205,7 @@ impl Atlas {
                 "sub_images": {"columns": columns, "rows": rows, "count": ctx.count,
                     "order": "frame k at column k % columns, row k / columns (row 0 at the top)",
                     "fps": ctx.fps},
-                "within_a_sub_image": flow_axes(),
+                "within_a_sub_image": flow_axes(ctx.flip_green),
             }),
             bytes: 0,
         };
@@ -193,6 +217,7 @@ impl Atlas {
             band: Vec::with_capacity(columns),
             entry,
             scale: ctx.flow_scale(),
+            flip_green: ctx.flip_green,
         })
     }
 
@@ -220,7 +245,14 @@ impl Atlas {
             row.clear();
             for c in 0..self.columns {
                 let f = self.band.get(c).unwrap_or(&blank);
-                row16(f, j, self.scale, &mut row, u16::to_be_bytes);
+                row16(
+                    f,
+                    j,
+                    self.scale,
+                    self.flip_green,
+                    &mut row,
+                    u16::to_be_bytes,
+                );
             }
             self.writer
                 .write_all(&row)

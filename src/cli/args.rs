@@ -104,6 +104,11 @@ pub enum Command {
         /// EXR as 16-bit half floats.
         #[arg(long)]
         half: bool,
+        /// Flowmaps (png8, png16) and the atlas with green flipped: green grows up the image
+        /// (toward north, world −z), as shaders whose v coordinate runs up the image expect;
+        /// without it green grows down the image (+z, south).
+        #[arg(long)]
+        flip_green: bool,
         /// Most disk the bake may take (e.g. 500M, 16G, 2T); checked before it starts against
         /// an upper bound of what it writes, as is the free space.
         #[arg(long, default_value = "16G", value_parser = parse_bytes)]

@@ -23,6 +23,7 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         looped,
         grid,
         half,
+        flip_green,
         max_disk,
         backend,
     } = command
@@ -43,6 +44,7 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         looped,
         grid,
         half,
+        flip_green,
         max_bytes: max_disk,
         backend,
     };

@@ -616,6 +616,80 @@ fn png_flowmaps_decode_within_quantisation() {
     }
 }
 
+/// `--flip-green` (the Export dialog's *Flowmap green: flipped*): the flowmaps and the atlas
+/// store green as the world −z wind, so green grows up the image; red and the rest are as
+/// without it, and the manifest says which. Through the CLI, as a user asks for it.
+#[test]
+fn flipped_green_grows_up_the_image() {
+    let dir = tempfile::tempdir().unwrap();
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/two-winds.json");
+    let bake = |out: &Path, flip: bool| {
+        let mut args = vec![
+            "bake".to_string(),
+            layout.display().to_string(),
+            "--out".into(),
+            out.display().to_string(),
+            "--grid".into(),
+            "48x32".into(),
+            "--warmup".into(),
+            "1".into(),
+            "--frames".into(),
+            "2".into(),
+        ];
+        for f in ["png8", "png16", "atlas", "raw"] {
+            args.extend(["--format".to_string(), f.to_string()]);
+        }
+        if flip {
+            args.push("--flip-green".into());
+        }
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+            .args(&args)
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    };
+    let (plain, flipped) = (dir.path().join("plain"), dir.path().join("flipped"));
+    bake(&plain, false);
+    bake(&flipped, true);
+    let m = manifest(&flipped);
+    let raw = Raw::read(&flipped, &m);
+    let scale = m["max_speed"].as_f64().unwrap() as f32;
+    for (format, file, max) in [
+        ("png8", "flow8_0001.png", 255.0f32),
+        ("png16", "flow16_0001.png", 65535.0),
+        ("atlas", "atlas.png", 65535.0),
+    ] {
+        let entry = file_of(&m, format)[0];
+        assert_eq!(entry["encoding"]["green_flipped"], true, "{format}");
+        assert!(entry["encoding"]["G"].as_str().unwrap().contains("-z"));
+        let plain_entry = file_of(&manifest(&plain), format)[0].clone();
+        assert_eq!(plain_entry["encoding"]["green_flipped"], false);
+        let img = image::open(flipped.join(file)).unwrap().to_rgb16();
+        let unflipped = image::open(plain.join(file)).unwrap().to_rgb16();
+        let step = 2.0 * scale / max;
+        let unit = |c: u16| f32::from(c) / 65535.0;
+        // Frame 1: its own file, or the atlas's second sub-image.
+        let x0 = if format == "atlas" { 48 } else { 0 };
+        for (i, j) in [(0, 0), (47, 31), (24, 16), (10, 5)] {
+            let p = img.get_pixel(x0 + i as u32, j as u32);
+            let q = unflipped.get_pixel(x0 + i as u32, j as u32);
+            let want = raw.at(1, i, j);
+            let decode = |c: u16| (unit(c) * 2.0 - 1.0) * scale;
+            assert_eq!(p[0], q[0], "{format}: red as without the flip");
+            assert!(
+                (decode(p[0]) - want[0]).abs() <= step,
+                "{format} R at {i},{j}"
+            );
+            assert!(
+                (decode(p[1]) + want[1]).abs() <= step,
+                "{format} G at {i},{j}: {} is the wind toward north, the bake's z is {}",
+                decode(p[1]),
+                want[1]
+            );
+        }
+    }
+}
+
 #[test]
 fn atlas_holds_every_frame_where_the_manifest_says() {
     let dir = tempfile::tempdir().unwrap();
