@@ -303,6 +303,17 @@ impl Engine {
         self.notice = Some(why);
     }
 
+    /// Runs the field where `choice` says, on `newest` when an edit was waiting (it becomes
+    /// `layout`).
+    fn switch_to(&mut self, choice: Backend, layout: &mut Layout, newest: Option<Box<Layout>>) {
+        self.choice = choice;
+        if let Some(l) = newest {
+            self.new_solver(&l, true);
+            *layout = *l;
+        }
+        self.choose(layout);
+    }
+
     /// Decides where the field runs for `layout` and moves it there.
     fn choose(&mut self, layout: &Layout) {
         let want = match (self.choice, &self.ctx) {
@@ -589,21 +600,11 @@ fn worker(
                 Command::Layout(l) => newest = Some(l),
                 Command::Gpu(ctx, choice) => {
                     engine.ctx = Some(*ctx);
-                    engine.choice = choice;
-                    if let Some(l) = newest.take() {
-                        engine.new_solver(&l, true);
-                        layout = *l;
-                    }
-                    engine.choose(&layout);
+                    engine.switch_to(choice, &mut layout, newest.take());
                     changed = true;
                 }
                 Command::Backend(choice) => {
-                    engine.choice = choice;
-                    if let Some(l) = newest.take() {
-                        engine.new_solver(&l, true);
-                        layout = *l;
-                    }
-                    engine.choose(&layout);
+                    engine.switch_to(choice, &mut layout, newest.take());
                     changed = true;
                 }
                 Command::Play(p) => {
