@@ -15,6 +15,20 @@ fn row(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut egui::Ui) -> egui::
     r.changed()
 }
 
+/// A `[min, max]` range as two labelled fields, "LABEL min" and "LABEL max", each held to
+/// `bound` (as `validate` checks each end).
+fn min_max(
+    ui: &mut egui::Ui,
+    label: &str,
+    v: &mut [f32; 2],
+    bound: Bound,
+    speed: f64,
+    suffix: &str,
+) -> bool {
+    let lo = num(ui, &format!("{label} min"), &mut v[0], bound, speed, suffix);
+    lo | num(ui, &format!("{label} max"), &mut v[1], bound, speed, suffix)
+}
+
 /// What a direction field offers: any finite angle is valid (`validate`), and one turn
 /// either way reaches every direction.
 const ONE_TURN: Bound = Bound::new(-360.0, 360.0);
@@ -222,8 +236,8 @@ fn node_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, i
             )
         });
         // The sliders show a working range and take any typed value; the bound holds it.
-        strength = strength.clamp(bounds::STRENGTH.lo(), bounds::STRENGTH.hi());
-        radius = radius.clamp(bounds::RADIUS.lo(), bounds::RADIUS.hi());
+        strength = bounds::STRENGTH.clamp(strength);
+        radius = bounds::RADIUS.clamp(radius);
         changed |= num(ui, "x", &mut pos[0], bounds::COORD, 0.1, " m");
         changed |= num(ui, "z", &mut pos[1], bounds::COORD, 0.1, " m");
     });
@@ -714,14 +728,12 @@ fn sim_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     });
     if changed {
         // The sliders show a working range and take any typed value; the bounds hold them.
-        let clamp = |v: &mut f32, b: Bound| *v = v.clamp(b.lo(), b.hi());
-        clamp(&mut s.vorticity, bounds::VORTICITY);
-        clamp(&mut s.velocity_dissipation, bounds::VELOCITY_DISSIPATION);
-        clamp(&mut s.arrow_response, bounds::ARROW_RESPONSE);
-        clamp(&mut s.ambient_coupling, bounds::AMBIENT_COUPLING);
-        let whole = |v: &mut u32, b: doc::Count| *v = (*v).clamp(b.min, b.max);
-        whole(&mut s.pressure_iterations, bounds::PRESSURE_ITERATIONS);
-        whole(&mut s.pressure_cycles, bounds::PRESSURE_CYCLES);
+        s.vorticity = bounds::VORTICITY.clamp(s.vorticity);
+        s.velocity_dissipation = bounds::VELOCITY_DISSIPATION.clamp(s.velocity_dissipation);
+        s.arrow_response = bounds::ARROW_RESPONSE.clamp(s.arrow_response);
+        s.ambient_coupling = bounds::AMBIENT_COUPLING.clamp(s.ambient_coupling);
+        s.pressure_iterations = bounds::PRESSURE_ITERATIONS.clamp(s.pressure_iterations);
+        s.pressure_cycles = bounds::PRESSURE_CYCLES.clamp(s.pressure_cycles);
         app.edit_merged(ctx, Edit::SetSim(s), "sim");
     }
     for a in doc::advise(&app.doc) {
@@ -756,50 +768,19 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             changed |= num(ui, "k1 (gravity)", &mut g.k1, bounds::BEND, 0.005, "");
             changed |= num(ui, "k2 (forward)", &mut g.k2, bounds::BEND, 0.005, "");
             changed |= num(ui, "λ (stiffness)", &mut g.lambda, bounds::LAMBDA, 0.01, "");
-            changed |= num(
+            changed |= min_max(
                 ui,
-                "Height min",
-                &mut g.height[0],
+                "Height",
+                &mut g.height,
                 bounds::BLADE_HEIGHT,
                 0.01,
                 " m",
             );
-            changed |= num(
+            changed |= min_max(ui, "Width", &mut g.width, bounds::BLADE_WIDTH, 0.001, " m");
+            changed |= min_max(
                 ui,
-                "Height max",
-                &mut g.height[1],
-                bounds::BLADE_HEIGHT,
-                0.01,
-                " m",
-            );
-            changed |= num(
-                ui,
-                "Width min",
-                &mut g.width[0],
-                bounds::BLADE_WIDTH,
-                0.001,
-                " m",
-            );
-            changed |= num(
-                ui,
-                "Width max",
-                &mut g.width[1],
-                bounds::BLADE_WIDTH,
-                0.001,
-                " m",
-            );
-            changed |= num(
-                ui,
-                "Stiffness min",
-                &mut g.stiffness[0],
-                bounds::STIFFNESS,
-                0.01,
-                "",
-            );
-            changed |= num(
-                ui,
-                "Stiffness max",
-                &mut g.stiffness[1],
+                "Stiffness",
+                &mut g.stiffness,
                 bounds::STIFFNESS,
                 0.01,
                 "",

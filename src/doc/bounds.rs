@@ -56,6 +56,11 @@ impl Bound {
         self.lo()..=self.hi()
     }
 
+    /// `v` held to the bound (a typed value past what an editor field shows).
+    pub fn clamp(self, v: f32) -> f32 {
+        v.clamp(self.lo(), self.hi())
+    }
+
     /// Whether `v` is accepted (as `validate` decides it).
     pub fn contains(self, v: f32) -> bool {
         v.is_finite() && (!self.above_zero || v > 0.0) && v >= self.min as f32 && v <= self.hi()
@@ -80,6 +85,11 @@ impl Count {
 
     pub fn range(self) -> RangeInclusive<u32> {
         self.min..=self.max
+    }
+
+    /// `v` held to the bound.
+    pub fn clamp(self, v: u32) -> u32 {
+        v.clamp(self.min, self.max)
     }
 }
 
