@@ -21,7 +21,10 @@ mod vf;
 
 pub use format::Format;
 pub use manifest::{FileEntry, FramesInfo, LayoutInfo, MANIFEST, Manifest, WorldInfo, layout_hash};
-pub use options::{BakeOptions, DEFAULT_MAX_BYTES, FRAMES_MAX, SECONDS_MAX, SettingsError};
+pub use options::{
+    BakeOptions, DEFAULT_MAX_BYTES, FRAMES_MAX, SECONDS_MAX, SettingsError, atlas_message,
+    span_message,
+};
 pub use png::ATLAS_MAX_SIDE;
 pub use timing::FrameTiming;
 
@@ -103,6 +106,15 @@ fn overlap_weights(n: usize, m: usize) -> Vec<Vec<(usize, f64)>> {
         .collect()
 }
 
+/// Why a bake is refused for its disk: it needs up to `need` bytes, more than `limit`;
+/// `raise` says what else to change, in the caller's words (empty: nothing).
+pub fn disk_message(need: u64, limit: &str, raise: &str) -> String {
+    format!(
+        "this bake needs up to {} of disk, more than {limit}; bake fewer frames, formats or cells{raise}",
+        human_bytes(need)
+    )
+}
+
 /// Bytes as a person reads them: `512 B`, `3.2 MiB`, `1.50 GiB`.
 pub fn human_bytes(bytes: u64) -> String {
     const UNITS: [&str; 5] = ["B", "KiB", "MiB", "GiB", "TiB"];
@@ -138,9 +150,8 @@ pub enum BakeError {
     #[error("encoding {name}: {message}")]
     Encode { name: String, message: String },
     #[error(
-        "this bake needs up to {} of disk, more than {limit}; bake fewer frames, formats or cells{}",
-        human_bytes(*need),
-        if *budget { ", or raise the disk budget" } else { "" }
+        "{}",
+        disk_message(*need, limit, if *budget { ", or raise the disk budget" } else { "" })
     )]
     Disk {
         need: u64,

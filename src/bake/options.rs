@@ -75,8 +75,8 @@ pub enum SettingsError {
     #[error("a loop needs 2 frames or more")]
     LoopTooShort,
     #[error(
-        "{frames} frames at {fps} fps span {span:.0} simulated seconds{}, more than the {SECONDS_MAX} a bake may; raise the frame rate or bake fewer frames",
-        loop_note(*looped)
+        "{}",
+        span_message(*frames, *fps, *looped, *span, "raise the frame rate or bake fewer frames")
     )]
     Span {
         frames: usize,
@@ -84,10 +84,7 @@ pub enum SettingsError {
         looped: bool,
         span: f64,
     },
-    #[error(
-        "the atlas of {frames} frames of {nx}x{ny} would be {}x{} pixels, over the {ATLAS_MAX_SIDE} a GPU texture allows; bake fewer frames or cells, or leave out the atlas",
-        size[0], size[1]
-    )]
+    #[error("{}", atlas_message(*frames, *nx, *ny, *size, "the atlas"))]
     Atlas {
         frames: usize,
         nx: usize,
@@ -99,12 +96,32 @@ pub enum SettingsError {
     Gpu(#[from] GpuError),
 }
 
-fn loop_note(looped: bool) -> &'static str {
-    if looped {
+/// Why `frames` at `fps` are refused: their span in simulated seconds; `fix` says what to
+/// change, in the caller's words (the dialog's, or the CLI's flags).
+pub fn span_message(frames: usize, fps: f32, looped: bool, span: f64, fix: &str) -> String {
+    let doubled = if looped {
         " (a loop simulates twice its frames)"
     } else {
         ""
-    }
+    };
+    format!(
+        "{frames} frames at {fps} fps span {span:.0} simulated seconds{doubled}, more than the {SECONDS_MAX} a bake may; {fix}"
+    )
+}
+
+/// Why an atlas is refused: its size in pixels; `format` names the atlas in the caller's
+/// words.
+pub fn atlas_message(
+    frames: usize,
+    nx: usize,
+    ny: usize,
+    size: [usize; 2],
+    format: &str,
+) -> String {
+    format!(
+        "the atlas of {frames} frames of {nx}x{ny} would be {}x{} pixels, over the {ATLAS_MAX_SIDE} a GPU texture allows; bake fewer frames or cells, or leave out {format}",
+        size[0], size[1]
+    )
 }
 
 /// Refuses settings no bake can honour, before anything runs.

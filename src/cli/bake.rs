@@ -121,17 +121,14 @@ fn in_flags(e: BakeError) -> CliError {
             need,
             limit,
             budget: true,
-        } => CliError::Message(format!(
-            "this bake needs up to {} of disk, more than {limit}; bake fewer frames, formats or cells, or raise --max-disk",
-            bake::human_bytes(need)
-        )),
+        } => CliError::Message(bake::disk_message(need, &limit, ", or raise --max-disk")),
         e => e.into(),
     }
 }
 
 /// A settings error in the words of the command line.
 fn settings(e: &SettingsError) -> String {
-    use crate::bake::{ATLAS_MAX_SIDE, FRAMES_MAX, SECONDS_MAX};
+    use crate::bake::{FRAMES_MAX, SECONDS_MAX};
     match e {
         SettingsError::NoFormat => "no --format given".into(),
         SettingsError::Frames(n) => format!("--frames must be 1 to {FRAMES_MAX}, got {n}"),
@@ -145,23 +142,19 @@ fn settings(e: &SettingsError) -> String {
             fps,
             looped,
             span,
-        } => format!(
-            "{frames} frames at {fps} fps span {span:.0} simulated seconds{}, more than the {SECONDS_MAX} a bake may; raise --fps or bake fewer --frames",
-            if *looped {
-                " (a loop simulates twice its frames)"
-            } else {
-                ""
-            },
+        } => bake::span_message(
+            *frames,
+            *fps,
+            *looped,
+            *span,
+            "raise --fps or bake fewer --frames",
         ),
         SettingsError::Atlas {
             frames,
             nx,
             ny,
             size,
-        } => format!(
-            "the atlas of {frames} frames of {nx}x{ny} would be {}x{} pixels, over the {ATLAS_MAX_SIDE} a GPU texture allows; bake fewer frames or cells, or leave out --format atlas",
-            size[0], size[1]
-        ),
+        } => bake::atlas_message(*frames, *nx, *ny, *size, "--format atlas"),
         SettingsError::Gpu(g) => format!("--backend gpu: {g}"),
     }
 }

@@ -88,8 +88,7 @@ fn warn(text: &str) {
 /// Why the layout's map backdrop (if it has one) cannot be shown.
 fn backdrop_warning(l: &doc::Layout, file: &std::path::Path) -> Option<String> {
     let base = crate::io::layout_base(Some(file));
-    let map = l.world.map.as_ref()?;
-    crate::io::load_backdrop(&base, map)
+    crate::io::layout_backdrop(l, &base)?
         .err()
         .map(|e| e.to_string())
 }
