@@ -730,6 +730,88 @@ fn atlas_holds_every_frame_where_the_manifest_says() {
     assert!((i32::from(p[0]) - 32768).abs() <= 1 && (i32::from(p[1]) - 32768).abs() <= 1);
 }
 
+/// An atlas bake and its raw frames, as the engine tests read it.
+struct AtlasBake {
+    _dir: tempfile::TempDir,
+    raw: Raw,
+    /// Sub-images: columns, rows.
+    grid: [f64; 2],
+    /// The flowmap's `encoding.scale`, m/s.
+    scale: f64,
+    fps: f64,
+    img: image::ImageBuffer<image::Rgb<u16>, Vec<u16>>,
+}
+
+/// Bakes `frames` frames of the example `name` as an atlas (and raw, to compare with).
+fn bake_atlas(name: &str, frames: usize) -> AtlasBake {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Atlas, Format::Raw],
+        ..small(frames)
+    };
+    run(&example(name), dir.path(), &opts);
+    let m = manifest(dir.path());
+    let entry = file_of(&m, "atlas")[0];
+    let sub = &entry["axes"]["sub_images"];
+    AtlasBake {
+        raw: Raw::read(dir.path(), &m),
+        grid: [
+            sub["columns"].as_u64().unwrap() as f64,
+            sub["rows"].as_u64().unwrap() as f64,
+        ],
+        scale: entry["encoding"]["scale"].as_f64().unwrap(),
+        fps: sub["fps"].as_f64().unwrap(),
+        img: image::open(dir.path().join("atlas.png"))
+            .unwrap()
+            .to_rgb16(),
+        _dir: dir,
+    }
+}
+
+impl AtlasBake {
+    /// Frame `frame`'s texture coordinate for the level's `uv`, half a texel inside its
+    /// sub-image (as both engine paths compute it).
+    fn frame_uv(&self, frame: usize, uv: [f64; 2]) -> [f64; 2] {
+        let size = [f64::from(self.img.width()), f64::from(self.img.height())];
+        let columns = self.grid[0] as usize;
+        let cell = [(frame % columns) as f64, (frame / columns) as f64];
+        [0, 1].map(|a| {
+            let half = 0.5 * self.grid[a] / size[a];
+            (cell[a] + uv[a].clamp(half, 1.0 - half)) / self.grid[a]
+        })
+    }
+
+    /// Linear filtering of channel `c` at texture coordinate `t` (texel centres at
+    /// (i + 0.5) / size), clamped at the texture's edge, each 16-bit texel read as the
+    /// engine imports it (`unit`).
+    fn sample(&self, t: [f64; 2], c: usize, unit: impl Fn(u16) -> f64) -> f64 {
+        let (w, h) = (f64::from(self.img.width()), f64::from(self.img.height()));
+        let texel = |x: i64, y: i64| {
+            let x = x.clamp(0, w as i64 - 1) as u32;
+            let y = y.clamp(0, h as i64 - 1) as u32;
+            unit(self.img.get_pixel(x, y)[c])
+        };
+        let (x, y) = (t[0] * w - 0.5, t[1] * h - 0.5);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let row = |y| texel(x0, y) * (1.0 - fx) + texel(x0 + 1, y) * fx;
+        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
+    }
+}
+
+/// Cell `k` of `n` along an axis as the level's uv: 0 and 1 for the first and last cell (the
+/// level's edge), the cell's centre between.
+fn edge_uv(k: usize, n: usize) -> f64 {
+    if k == 0 {
+        0.0
+    } else if k == n - 1 {
+        1.0
+    } else {
+        (k as f64 + 0.5) / n as f64
+    }
+}
+
 /// The Godot grass shader (`docs/engines/windloom_grass.gdshader`) reads the animated atlas
 /// as Godot samples it — linear filtering, clamped at the texture's edge, 8 bits a channel
 /// (Godot's PNG loader keeps 8 of the 16) — and gets each frame's wind at every cell, the
@@ -745,49 +827,13 @@ fn godot_reads_each_atlas_frame_to_the_level_s_edge() {
         ) && shader.contains("clamp(uv, half_texel, vec2(1.0) - half_texel)"),
         "the shader clamps as emulated here"
     );
-    let dir = tempfile::tempdir().unwrap();
-    let opts = BakeOptions {
-        formats: vec![Format::Atlas, Format::Raw],
-        ..small(5)
-    };
-    run(&example("two-winds.json"), dir.path(), &opts);
-    let m = manifest(dir.path());
-    let raw = Raw::read(dir.path(), &m);
-    let entry = file_of(&m, "atlas")[0];
-    let sub = &entry["axes"]["sub_images"];
-    let grid = [
-        sub["columns"].as_u64().unwrap() as f64,
-        sub["rows"].as_u64().unwrap() as f64,
-    ];
-    let scale = entry["encoding"]["scale"].as_f64().unwrap();
-    let img = image::open(dir.path().join("atlas.png"))
-        .unwrap()
-        .to_rgb16();
-    let (w, h) = (f64::from(img.width()), f64::from(img.height()));
+    let atlas = bake_atlas("two-winds.json", 5);
     // Godot's 8-bit texel, as a unit value.
-    let texel = |x: i64, y: i64, c: usize| {
-        let x = x.clamp(0, w as i64 - 1) as u32;
-        let y = y.clamp(0, h as i64 - 1) as u32;
-        f64::from((img.get_pixel(x, y)[c] >> 8) as u8) / 255.0
-    };
-    // Linear filtering at texture coordinate `t` (texel centres at (i + 0.5) / size).
-    let sample = |t: [f64; 2], c: usize| {
-        let (x, y) = (t[0] * w - 0.5, t[1] * h - 0.5);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i64, y0 as i64);
-        let row = |y| texel(x0, y, c) * (1.0 - fx) + texel(x0 + 1, y, c) * fx;
-        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
-    };
-    let half = [0.5 * grid[0] / w, 0.5 * grid[1] / h];
-    let (nx, ny) = (raw.nx, raw.ny);
+    let unit = |v: u16| f64::from((v >> 8) as u8) / 255.0;
+    let (nx, ny) = (atlas.raw.nx, atlas.raw.ny);
     // 8-bit rounding of a 16-bit value, decoded: at most one 8-bit step.
-    let step = 2.0 * scale / 255.0;
+    let step = 2.0 * atlas.scale / 255.0;
     for frame in 0..5 {
-        let cell = [
-            (frame % grid[0] as usize) as f64,
-            (frame / grid[0] as usize) as f64,
-        ];
         // The level's edge and corners, where the world uv is 0 or 1.
         for (i, j) in [
             (0, 0),
@@ -797,26 +843,9 @@ fn godot_reads_each_atlas_frame_to_the_level_s_edge() {
             (0, ny / 2),
             (nx / 2, 0),
         ] {
-            let uv = [
-                if i == 0 { 0.0 } else { 1.0 },
-                if j == 0 { 0.0 } else { 1.0 },
-            ];
-            let uv = [
-                if i == nx / 2 {
-                    (i as f64 + 0.5) / nx as f64
-                } else {
-                    uv[0]
-                },
-                if j == ny / 2 {
-                    (j as f64 + 0.5) / ny as f64
-                } else {
-                    uv[1]
-                },
-            ];
-            let auv = [0, 1].map(|a| (cell[a] + uv[a].clamp(half[a], 1.0 - half[a])) / grid[a]);
-            let want = raw.at(frame, i, j);
-            for (c, &want) in want.iter().enumerate() {
-                let got = (sample(auv, c) * 2.0 - 1.0) * scale;
+            let auv = atlas.frame_uv(frame, [edge_uv(i, nx), edge_uv(j, ny)]);
+            for (c, &want) in atlas.raw.at(frame, i, j).iter().enumerate() {
+                let got = (atlas.sample(auv, c, unit) * 2.0 - 1.0) * atlas.scale;
                 assert!(
                     (got - f64::from(want)).abs() <= step,
                     "frame {frame} cell {i},{j} channel {c}: {got} against {want}"
@@ -840,60 +869,23 @@ fn unreal_reads_each_atlas_frame_to_the_level_s_edge() {
             && guide.contains("(Sample.rg * 2 - 1) * Scale * 100"),
         "the guide's HLSL is what this test follows"
     );
-    let dir = tempfile::tempdir().unwrap();
-    let opts = BakeOptions {
-        formats: vec![Format::Atlas, Format::Raw],
-        ..small(7)
-    };
-    let layout = example("two-winds.json");
-    run(&layout, dir.path(), &opts);
-    let m = manifest(dir.path());
-    let raw = Raw::read(dir.path(), &m);
-    let entry = file_of(&m, "atlas")[0];
-    let sub = &entry["axes"]["sub_images"];
-    let grid = [
-        sub["columns"].as_u64().unwrap() as f64,
-        sub["rows"].as_u64().unwrap() as f64,
-    ];
-    let scale = entry["encoding"]["scale"].as_f64().unwrap();
-    let img = image::open(dir.path().join("atlas.png"))
-        .unwrap()
-        .to_rgb16();
-    let size = [f64::from(img.width()), f64::from(img.height())];
+    let atlas = bake_atlas("two-winds.json", 7);
     // HDR import: the unit value as a half float.
-    let texel = |x: i64, y: i64, c: usize| {
-        let x = x.clamp(0, size[0] as i64 - 1) as u32;
-        let y = y.clamp(0, size[1] as i64 - 1) as u32;
-        f64::from(half::f16::from_f32(f32::from(img.get_pixel(x, y)[c]) / 65535.0).to_f32())
-    };
-    let sample = |t: [f64; 2], c: usize| {
-        let (x, y) = (t[0] * size[0] - 0.5, t[1] * size[1] - 0.5);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i64, y0 as i64);
-        let row = |y| texel(x0, y, c) * (1.0 - fx) + texel(x0 + 1, y, c) * fx;
-        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
-    };
-    let (lo, hi) = layout.bounds();
+    let unit = |v: u16| f64::from(half::f16::from_f32(f32::from(v) / 65535.0).to_f32());
+    let (lo, hi) = example("two-winds.json").bounds();
     let min_cm = [f64::from(lo[0]) * 100.0, f64::from(lo[1]) * 100.0];
     let size_cm = [
         f64::from(hi[0] - lo[0]) * 100.0,
         f64::from(hi[1] - lo[1]) * 100.0,
     ];
-    let half_texel = [0.5 * grid[0] / size[0], 0.5 * grid[1] / size[1]];
-    let fps = entry["axes"]["sub_images"]["fps"].as_f64().unwrap();
-    let (nx, ny) = (raw.nx, raw.ny);
+    let (nx, ny) = (atlas.raw.nx, atlas.raw.ny);
     // A half float near 1 holds 11 bits: the decoded wind to 2 · scale · 2^-11, plus the
     // 16-bit step.
-    let tolerance = 2.0 * scale * (2f64.powi(-11) + 1.0 / 65535.0);
+    let tolerance = 2.0 * atlas.scale * (2f64.powi(-11) + 1.0 / 65535.0);
     for frame in 0..7 {
-        let time = (frame as f64 + 0.5) / fps;
-        let frame_at = (time * fps).floor() as usize % 7;
+        let time = (frame as f64 + 0.5) / atlas.fps;
+        let frame_at = (time * atlas.fps).floor() as usize % 7;
         assert_eq!(frame_at, frame);
-        let cell = [
-            (frame % grid[0] as usize) as f64,
-            (frame / grid[0] as usize) as f64,
-        ];
         for (i, j) in [
             (0, 0),
             (nx - 1, 0),
@@ -902,23 +894,14 @@ fn unreal_reads_each_atlas_frame_to_the_level_s_edge() {
             (nx - 1, ny / 2),
         ] {
             // The particle at the level's edge or corner, in cm (Unreal X, Y = world x, z).
-            let at = |k: usize, n: usize, a: usize| {
-                let u = if k == 0 {
-                    0.0
-                } else if k == n - 1 {
-                    1.0
-                } else {
-                    (k as f64 + 0.5) / n as f64
-                };
-                min_cm[a] + u * size_cm[a]
-            };
-            let position = [at(i, nx, 0), at(j, ny, 1)];
+            let position = [
+                min_cm[0] + edge_uv(i, nx) * size_cm[0],
+                min_cm[1] + edge_uv(j, ny) * size_cm[1],
+            ];
             let uv = [0, 1].map(|a| (position[a] - min_cm[a]) / size_cm[a]);
-            let out_uv = [0, 1]
-                .map(|a| (cell[a] + uv[a].clamp(half_texel[a], 1.0 - half_texel[a])) / grid[a]);
-            let want = raw.at(frame, i, j);
-            for (c, &want) in want.iter().enumerate() {
-                let cm_s = (sample(out_uv, c) * 2.0 - 1.0) * scale * 100.0;
+            let out_uv = atlas.frame_uv(frame_at, uv);
+            for (c, &want) in atlas.raw.at(frame, i, j).iter().enumerate() {
+                let cm_s = (atlas.sample(out_uv, c, unit) * 2.0 - 1.0) * atlas.scale * 100.0;
                 assert!(
                     (cm_s / 100.0 - f64::from(want)).abs() <= tolerance,
                     "frame {frame} cell {i},{j} axis {c}: {} m/s, the bake says {want}",
