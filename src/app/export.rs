@@ -82,6 +82,7 @@ impl ExportDialog {
             flip_green: self.flip_green,
             max_bytes: bake::DEFAULT_MAX_BYTES,
             backend: crate::engine::Backend::Cpu,
+            sequence: 0,
         }
     }
 

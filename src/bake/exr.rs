@@ -5,6 +5,7 @@
 //! ZIP compression in blocks of 16 lines: lossless, and read by every EXR loader.
 
 use super::format::{Encoder, frame_names};
+use super::manifest::{self as m, Axes, Channel, Sample, WorldAxis, image_axes};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage, f16};
 
@@ -44,18 +45,24 @@ fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> 
             frame: ctx.frame_index(k),
             grid: [f.nx, f.ny],
             resampled_from: None,
-            encoding: serde_json::json!({
-                "sample_type": if ctx.half { "f16" } else { "f32" },
-                "R": "world x velocity, m/s",
-                "G": "world z velocity, m/s",
-                "B": "speed, m/s",
-                "scale": 1.0, "offset": 0.0,
-                "storage": "scanline, increasing Y, ZIP (16 lines per block)",
-            }),
-            axes: serde_json::json!({
-                "pixel_x": "+x (east), column 0 at world min x",
-                "pixel_y": "+z (south), row 0 (top of the image) at world min z",
-            }),
+            encoding: m::Encoding {
+                sample: if ctx.half { Sample::F16 } else { Sample::F32 },
+                units: "m/s",
+                channels: vec![
+                    Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
+                    Channel::velocity("G", WorldAxis::PlusZ, 1.0, 0.0),
+                    Channel::speed("B"),
+                ],
+                green_flipped: None,
+                storage:
+                    "OpenEXR scanline, increasing Y, ZIP (16 lines per block), channels B, G, R"
+                        .to_string(),
+            },
+            axes: Axes {
+                index: image_axes(ctx, f.nx, f.ny),
+                sub_images: None,
+                engine_frame: None,
+            },
             bytes: 0,
         },
         name,

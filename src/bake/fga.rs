@@ -7,6 +7,7 @@
 //! larger grids are area-averaged down.
 
 use super::format::{Encoder, frame_names};
+use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
 use super::{BakeError, ExportContext, FGA_MAX, Field, FileEntry, Format, Output};
 use std::fmt::Write;
 
@@ -61,14 +62,42 @@ fn frame(ctx: &ExportContext, k: usize, frame: &Field) -> Output {
             frame: ctx.frame_index(k),
             grid: [fx, fy],
             resampled_from: resampled.then_some([nx, ny]),
-            encoding: serde_json::json!({"units": "cm/s", "scale": 100.0, "offset": 0.0,
-                "lines": "1: SizeX,SizeY,SizeZ  2: MinX,MinY,MinZ  3: MaxX,MaxY,MaxZ  then one x,y,z per line",
-                "values": "x,y,z per cell, X fastest, then Y, then Z (SizeZ = 1)"}),
-            axes: serde_json::json!({
-                "unreal": "Z-up, left-handed, centimetres",
-                "X": "world +x (east)", "Y": "world +z (south)", "Z": "world +y (up)",
-                "bounds_cm": [min[0], min[1], min[2], max[0], max[1], max[2]],
-            }),
+            encoding: Encoding {
+                sample: Sample::Text,
+                units: "m/s",
+                channels: vec![
+                    Channel::velocity("X", WorldAxis::PlusX, 1.0 / CM, 0.0),
+                    Channel::velocity("Y", WorldAxis::PlusZ, 1.0 / CM, 0.0),
+                    Channel::velocity("Z", WorldAxis::PlusY, 1.0 / CM, 0.0),
+                ],
+                green_flipped: None,
+                storage: "FGA text, cm and cm/s: line 1 SizeX,SizeY,SizeZ; line 2 MinX,MinY,MinZ; line 3 MaxX,MaxY,MaxZ; then one X,Y,Z per line, X fastest, then Y, then Z (SizeZ = 1)"
+                    .to_string(),
+            },
+            axes: Axes {
+                index: vec![
+                    IndexAxis {
+                        name: "X",
+                        world: WorldAxis::PlusX,
+                        cells: fx,
+                        range: [ctx.min[0], ctx.max[0]],
+                    },
+                    IndexAxis {
+                        name: "Y",
+                        world: WorldAxis::PlusZ,
+                        cells: fy,
+                        range: [ctx.min[1], ctx.max[1]],
+                    },
+                    IndexAxis {
+                        name: "Z",
+                        world: WorldAxis::PlusY,
+                        cells: 1,
+                        range: [0.0, FGA_HEIGHT_CM / CM],
+                    },
+                ],
+                sub_images: None,
+                engine_frame: Some("Unreal: X east, Y south, Z up (left-handed, centimetres)"),
+            },
             bytes: 0,
         },
         name,

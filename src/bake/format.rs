@@ -7,7 +7,9 @@ use super::{BakeError, ExportContext, Field, Output};
 use serde::Serialize;
 
 /// Output formats.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
+#[derive(
+    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, schemars::JsonSchema, PartialOrd, Ord,
+)]
 #[serde(rename_all = "lowercase")]
 pub enum Format {
     /// OpenEXR, float RGB: R = world x, G = world z, B = speed (m/s).

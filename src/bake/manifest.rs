@@ -1,13 +1,175 @@
-//! The bake's `manifest.json`: what was baked, from which layout, on which solver, and how
-//! each file's values and axes map to the world's wind.
+//! The bake's `manifest.json`: what was baked, from which layout, on which solver, how each
+//! file's stored values and axes map to the world's wind, and the settings each engine
+//! imports it with. Every type here derives its JSON Schema (`docs/manifest.schema.json`,
+//! `windloom schema --manifest`).
+//!
+//! One decode rule holds for every file: a channel's value, in m/s along the channel's world
+//! axis, is `stored × scale + offset`, where `stored` is what a reader samples (a float as
+//! written; an integer channel as a GPU samples it, divided by 255 or 65535; the number in a
+//! text file).
 
 use super::Format;
 use crate::doc::{self, Layout};
+use schemars::JsonSchema;
 use serde::Serialize;
 use sha2::Digest;
 
+/// The manifest's `version`: 2 made `encoding` and `axes` data (v1 held prose) and added
+/// `world_axes`, `engines` and `sequence`.
+pub const MANIFEST_VERSION: u32 = 2;
+
+/// A world axis with its sign: a channel holds the wind along it; a file's index grows along it.
+#[derive(Debug, Clone, Copy, Serialize, JsonSchema, PartialEq, Eq)]
+pub enum WorldAxis {
+    #[serde(rename = "+x")]
+    PlusX,
+    #[serde(rename = "-x")]
+    MinusX,
+    #[serde(rename = "+y")]
+    PlusY,
+    #[serde(rename = "-y")]
+    MinusY,
+    #[serde(rename = "+z")]
+    PlusZ,
+    #[serde(rename = "-z")]
+    MinusZ,
+}
+
+/// What a reader samples from a file.
+#[derive(Debug, Clone, Copy, Serialize, JsonSchema, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Sample {
+    /// 8-bit unsigned integers, read as `n / 255` (as a GPU samples a UNORM texture).
+    Unorm8,
+    /// 16-bit unsigned integers, read as `n / 65535`.
+    Unorm16,
+    /// IEEE half floats.
+    F16,
+    /// IEEE single floats.
+    F32,
+    /// Decimal numbers in text.
+    Text,
+}
+
+/// What a channel holds.
+#[derive(Debug, Clone, Copy, Serialize, JsonSchema, PartialEq, Eq)]
+#[serde(rename_all = "snake_case")]
+pub enum Quantity {
+    /// The wind along the channel's `axis`.
+    Velocity,
+    /// The wind's horizontal speed.
+    Speed,
+    /// Nothing: always zero after decoding.
+    Unused,
+}
+
+/// One channel of a file: `value (m/s) = stored × scale + offset`.
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct Channel {
+    /// The channel's name in the file: `R`, `G`, `B`, `A`; `X`, `Y`, `Z`; `x`, `z`.
+    pub name: &'static str,
+    pub quantity: Quantity,
+    /// For a velocity channel: the world axis, with its sign, whose wind it holds.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub axis: Option<WorldAxis>,
+    pub scale: f32,
+    pub offset: f32,
+}
+
+impl Channel {
+    pub fn velocity(name: &'static str, axis: WorldAxis, scale: f32, offset: f32) -> Self {
+        Self {
+            name,
+            quantity: Quantity::Velocity,
+            axis: Some(axis),
+            scale,
+            offset,
+        }
+    }
+
+    pub fn speed(name: &'static str) -> Self {
+        Self {
+            name,
+            quantity: Quantity::Speed,
+            axis: None,
+            scale: 1.0,
+            offset: 0.0,
+        }
+    }
+
+    pub fn unused(name: &'static str) -> Self {
+        Self {
+            name,
+            quantity: Quantity::Unused,
+            axis: None,
+            scale: 0.0,
+            offset: 0.0,
+        }
+    }
+}
+
+/// How a file's stored values become wind.
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct Encoding {
+    pub sample: Sample,
+    /// The decoded values' unit: always `m/s`.
+    pub units: &'static str,
+    /// Every channel a reader finds, in the file's order.
+    pub channels: Vec<Channel>,
+    /// For flowmaps and the atlas: green holds the −z wind (`--flip-green`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub green_flipped: Option<bool>,
+    /// How the file is laid out, for a reader writing its own parser.
+    pub storage: String,
+}
+
+/// One index axis of a file.
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct IndexAxis {
+    /// The axis's name in the file: `pixel_x`, `pixel_y` (down the image), `X`, `Y`, `Z`,
+    /// `i`, `j`, `layer`.
+    pub name: &'static str,
+    /// The world axis the index grows along; index 0 sits at the world's minimum along it
+    /// when the sign is `+`, at its maximum when `-`.
+    pub world: WorldAxis,
+    /// Cells along it.
+    pub cells: usize,
+    /// The world extent the cells cover along the unsigned axis, metres.
+    pub range: [f32; 2],
+}
+
+/// An atlas's grid of frames.
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct SubImages {
+    pub columns: usize,
+    pub rows: usize,
+    pub count: usize,
+    pub fps: f32,
+    /// Frame `k` sits at column `k % columns`, row `k / columns`, row 0 at the top; unused
+    /// sub-images hold zero wind.
+    pub order: &'static str,
+}
+
+/// How a file's axes map to the world's.
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct Axes {
+    /// The file's index axes, fastest first (within one sub-image, for an atlas).
+    pub index: Vec<IndexAxis>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sub_images: Option<SubImages>,
+    /// The engine frame the file is written in, where it is an engine's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub engine_frame: Option<&'static str>,
+}
+
 /// One file of a bake, as the manifest describes it.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
 pub struct FileEntry {
     pub name: String,
     pub format: Format,
@@ -19,22 +181,47 @@ pub struct FileEntry {
     /// The baked grid this file was area-averaged down from, if it was.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub resampled_from: Option<[usize; 2]>,
-    /// How stored values map to world velocity.
-    pub encoding: serde_json::Value,
-    /// How the file's axes map to the world's.
-    pub axes: serde_json::Value,
+    pub encoding: Encoding,
+    pub axes: Axes,
     pub bytes: u64,
 }
 
+/// The world's frame, as data.
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct WorldAxes {
+    /// `east`.
+    pub x: &'static str,
+    /// `up`.
+    pub y: &'static str,
+    /// `south`.
+    pub z: &'static str,
+    pub right_handed: bool,
+    pub units: &'static str,
+}
+
+pub const WORLD_AXES: WorldAxes = WorldAxes {
+    x: "east",
+    y: "up",
+    z: "south",
+    right_handed: true,
+    units: "m",
+};
+
 /// The bake's `manifest.json`.
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
 pub struct Manifest {
+    /// Always `windloom-bake`.
     pub format: &'static str,
     pub version: u32,
+    /// Counts the bakes of one `--watch` or live-export session, from 1; a reader reloads
+    /// when it changes. 0 for a single bake.
+    pub sequence: u64,
     pub layout: LayoutInfo,
     pub grid: [usize; 2],
     pub world: WorldInfo,
-    pub axes: serde_json::Value,
+    pub world_axes: WorldAxes,
     pub frames: FramesInfo,
     /// Largest wind speed over all frames, m/s (the PNG flowmap scale).
     pub max_speed: f32,
@@ -42,16 +229,20 @@ pub struct Manifest {
     pub solver: String,
     pub notes: Vec<String>,
     pub files: Vec<FileEntry>,
+    /// The settings each engine's guide and script import these files with.
+    pub engines: super::engines::Engines,
 }
 
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
 pub struct LayoutInfo {
     pub name: String,
     /// `sha256:` of the layout's canonical JSON.
     pub hash: String,
 }
 
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
 pub struct WorldInfo {
     pub min: [f32; 2],
     pub max: [f32; 2],
@@ -59,7 +250,8 @@ pub struct WorldInfo {
     pub cell_size: [f32; 2],
 }
 
-#[derive(Debug, Clone, Serialize, PartialEq)]
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
 pub struct FramesInfo {
     pub count: usize,
     pub fps: f32,
@@ -84,4 +276,28 @@ pub fn layout_hash(layout: &Layout) -> String {
     let digest = sha2::Sha256::digest(doc::to_json(layout).as_bytes());
     let hex: String = digest.iter().map(|b| format!("{b:02x}")).collect();
     format!("sha256:{hex}")
+}
+
+/// The JSON Schema of `manifest.json` (`docs/manifest.schema.json`).
+pub fn schema() -> serde_json::Value {
+    serde_json::to_value(schemars::schema_for!(Manifest)).expect("a schema is always JSON")
+}
+
+/// The image axes of a flowmap, EXR or atlas frame: columns along +x, rows down the image
+/// along +z (or the flipped image's).
+pub(crate) fn image_axes(ctx: &super::ExportContext, nx: usize, ny: usize) -> Vec<IndexAxis> {
+    vec![
+        IndexAxis {
+            name: "pixel_x",
+            world: WorldAxis::PlusX,
+            cells: nx,
+            range: [ctx.min[0], ctx.max[0]],
+        },
+        IndexAxis {
+            name: "pixel_y",
+            world: WorldAxis::PlusZ,
+            cells: ny,
+            range: [ctx.min[1], ctx.max[1]],
+        },
+    ]
 }

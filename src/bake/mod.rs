@@ -7,6 +7,7 @@
 //! the output folder as a whole, keeping the user's own files (`folder`). An error or a
 //! cancellation removes the staging folder and leaves the output folder as it was.
 
+mod engines;
 mod exr;
 mod fga;
 mod folder;
@@ -19,8 +20,13 @@ mod raw;
 pub mod timing;
 mod vf;
 
+pub use engines::Engines;
 pub use format::Format;
-pub use manifest::{FileEntry, FramesInfo, LayoutInfo, MANIFEST, Manifest, WorldInfo, layout_hash};
+pub use manifest::{
+    Axes, Channel, Encoding, FileEntry, FramesInfo, IndexAxis, LayoutInfo, MANIFEST,
+    MANIFEST_VERSION, Manifest, Quantity, Sample, SubImages, WorldAxis, WorldInfo, layout_hash,
+    schema as manifest_schema,
+};
 pub use options::{
     BakeOptions, DEFAULT_MAX_BYTES, FRAMES_MAX, SECONDS_MAX, SettingsError, atlas_message,
     span_message,
@@ -559,9 +565,11 @@ fn bake_staged(
         })?;
     }
 
+    let files: Vec<FileEntry> = files.into_values().flatten().collect();
     let manifest = Manifest {
         format: "windloom-bake",
-        version: 1,
+        version: MANIFEST_VERSION,
+        sequence: opts.sequence,
         layout: LayoutInfo {
             name: layout.name.clone(),
             hash: layout_hash(&layout),
@@ -576,12 +584,7 @@ fn bake_staged(
                 layout.world.size[1] / ny as f32,
             ],
         },
-        axes: serde_json::json!({
-            "system": "world: x east, y up, z south (right-handed, y-up), metres",
-            "grid_i": "+x (east), column 0 at world x = min[0]",
-            "grid_j": "+z (south), row 0 at world z = min[1]",
-            "velocity": "[x, z] in m/s at cell centres",
-        }),
+        world_axes: manifest::WORLD_AXES,
         frames: FramesInfo {
             count: n,
             fps: opts.fps,
@@ -602,7 +605,8 @@ fn bake_staged(
             .chain(doc::advise(&layout).iter().map(|a| format!("{ADVICE}{a}")))
             .chain(field_notes(&layout, max_speed))
             .collect(),
-        files: files.into_values().flatten().collect(),
+        engines: engines::engines(&ctx, &files),
+        files,
     };
     let json = serde_json::to_string_pretty(&manifest).expect("a manifest serialises") + "\n";
     write_file(&dir, MANIFEST, json.as_bytes())?;

@@ -2,6 +2,7 @@
 //! G = 0.5 + 0.5·vz/max_speed, B = 0; decode with `rg * 2 − 1` times `max_speed`.
 
 use super::format::{Encoder, frame_names};
+use super::manifest::{Axes, Channel, Encoding, Sample, SubImages, WorldAxis, image_axes};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 use image::{ImageBuffer, ImageEncoder, Rgb};
 use std::io::Write;
@@ -14,34 +15,29 @@ fn encode(v: f32, scale: f32, levels: f32) -> f32 {
     ((0.5 + 0.5 * v / scale).clamp(0.0, 1.0) * levels).round()
 }
 
-fn flow_encoding(ctx: &ExportContext, bits: u32) -> serde_json::Value {
-    serde_json::json!({
-        "bits": bits,
-        "R": "world x velocity",
-        "G": if ctx.flip_green {
-            "world -z velocity (flipped: green grows up the image, toward north)"
+fn flow_encoding(ctx: &ExportContext, bits: u32) -> Encoding {
+    // stored (0..1) · 2S − S.
+    let s = ctx.flow_scale();
+    let green = if ctx.flip_green {
+        WorldAxis::MinusZ
+    } else {
+        WorldAxis::PlusZ
+    };
+    Encoding {
+        sample: if bits == 8 {
+            Sample::Unorm8
         } else {
-            "world z velocity"
+            Sample::Unorm16
         },
-        "B": "unused (0)",
-        "green_flipped": ctx.flip_green,
-        "decode": "velocity = (channel / max_value * 2 - 1) * scale",
-        "max_value": if bits == 8 { 255 } else { 65535 },
-        "scale": ctx.flow_scale(), "offset": -1.0,
-        "units": "m/s",
-    })
-}
-
-fn flow_axes(flip_green: bool) -> serde_json::Value {
-    serde_json::json!({
-        "pixel_x": "+x (east), column 0 at world min x",
-        "pixel_y": "+z (south), row 0 (top of the image) at world min z",
-        "v_flip": if flip_green {
-            "green flipped (--flip-green): green grows toward -z, which is up the image, as shaders whose v runs up the image (OpenGL-style) expect"
-        } else {
-            "none: green grows toward +z, which is down the image; bake with --flip-green (or flip G: 1 - g) for shaders that expect green to point up the image"
-        },
-    })
+        units: "m/s",
+        channels: vec![
+            Channel::velocity("R", WorldAxis::PlusX, 2.0 * s, -s),
+            Channel::velocity("G", green, 2.0 * s, -s),
+            Channel::unused("B"),
+        ],
+        green_flipped: Some(ctx.flip_green),
+        storage: format!("PNG, RGB, {bits} bits a channel"),
+    }
 }
 
 /// The green channel's velocity: the world z wind, negated when flipped.
@@ -146,7 +142,11 @@ fn flowmap(ctx: &ExportContext, k: usize, f: &Field, sixteen: bool) -> Result<Ou
             grid: [f.nx, f.ny],
             resampled_from: None,
             encoding: flow_encoding(ctx, bits),
-            axes: flow_axes(ctx.flip_green),
+            axes: Axes {
+                index: image_axes(ctx, f.nx, f.ny),
+                sub_images: None,
+                engine_frame: None,
+            },
             bytes: 0,
         },
         name,
@@ -193,7 +193,10 @@ impl Atlas {
             .and_then(|w| w.into_stream_writer_with_size(1 << 20))
             .map_err(|e| encode_error(ATLAS_NAME, e))?;
         let mut encoding = flow_encoding(ctx, 16);
-        encoding["empty_cells"] = serde_json::json!("zero velocity (0.5, 0.5)");
+        encoding.storage = format!(
+            "PNG, RGB, 16 bits a channel: {columns} × {rows} sub-images of {} × {} pixels; unused sub-images hold zero wind (32768, 32768)",
+            ctx.nx, ctx.ny
+        );
         let entry = FileEntry {
             name: ATLAS_NAME.to_string(),
             format: Format::Atlas,
@@ -201,12 +204,17 @@ impl Atlas {
             grid: [ctx.nx, ctx.ny],
             resampled_from: None,
             encoding,
-            axes: serde_json::json!({
-                "sub_images": {"columns": columns, "rows": rows, "count": ctx.count,
-                    "order": "frame k at column k % columns, row k / columns (row 0 at the top)",
-                    "fps": ctx.fps},
-                "within_a_sub_image": flow_axes(ctx.flip_green),
-            }),
+            axes: Axes {
+                index: image_axes(ctx, ctx.nx, ctx.ny),
+                sub_images: Some(SubImages {
+                    columns,
+                    rows,
+                    count: ctx.count,
+                    fps: ctx.fps,
+                    order: "frame k at column k % columns, row k / columns (row 0 at the top)",
+                }),
+                engine_frame: None,
+            },
             bytes: 0,
         };
         Ok(Self {

@@ -3,6 +3,7 @@
 //! (`frames.rs`); this names it and describes it.
 
 use super::format::Encoder;
+use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 
 pub(crate) const NAME: &str = "wind.f32";
@@ -14,12 +15,37 @@ pub(crate) fn entry(ctx: &ExportContext) -> FileEntry {
         frame: None,
         grid: [ctx.nx, ctx.ny],
         resampled_from: None,
-        encoding: serde_json::json!({
-            "type": "f32", "endian": "little", "channels": ["x", "z"], "units": "m/s",
-            "layout": "[frame][row j][column i][channel]", "frames": ctx.count,
-            "scale": 1.0, "offset": 0.0,
-        }),
-        axes: serde_json::json!({"i": "+x (east)", "j": "+z (south)"}),
+        encoding: Encoding {
+            sample: Sample::F32,
+            units: "m/s",
+            channels: vec![
+                Channel::velocity("x", WorldAxis::PlusX, 1.0, 0.0),
+                Channel::velocity("z", WorldAxis::PlusZ, 1.0, 0.0),
+            ],
+            green_flipped: None,
+            storage: format!(
+                "little-endian f32, [frame][row j][column i][channel x, z], {} frames",
+                ctx.count
+            ),
+        },
+        axes: Axes {
+            index: vec![
+                IndexAxis {
+                    name: "i",
+                    world: WorldAxis::PlusX,
+                    cells: ctx.nx,
+                    range: [ctx.min[0], ctx.max[0]],
+                },
+                IndexAxis {
+                    name: "j",
+                    world: WorldAxis::PlusZ,
+                    cells: ctx.ny,
+                    range: [ctx.min[1], ctx.max[1]],
+                },
+            ],
+            sub_images: None,
+            engine_frame: None,
+        },
         bytes: 0,
     }
 }

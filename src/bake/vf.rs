@@ -8,9 +8,10 @@
 //! target by the box's transform (`mul(FieldTransform, float4(value, 0))`, in
 //! `VectorFieldForce.cs`), which multiplies each axis by the box's size. With the box set to
 //! the world rectangle, *Data Encoding* Signed and *Intensity* 1, the target is the wind in
-//! m/s. The manifest's `encoding.scale` is that size per axis (`value = stored × scale`).
+//! m/s. The manifest's channel `scale` is that size per axis (`value = stored × scale`).
 
 use super::format::{Encoder, frame_names};
+use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 
 /// Bytes of one file for an `nx × ny` grid.
@@ -18,10 +19,15 @@ fn size(nx: usize, ny: usize) -> u64 {
     10 + 12 * (nx * ny) as u64
 }
 
+/// The field box's size in Unity's X, Y, Z (metres): the world's width, a 1 m slab, its
+/// depth; VFX Graph multiplies each stored value by it.
+pub(crate) fn box_size(ctx: &ExportContext) -> [f32; 3] {
+    [ctx.max[0] - ctx.min[0], 1.0, ctx.max[1] - ctx.min[1]]
+}
+
 fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
     let (nx, ny) = (f.nx, f.ny);
-    // The box's size in Unity's X, Y, Z (metres): the world's width, a 1 m slab, its depth.
-    let box_size = [ctx.max[0] - ctx.min[0], 1.0, ctx.max[1] - ctx.min[1]];
+    let box_size = box_size(ctx);
     let mut bytes = Vec::with_capacity(size(nx, ny) as usize);
     bytes.extend_from_slice(b"VF_V");
     for size in [nx, 1, ny] {
@@ -44,22 +50,42 @@ fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
             frame: ctx.frame_index(k),
             grid: [nx, ny],
             resampled_from: None,
-            encoding: serde_json::json!({
-                "units": "m/s", "scale": box_size, "offset": 0.0, "size": [nx, 1, ny],
-                "decode": "velocity = stored × scale per axis (X, Y, Z): the box size VFX Graph multiplies a sample by",
-                "unity_vfx_graph": {
-                    "block": "Vector Field Force", "data_encoding": "Signed", "intensity": 1.0,
-                    "closed_field": true, "conserve_magnitude": false,
-                    "box_center": [(ctx.min[0] + ctx.max[0]) / 2.0, 0.0, -(ctx.min[1] + ctx.max[1]) / 2.0],
-                    "box_size": box_size,
-                    "import": {"output_format": "Float", "wrap_mode": "Clamp", "filter_mode": "Bilinear"},
-                },
-            }),
-            axes: serde_json::json!({
-                "unity": "Y-up, left-handed, metres",
-                "X": "world +x (east)", "Y": "world +y (up)", "Z": "world -z (north)",
-                "index": "x + X*(y + Y*z) with z = ny - 1 - grid row",
-            }),
+            encoding: Encoding {
+                sample: Sample::F32,
+                units: "m/s",
+                channels: vec![
+                    Channel::velocity("X", WorldAxis::PlusX, box_size[0], 0.0),
+                    Channel::velocity("Y", WorldAxis::PlusY, box_size[1], 0.0),
+                    Channel::velocity("Z", WorldAxis::MinusZ, box_size[2], 0.0),
+                ],
+                green_flipped: None,
+                storage: "VF_V: \"VF_V\", u16 sizes X, Y, Z, then f32 X, Y, Z per cell, X fastest, then Y, then Z (little-endian)"
+                    .to_string(),
+            },
+            axes: Axes {
+                index: vec![
+                    IndexAxis {
+                        name: "X",
+                        world: WorldAxis::PlusX,
+                        cells: nx,
+                        range: [ctx.min[0], ctx.max[0]],
+                    },
+                    IndexAxis {
+                        name: "Y",
+                        world: WorldAxis::PlusY,
+                        cells: 1,
+                        range: [-box_size[1] / 2.0, box_size[1] / 2.0],
+                    },
+                    IndexAxis {
+                        name: "Z",
+                        world: WorldAxis::MinusZ,
+                        cells: ny,
+                        range: [ctx.min[1], ctx.max[1]],
+                    },
+                ],
+                sub_images: None,
+                engine_frame: Some("Unity: X east, Y up, Z north (left-handed, metres)"),
+            },
             bytes: 0,
         },
         name,

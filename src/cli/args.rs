@@ -18,6 +18,7 @@ Examples:
   windloom my-new-level.json             start a new layout there (Save writes it)
   windloom validate layouts/*.json       check layout files, print every error
   windloom schema > layout.schema.json   the JSON Schema of the layout format
+  windloom schema --manifest             the JSON Schema of a bake's manifest.json
   windloom fmt my-level.json             rewrite a layout in canonical form
   windloom bake layouts/meadow.json --out bake/ --format exr --format fga
   windloom bake layouts/obstacles.json --out bake/ --frames 48 --fps 24 --loop
@@ -55,10 +56,15 @@ pub enum Command {
         #[arg(required = true)]
         files: Vec<PathBuf>,
     },
-    /// Print the JSON Schema of the layout format (also in docs/layout.schema.json).
+    /// Print the JSON Schema of the layout format (docs/layout.schema.json), or with
+    /// --manifest that of a bake's manifest.json (docs/manifest.schema.json).
     ///
-    /// Example: windloom schema > layout.schema.json
-    Schema,
+    /// Example: windloom schema --manifest > manifest.schema.json
+    Schema {
+        /// The schema of a bake's manifest.json instead of the layout's.
+        #[arg(long)]
+        manifest: bool,
+    },
     /// Rewrite layout files in canonical form (stable field order, pretty-printed), atomically.
     /// Invalid files are reported and left untouched.
     ///

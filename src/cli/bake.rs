@@ -47,6 +47,7 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         flip_green,
         max_bytes: max_disk,
         backend,
+        sequence: 0,
     };
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();

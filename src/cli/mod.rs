@@ -58,8 +58,13 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
     match cli.command {
         None => editor::run(cli.file, cli.backend, cli.view),
         Some(Command::Validate { files }) => validate::run(&files),
-        Some(Command::Schema) => {
-            println!("{}", serde_json::to_string_pretty(&doc::schema())?);
+        Some(Command::Schema { manifest }) => {
+            let schema = if manifest {
+                crate::bake::manifest_schema()
+            } else {
+                doc::schema()
+            };
+            println!("{}", serde_json::to_string_pretty(&schema)?);
             Ok(ExitCode::SUCCESS)
         }
         Some(Command::Fmt { files }) => fmt::run(&files),

@@ -15,15 +15,18 @@ fn example(name: &str) -> Layout {
     windloom::io::load(&p).unwrap()
 }
 
+/// Bakes, and checks the manifest written against its schema.
 fn run(layout: &Layout, out: &Path, opts: &BakeOptions) -> bake::Manifest {
-    bake::bake(
+    let m = bake::bake(
         layout,
         out,
         opts,
         &AtomicBool::new(false),
         &mut |_, _, _| {},
     )
-    .unwrap()
+    .unwrap();
+    manifest(out);
+    m
 }
 
 fn small(frames: usize) -> BakeOptions {
@@ -69,8 +72,12 @@ impl Raw {
     }
 }
 
+/// The bake's `manifest.json`, checked against its schema.
 fn manifest(dir: &Path) -> serde_json::Value {
-    serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap()
+    let m =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("manifest.json")).unwrap()).unwrap();
+    manifest::check_schema(&m);
+    m
 }
 
 fn file_of<'a>(m: &'a serde_json::Value, format: &str) -> Vec<&'a serde_json::Value> {
@@ -89,7 +96,8 @@ fn manifest_lists_exactly_the_files_written() {
     run(&layout, dir.path(), &small(3));
     let m = manifest(dir.path());
     assert_eq!(m["format"], "windloom-bake");
-    assert_eq!(m["version"], 1);
+    assert_eq!(m["version"], 2);
+    assert_eq!(m["sequence"], 0);
     assert_eq!(m["layout"]["name"], "Obstacles");
     assert_eq!(
         m["layout"]["hash"],
@@ -233,10 +241,14 @@ fn fga_imports_into_unreal_without_a_warning() {
         assert_eq!(size, [48, 32, 1], "{name}");
         assert_eq!(
             bounds.to_vec(),
-            entry["axes"]["bounds_cm"]
-                .as_array()
-                .unwrap()
+            ["bounds_min_cm", "bounds_max_cm"]
                 .iter()
+                .flat_map(|b| {
+                    m["engines"]["unreal"]["vector_field_static"][b]
+                        .as_array()
+                        .unwrap()
+                        .clone()
+                })
                 .map(|v| v.as_f64().unwrap())
                 .collect::<Vec<_>>()
         );
@@ -397,11 +409,11 @@ fn vf_reads_back_per_the_unity_format() {
     let v = f32s(&bytes[10..]);
     // Unity Z points north: Z index k holds grid row ny-1-k; vectors (x, 0, -z) m/s divided
     // by the box's size on each axis (the world's 100 m width and depth here).
-    let scale: Vec<f32> = file_of(&m, "vf")[0]["encoding"]["scale"]
+    let scale: Vec<f32> = file_of(&m, "vf")[0]["encoding"]["channels"]
         .as_array()
         .unwrap()
         .iter()
-        .map(|s| s.as_f64().unwrap() as f32)
+        .map(|c| c["scale"].as_f64().unwrap() as f32)
         .collect();
     let (lo, hi) = example("two-winds.json").bounds();
     assert_eq!(scale, [hi[0] - lo[0], 1.0, hi[1] - lo[1]]);
@@ -434,7 +446,8 @@ fn unity_s_vector_field_force_gives_the_wind_in_m_s() {
     let m = manifest(dir.path());
     let raw = Raw::read(dir.path(), &m);
     let entry = file_of(&m, "vf")[0];
-    let unity = &entry["encoding"]["unity_vfx_graph"];
+    let unity = &m["engines"]["unity"]["vector_field"];
+    assert_eq!(unity["files"][0], entry["name"]);
     assert_eq!(unity["data_encoding"], "Signed");
     assert_eq!(unity["import"]["wrap_mode"], "Clamp");
     let vec3 = |v: &serde_json::Value| -> [f64; 3] {
@@ -586,7 +599,9 @@ fn png_flowmaps_decode_within_quantisation() {
     assert!((scale - manifest_struct.max_speed).abs() < 1e-6 && scale > 1.0);
     for (name, max, bits) in [("flow8.png", 255.0f32, 8), ("flow16.png", 65535.0, 16)] {
         let entry = file_of(&m, if bits == 8 { "png8" } else { "png16" })[0];
-        assert_eq!(entry["encoding"]["scale"].as_f64().unwrap() as f32, scale);
+        let red = &entry["encoding"]["channels"][0];
+        assert_eq!(red["scale"].as_f64().unwrap() as f32, 2.0 * scale);
+        assert_eq!(red["offset"].as_f64().unwrap() as f32, -scale);
         let img = image::open(dir.path().join(name)).unwrap();
         assert_eq!((img.width(), img.height()), (48, 32));
         let img = img.to_rgb16();
@@ -661,7 +676,7 @@ fn flipped_green_grows_up_the_image() {
     ] {
         let entry = file_of(&m, format)[0];
         assert_eq!(entry["encoding"]["green_flipped"], true, "{format}");
-        assert!(entry["encoding"]["G"].as_str().unwrap().contains("-z"));
+        assert_eq!(entry["encoding"]["channels"][1]["axis"], "-z");
         let plain_entry = file_of(&manifest(&plain), format)[0].clone();
         assert_eq!(plain_entry["encoding"]["green_flipped"], false);
         let img = image::open(flipped.join(file)).unwrap().to_rgb16();
@@ -759,7 +774,15 @@ fn bake_atlas(name: &str, frames: usize) -> AtlasBake {
             sub["columns"].as_u64().unwrap() as f64,
             sub["rows"].as_u64().unwrap() as f64,
         ],
-        scale: entry["encoding"]["scale"].as_f64().unwrap(),
+        scale: {
+            // What the Unreal scratch pad and the Godot shader are given.
+            let unreal = &m["engines"]["unreal"]["niagara_atlas"]["scale"];
+            assert_eq!(
+                unreal,
+                &m["engines"]["godot"]["shader_parameters"]["atlas_scale"]
+            );
+            unreal.as_f64().unwrap()
+        },
         fps: sub["fps"].as_f64().unwrap(),
         img: image::open(dir.path().join("atlas.png"))
             .unwrap()
@@ -1397,6 +1420,8 @@ fn staging_folders(dir: &Path) -> Vec<PathBuf> {
         .collect()
 }
 
+/// The manifest's schema, and every file decoded by the manifest alone.
+mod manifest;
 /// What a studio must be able to trust: frame timing, other EXR readers, one bake per
 /// folder, limits and modes, and no half-written output after a kill.
 mod trust;
