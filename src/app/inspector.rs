@@ -645,6 +645,48 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             });
         }
     });
+    // The vertical profile of the baked volume (Export: dds).
+    egui::CollapsingHeader::new("Wind above the ground")
+        .id_salt("profile")
+        .show(ui, |ui| {
+            let p = &mut w.profile;
+            egui::Grid::new("profile").num_columns(2).show(ui, |ui| {
+                changed |= num(
+                    ui,
+                    "Roughness length",
+                    &mut p.roughness_length,
+                    bounds::ROUGHNESS,
+                    0.001,
+                    " m",
+                );
+                changed |= num(
+                    ui,
+                    "Simulated at",
+                    &mut p.reference_height,
+                    bounds::PROFILE_HEIGHT,
+                    0.05,
+                    " m",
+                );
+                changed |= num(
+                    ui,
+                    "Volume top",
+                    &mut p.top,
+                    bounds::PROFILE_HEIGHT,
+                    0.1,
+                    " m",
+                );
+                changed |= row(ui, "Layers", |ui| {
+                    ui.add(
+                        egui::DragValue::new(&mut p.layers).range(bounds::PROFILE_LAYERS.range()),
+                    )
+                });
+            });
+            ui.weak(format!(
+                "Log law: the wind at 1 m is {:.0} %, at the top {:.0} % of the simulated wind.",
+                100.0 * p.factor(1.0),
+                100.0 * p.factor(p.top)
+            ));
+        });
     if image_changed {
         // A new picture is its own undo step, not part of a drag of the sizes.
         app.edit(ctx, Edit::SetWorld(w));

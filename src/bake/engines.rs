@@ -27,6 +27,9 @@ pub struct Unity {
     /// VFX Graph's *Vector Field Force* on the `vf` files.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub vector_field: Option<UnityVectorField>,
+    /// The same block on the volume's `wind_volume.vf` files (`dds`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume: Option<UnityVectorField>,
 }
 
 #[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
@@ -68,6 +71,29 @@ pub struct Unreal {
     /// The `exr` files in a grass material's World Position Offset.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub material_texture: Option<UnrealMaterialTexture>,
+    /// The volume's `wind_volume.dds` files as Volume Textures, sampled in Niagara.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume_texture: Option<UnrealVolume>,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct UnrealVolume {
+    pub files: Vec<String>,
+    /// `TextureCompressionSettings`: `TC_HDR_F32` for 32-bit floats, `TC_HDR` for `--half`.
+    pub compression_settings: &'static str,
+    pub srgb: bool,
+    pub mip_gen_settings: &'static str,
+    /// `TextureAddress`, all three axes.
+    pub address_mode: &'static str,
+    pub filter: &'static str,
+    /// The volume's minimum corner and size in Unreal cm (X east, Y south, Z up): a sample
+    /// at `uvw = (position − min) / size`.
+    pub bounds_min_cm: [f32; 3],
+    pub bounds_size_cm: [f32; 3],
+    /// Unreal's wind in cm/s from a sample: `float3(R, B, G) × 100` (the file holds world
+    /// x, y, z; Unreal's Y is world z, its Z world y).
+    pub swizzle: &'static str,
 }
 
 #[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
@@ -141,6 +167,40 @@ pub struct Godot {
     pub import: GodotImport,
     /// `windloom_grass.gdshader`'s uniforms.
     pub shader_parameters: GodotShader,
+    /// The volume's EXR slices as `Texture3D`s, for `windloom_particles.gdshader`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub volume: Option<GodotVolume>,
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct GodotVolume {
+    pub files: Vec<String>,
+    /// The `.import` file's `[remap]` importer: `3d_texture`.
+    pub importer: &'static str,
+    /// The resource type: `CompressedTexture3D`.
+    #[serde(rename = "type")]
+    pub kind: &'static str,
+    /// The `.import` file's `[params]`.
+    pub import: GodotVolumeImport,
+    /// `windloom_particles.gdshader`'s uniforms: the volume's minimum corner and size, metres.
+    pub volume_min: [f32; 3],
+    pub volume_size: [f32; 3],
+}
+
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct GodotVolumeImport {
+    /// 3: VRAM Uncompressed (keeps the floats).
+    #[serde(rename = "compress/mode")]
+    pub compress_mode: u8,
+    #[serde(rename = "mipmaps/generate")]
+    pub mipmaps: bool,
+    #[serde(rename = "slices/horizontal")]
+    pub horizontal: u32,
+    /// The layers.
+    #[serde(rename = "slices/vertical")]
+    pub vertical: u32,
 }
 
 #[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
@@ -194,10 +254,18 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
     let size_cm = [(max[0] - min[0]) * CM, (max[1] - min[1]) * CM];
     let atlas = files.iter().find(|f| f.format == Format::Atlas);
 
-    let vf = names(Format::Vf);
-    let unity = (!vf.is_empty()).then(|| Unity {
-        vector_field: Some(UnityVectorField {
-            files: vf,
+    // The volume's files by extension.
+    let volume = |ext: &str| -> Vec<String> {
+        names(Format::Dds)
+            .into_iter()
+            .filter(|n| n.ends_with(ext))
+            .collect()
+    };
+    // The box of a field `box_size` high standing on the ground (the volume), or of a 1 m
+    // slab centred on it (the 2D field).
+    let vector_field = |files: Vec<String>, box_size: [f32; 3], centre_y: f32| {
+        (!files.is_empty()).then(|| UnityVectorField {
+            files,
             import: UnityVfImport {
                 output_format: "Float",
                 wrap_mode: "Clamp",
@@ -208,10 +276,19 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
             intensity: 1.0,
             closed_field: true,
             conserve_magnitude: false,
-            box_center: [(min[0] + max[0]) / 2.0, 0.0, -(min[1] + max[1]) / 2.0],
-            box_size: super::vf::box_size(ctx),
-        }),
-    });
+            box_center: [(min[0] + max[0]) / 2.0, centre_y, -(min[1] + max[1]) / 2.0],
+            box_size,
+        })
+    };
+    let unity = Unity {
+        vector_field: vector_field(names(Format::Vf), super::vf::box_size(ctx), 0.0),
+        volume: vector_field(
+            volume(".vf"),
+            super::volume::unity_box(ctx),
+            ctx.profile.top / 2.0,
+        ),
+    };
+    let unity = (unity.vector_field.is_some() || unity.volume.is_some()).then_some(unity);
 
     let fga = names(Format::Fga);
     let exr = names(Format::Exr);
@@ -241,13 +318,29 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
         bounds_min_cm: min_cm,
         bounds_size_cm: size_cm,
     });
-    let unreal =
-        (vector_field_static.is_some() || niagara_atlas.is_some() || material_texture.is_some())
-            .then_some(Unreal {
-                vector_field_static,
-                niagara_atlas,
-                material_texture,
-            });
+    let dds = volume(".dds");
+    let top = ctx.profile.top;
+    let volume_texture = (!dds.is_empty()).then(|| UnrealVolume {
+        files: dds,
+        compression_settings: if ctx.half { "TC_HDR" } else { "TC_HDR_F32" },
+        srgb: false,
+        mip_gen_settings: "TMGS_NO_MIPMAPS",
+        address_mode: "TA_CLAMP",
+        filter: "TF_BILINEAR",
+        bounds_min_cm: [min_cm[0], min_cm[1], 0.0],
+        bounds_size_cm: [size_cm[0], size_cm[1], top * CM],
+        swizzle: "wind_cm_s = float3(R, B, G) * 100",
+    });
+    let unreal = (vector_field_static.is_some()
+        || niagara_atlas.is_some()
+        || material_texture.is_some()
+        || volume_texture.is_some())
+    .then_some(Unreal {
+        vector_field_static,
+        niagara_atlas,
+        material_texture,
+        volume_texture,
+    });
 
     let textures: Vec<String> = files
         .iter()
@@ -259,7 +352,21 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
         })
         .map(|f| f.name.clone())
         .collect();
-    let godot = (!textures.is_empty()).then(|| {
+    let slices = volume(".exr");
+    let godot_volume = (!slices.is_empty()).then(|| GodotVolume {
+        files: slices,
+        importer: "3d_texture",
+        kind: "CompressedTexture3D",
+        import: GodotVolumeImport {
+            compress_mode: 3,
+            mipmaps: false,
+            horizontal: 1,
+            vertical: ctx.profile.layers,
+        },
+        volume_min: [min[0], 0.0, min[1]],
+        volume_size: [max[0] - min[0], top, max[1] - min[1]],
+    });
+    let godot = (!textures.is_empty() || godot_volume.is_some()).then(|| {
         let sub = atlas.and_then(|a| a.axes.sub_images.as_ref());
         Godot {
             textures,
@@ -281,6 +388,7 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
                 atlas_fps: sub.map_or(ctx.fps, |s| s.fps),
                 atlas_scale: ctx.flow_scale(),
             },
+            volume: godot_volume,
         }
     });
     Engines {

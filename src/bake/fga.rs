@@ -6,7 +6,7 @@
 //! as the maximum, as Houdini, VectorayGen and Blender write them. At most 128 cells per axis:
 //! larger grids are area-averaged down.
 
-use super::format::{Encoder, frame_names};
+use super::format::{Encoder, Extent, frame_names};
 use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
 use super::{BakeError, ExportContext, FGA_MAX, Field, FileEntry, Format, Output};
 use std::fmt::Write;
@@ -114,12 +114,13 @@ impl Encoder for Fga {
     }
 
     /// One line a cell at most, and the three header lines.
-    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+    fn max_bytes(&self, e: &Extent) -> u64 {
+        let (nx, ny, frames) = (e.nx, e.ny, e.frames);
         let (fx, fy) = dims(nx, ny);
         frames as u64 * ((fx * fy) as u64 * MAX_LINE + 512)
     }
 
-    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError> {
-        Ok(Some(frame(ctx, k, f)))
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Vec<Output>, BakeError> {
+        Ok(vec![frame(ctx, k, f)])
     }
 }

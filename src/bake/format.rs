@@ -26,10 +26,13 @@ pub enum Format {
     Raw,
     /// All frames in one 16-bit PNG flipbook.
     Atlas,
+    /// The wind as a volume up the layout's vertical profile: a DDS 3D texture, with the
+    /// same volume as a Unity vector field and as Godot's EXR slices.
+    Dds,
 }
 
 impl Format {
-    pub const ALL: [Format; 7] = [
+    pub const ALL: [Format; 8] = [
         Format::Exr,
         Format::Png8,
         Format::Png16,
@@ -37,6 +40,7 @@ impl Format {
         Format::Vf,
         Format::Raw,
         Format::Atlas,
+        Format::Dds,
     ];
 
     /// The name on the command line (`--format`), in the manifest and in the Export dialog.
@@ -49,8 +53,20 @@ impl Format {
             Self::Vf => "vf",
             Self::Raw => "raw",
             Self::Atlas => "atlas",
+            Self::Dds => "dds",
         }
     }
+}
+
+/// How big a bake is: `frames` frames of `nx × ny` cells, `layers` layers in a volume, and
+/// `half`: 16-bit floats where the format has them.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Extent {
+    pub nx: usize,
+    pub ny: usize,
+    pub layers: usize,
+    pub frames: usize,
+    pub half: bool,
 }
 
 /// What a format's file answers for it.
@@ -58,13 +74,12 @@ pub(crate) trait Encoder: Sync {
     /// The files it writes in a bake of `count` frames.
     fn names(&self, count: usize) -> Vec<String>;
 
-    /// An upper bound of the bytes it writes for `frames` frames of `nx × ny` cells (`half`:
-    /// 16-bit floats where the format has them).
-    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, half: bool) -> u64;
+    /// An upper bound of the bytes it writes for a bake of `size`.
+    fn max_bytes(&self, size: &Extent) -> u64;
 
-    /// The file of frame `k`, for a format with one file per frame; `None` for one whose
-    /// single file holds every frame (written beside the frame loop: `raw`, `atlas`).
-    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError>;
+    /// The files of frame `k`, for a format with files per frame; none for one whose single
+    /// file holds every frame (written beside the frame loop: `raw`, `atlas`).
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Vec<Output>, BakeError>;
 }
 
 /// The file name of frame `k` of `count` with extension `ext`: `STEM.EXT` for one frame,

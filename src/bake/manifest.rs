@@ -229,8 +229,44 @@ pub struct Manifest {
     pub solver: String,
     pub notes: Vec<String>,
     pub files: Vec<FileEntry>,
+    /// The vertical profile the volume files (`dds`) were baked with.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub profile: Option<ProfileInfo>,
     /// The settings each engine's guide and script import these files with.
     pub engines: super::engines::Engines,
+}
+
+/// The volume's vertical profile: layer `k` holds the simulated wind times `factors[k]`.
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct ProfileInfo {
+    /// `log: u(h) = u_ref · ln(h / z0) / ln(h_ref / z0) for h > z0, else 0`.
+    pub law: &'static str,
+    /// `z0`, metres.
+    pub roughness_length: f32,
+    /// `h_ref`: the height the simulated wind stands for, metres.
+    pub reference_height: f32,
+    /// The volume's top, metres above the ground.
+    pub top: f32,
+    pub layers: u32,
+    /// The height of each layer's centre, metres.
+    pub heights: Vec<f32>,
+    /// Each layer's wind as a multiple of the simulated wind.
+    pub factors: Vec<f32>,
+}
+
+impl ProfileInfo {
+    pub fn new(p: &doc::VerticalProfile) -> Self {
+        Self {
+            law: "log: u(h) = u_ref · ln(h / z0) / ln(h_ref / z0) for h > z0, else 0",
+            roughness_length: p.roughness_length,
+            reference_height: p.reference_height,
+            top: p.top,
+            layers: p.layers,
+            heights: (0..p.layers).map(|k| p.layer_height(k)).collect(),
+            factors: super::volume::factors(p),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]

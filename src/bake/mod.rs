@@ -19,13 +19,14 @@ mod png;
 mod raw;
 pub mod timing;
 mod vf;
+mod volume;
 
 pub use engines::Engines;
 pub use format::Format;
 pub use manifest::{
     Axes, Channel, Encoding, FileEntry, FramesInfo, IndexAxis, LayoutInfo, MANIFEST,
-    MANIFEST_VERSION, Manifest, Quantity, Sample, SubImages, WorldAxis, WorldInfo, layout_hash,
-    schema as manifest_schema,
+    MANIFEST_VERSION, Manifest, ProfileInfo, Quantity, Sample, SubImages, WorldAxis, WorldInfo,
+    layout_hash, schema as manifest_schema,
 };
 pub use options::{
     BakeOptions, DEFAULT_MAX_BYTES, FRAMES_MAX, SECONDS_MAX, SettingsError, atlas_message,
@@ -307,6 +308,7 @@ fn encoder(format: Format) -> &'static dyn format::Encoder {
         Format::Vf => &vf::Vf,
         Format::Raw => &raw::Raw,
         Format::Atlas => &png::AtlasFormat,
+        Format::Dds => &volume::Volume,
     }
 }
 
@@ -322,10 +324,11 @@ pub fn output_names(formats: &[Format], count: usize) -> Vec<String> {
 
 /// An upper bound of the disk a bake takes at its peak: every output, the manifest, and the
 /// temporary frame files (the frame stream when `raw` is not kept, and a loop's `2N` source
-/// frames).
+/// frames). `layers`: the volume's layers (`dds`).
 pub fn disk_need(
     nx: usize,
     ny: usize,
+    layers: usize,
     formats: &[Format],
     frames: usize,
     looped: bool,
@@ -335,8 +338,15 @@ pub fn disk_need(
     let frame_raw = (nx * ny) as u64 * 8;
     // The frame stream (kept as wind.f32 or deleted at the end), and a loop's source frames.
     let mut need = frame_raw * n + if looped { frame_raw * 2 * n } else { 0 };
+    let size = format::Extent {
+        nx,
+        ny,
+        layers,
+        frames,
+        half,
+    };
     for f in formats {
-        need += encoder(*f).max_bytes(nx, ny, frames, half);
+        need += encoder(*f).max_bytes(&size);
     }
     // The manifest: a few hundred bytes per file.
     need + 64 * 1024 + 1024 * output_names(formats, frames).len() as u64
@@ -425,7 +435,8 @@ fn bake_staged(
     if formats.contains(&Format::Atlas) {
         options::check_atlas(n, nx, ny)?;
     }
-    let need = disk_need(nx, ny, &formats, n, opts.looped, opts.half);
+    let layers = layout.world.profile.layers as usize;
+    let need = disk_need(nx, ny, layers, &formats, n, opts.looped, opts.half);
     if need > opts.max_bytes {
         return Err(BakeError::Disk {
             need,
@@ -522,6 +533,7 @@ fn bake_staged(
         half: opts.half,
         fps: opts.fps,
         flip_green: opts.flip_green,
+        profile: layout.world.profile.clone(),
     };
     let mut files: BTreeMap<Format, Vec<FileEntry>> = BTreeMap::new();
     let mut atlas = if formats.contains(&Format::Atlas) {
@@ -536,12 +548,11 @@ fn bake_staged(
         }
         let f = reader.read(k)?;
         for &format in &formats {
-            let Some(output) = encoder(format).frame(&ctx, k, &f)? else {
-                continue;
-            };
-            let mut entry = output.entry;
-            entry.bytes = write_file(&dir, &output.name, &output.bytes)?;
-            files.entry(format).or_default().push(entry);
+            for output in encoder(format).frame(&ctx, k, &f)? {
+                let mut entry = output.entry;
+                entry.bytes = write_file(&dir, &output.name, &output.bytes)?;
+                files.entry(format).or_default().push(entry);
+            }
         }
         if let Some(a) = &mut atlas {
             a.push(f)?;
@@ -605,6 +616,9 @@ fn bake_staged(
             .chain(doc::advise(&layout).iter().map(|a| format!("{ADVICE}{a}")))
             .chain(field_notes(&layout, max_speed))
             .collect(),
+        profile: formats
+            .contains(&Format::Dds)
+            .then(|| manifest::ProfileInfo::new(&layout.world.profile)),
         engines: engines::engines(&ctx, &files),
         files,
     };
@@ -630,6 +644,8 @@ pub(crate) struct ExportContext {
     pub fps: f32,
     /// Flowmaps and the atlas store green as the world −z wind (up the image).
     pub flip_green: bool,
+    /// The vertical profile the volume is baked with.
+    pub profile: doc::VerticalProfile,
 }
 
 impl ExportContext {

@@ -1,7 +1,7 @@
 //! PNG flowmaps (8 and 16 bit) and the flipbook atlas: R = 0.5 + 0.5·vx/max_speed,
 //! G = 0.5 + 0.5·vz/max_speed, B = 0; decode with `rg * 2 − 1` times `max_speed`.
 
-use super::format::{Encoder, frame_names};
+use super::format::{Encoder, Extent, frame_names};
 use super::manifest::{Axes, Channel, Encoding, Sample, SubImages, WorldAxis, image_axes};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 use image::{ImageBuffer, ImageEncoder, Rgb};
@@ -292,12 +292,13 @@ impl Encoder for Flowmap {
         frame_names(if self.sixteen { "flow16" } else { "flow8" }, count, "png")
     }
 
-    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+    fn max_bytes(&self, e: &Extent) -> u64 {
+        let (nx, ny, frames) = (e.nx, e.ny, e.frames);
         frames as u64 * max_size(nx, ny, if self.sixteen { 6 } else { 3 })
     }
 
-    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError> {
-        flowmap(ctx, k, f, self.sixteen).map(Some)
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Vec<Output>, BakeError> {
+        flowmap(ctx, k, f, self.sixteen).map(|o| vec![o])
     }
 }
 
@@ -309,12 +310,13 @@ impl Encoder for AtlasFormat {
         vec![ATLAS_NAME.to_string()]
     }
 
-    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+    fn max_bytes(&self, e: &Extent) -> u64 {
+        let (nx, ny, frames) = (e.nx, e.ny, e.frames);
         let (c, r) = atlas_grid(frames);
         max_size(c * nx, r * ny, 6)
     }
 
-    fn frame(&self, _: &ExportContext, _: usize, _: &Field) -> Result<Option<Output>, BakeError> {
-        Ok(None)
+    fn frame(&self, _: &ExportContext, _: usize, _: &Field) -> Result<Vec<Output>, BakeError> {
+        Ok(Vec::new())
     }
 }

@@ -2,7 +2,7 @@
 //! `i` (+x), two channels `[x, z]` in m/s. The file is the bake's frame stream itself
 //! (`frames.rs`); this names it and describes it.
 
-use super::format::Encoder;
+use super::format::{Encoder, Extent};
 use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 
@@ -58,11 +58,11 @@ impl Encoder for Raw {
         vec![NAME.to_string()]
     }
 
-    fn max_bytes(&self, _nx: usize, _ny: usize, _frames: usize, _half: bool) -> u64 {
+    fn max_bytes(&self, _: &Extent) -> u64 {
         0
     }
 
-    fn frame(&self, _: &ExportContext, _: usize, _: &Field) -> Result<Option<Output>, BakeError> {
-        Ok(None)
+    fn frame(&self, _: &ExportContext, _: usize, _: &Field) -> Result<Vec<Output>, BakeError> {
+        Ok(Vec::new())
     }
 }

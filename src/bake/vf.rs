@@ -10,7 +10,7 @@
 //! the world rectangle, *Data Encoding* Signed and *Intensity* 1, the target is the wind in
 //! m/s. The manifest's channel `scale` is that size per axis (`value = stored × scale`).
 
-use super::format::{Encoder, frame_names};
+use super::format::{Encoder, Extent, frame_names};
 use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 
@@ -101,11 +101,12 @@ impl Encoder for Vf {
         frame_names("wind", count, "vf")
     }
 
-    fn max_bytes(&self, nx: usize, ny: usize, frames: usize, _half: bool) -> u64 {
+    fn max_bytes(&self, e: &Extent) -> u64 {
+        let (nx, ny, frames) = (e.nx, e.ny, e.frames);
         frames as u64 * size(nx, ny)
     }
 
-    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Option<Output>, BakeError> {
-        Ok(Some(frame(ctx, k, f)))
+    fn frame(&self, ctx: &ExportContext, k: usize, f: &Field) -> Result<Vec<Output>, BakeError> {
+        Ok(vec![frame(ctx, k, f)])
     }
 }

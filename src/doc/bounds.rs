@@ -106,6 +106,12 @@ pub const COORD: Bound = Bound::new(-1.0e6, 1.0e6);
 pub const GRID_AXIS: Count = Count::new(8, 16384);
 /// The map backdrop's opacity.
 pub const OPACITY: Bound = Bound::new(0.0, 1.0);
+/// A surface's roughness length, metres: from still water to a city centre.
+pub const ROUGHNESS: Bound = Bound::positive(0.0, 10.0);
+/// A height in the vertical profile, metres.
+pub const PROFILE_HEIGHT: Bound = Bound::new(0.1, 1000.0);
+/// Layers of the baked volume.
+pub const PROFILE_LAYERS: Count = Count::new(1, 256);
 
 // Trees and arrows.
 
@@ -185,6 +191,9 @@ pub const NUMBERS: &[(&str, &str, Bound)] = &[
     ("World", "size", WORLD_SIZE),
     ("World", "origin", COORD),
     ("MapBackdrop", "opacity", OPACITY),
+    ("VerticalProfile", "roughness_length", ROUGHNESS),
+    ("VerticalProfile", "reference_height", PROFILE_HEIGHT),
+    ("VerticalProfile", "top", PROFILE_HEIGHT),
     ("Tree", "propagation_speed", PROPAGATION_SPEED),
     ("TimeWindow.between", "start", WINDOW_TIME),
     ("TimeWindow.between", "end", WINDOW_TIME),
@@ -240,6 +249,7 @@ pub const NUMBERS: &[(&str, &str, Bound)] = &[
 /// Every whole-number field's bound, as [`NUMBERS`].
 pub const COUNTS: &[(&str, &str, Count)] = &[
     ("World", "grid", GRID_AXIS),
+    ("VerticalProfile", "layers", PROFILE_LAYERS),
     ("AmbientKind.fft", "resolution", FFT_RESOLUTION),
     ("SimParams", "substeps", SUBSTEPS),
     ("SimParams", "pressure_iterations", PRESSURE_ITERATIONS),

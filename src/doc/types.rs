@@ -73,6 +73,86 @@ pub struct World {
     /// Optional top-down picture of the level drawn under the wind.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub map: Option<MapBackdrop>,
+    /// How the wind changes with height above the ground, for the baked volume (`bake
+    /// --format dds`). Absent: the defaults (grass, the field at 2 m, 16 layers to 20 m).
+    #[serde(default, skip_serializing_if = "VerticalProfile::is_default")]
+    pub profile: VerticalProfile,
+}
+
+/// The wind's vertical profile: the log law of the surface layer,
+/// `u(h) = u_ref · ln(h / z0) / ln(h_ref / z0)` for `h > z0`, zero at and below `z0`, where
+/// `u_ref` is the simulated (2D) wind, taken to be the wind at `reference_height`.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct VerticalProfile {
+    /// The roughness length `z0` in metres, above zero and at most 10: about 0.0002 over
+    /// water, 0.01–0.05 over grass, 0.1–0.5 over crops and bushes, 1–2 over forest and town.
+    #[serde(default = "default_roughness")]
+    #[schemars(range(max = ROUGHNESS.max), extend("exclusiveMinimum" = 0))]
+    pub roughness_length: f32,
+    /// The height the simulated wind stands for, metres (0.1 to 1000, above the roughness
+    /// length).
+    #[serde(default = "default_reference_height")]
+    #[schemars(range(min = PROFILE_HEIGHT.min, max = PROFILE_HEIGHT.max))]
+    pub reference_height: f32,
+    /// The top of the baked volume, metres above the ground (0.1 to 1000).
+    #[serde(default = "default_top")]
+    #[schemars(range(min = PROFILE_HEIGHT.min, max = PROFILE_HEIGHT.max))]
+    pub top: f32,
+    /// Layers from the ground to `top`, 1 to 256; layer `k` holds the wind at the height
+    /// `(k + 0.5) · top / layers`.
+    #[serde(default = "default_layers")]
+    #[schemars(range(min = PROFILE_LAYERS.min, max = PROFILE_LAYERS.max))]
+    pub layers: u32,
+}
+
+fn default_roughness() -> f32 {
+    0.03
+}
+
+fn default_reference_height() -> f32 {
+    2.0
+}
+
+fn default_top() -> f32 {
+    20.0
+}
+
+fn default_layers() -> u32 {
+    16
+}
+
+impl Default for VerticalProfile {
+    fn default() -> Self {
+        Self {
+            roughness_length: default_roughness(),
+            reference_height: default_reference_height(),
+            top: default_top(),
+            layers: default_layers(),
+        }
+    }
+}
+
+impl VerticalProfile {
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
+
+    /// The height of layer `k`'s centre, metres.
+    pub fn layer_height(&self, k: u32) -> f32 {
+        (k as f32 + 0.5) * self.top / self.layers as f32
+    }
+
+    /// The wind at height `h` as a multiple of the simulated wind: the log law, 0 at and
+    /// below the roughness length, 1 at the reference height.
+    pub fn factor(&self, h: f32) -> f32 {
+        let z0 = f64::from(self.roughness_length);
+        let h = f64::from(h);
+        if h <= z0 {
+            return 0.0;
+        }
+        ((h / z0).ln() / (f64::from(self.reference_height) / z0).ln()) as f32
+    }
 }
 
 /// A backdrop image stretched over the world rectangle.
@@ -537,6 +617,7 @@ impl Layout {
                 origin: [0.0, 0.0],
                 grid,
                 map: None,
+                profile: VerticalProfile::default(),
             },
             trees: Vec::new(),
             obstacles: Vec::new(),

@@ -383,6 +383,28 @@ fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
         }
         c.bound("world.map.opacity", map.opacity, OPACITY);
     }
+    let p = &w.profile;
+    let z0 = c.bound(
+        "world.profile.roughness_length",
+        p.roughness_length,
+        ROUGHNESS,
+    );
+    let href = c.bound(
+        "world.profile.reference_height",
+        p.reference_height,
+        PROFILE_HEIGHT,
+    );
+    c.bound("world.profile.top", p.top, PROFILE_HEIGHT);
+    c.whole("world.profile.layers", p.layers, PROFILE_LAYERS);
+    if z0 && href && p.reference_height <= p.roughness_length {
+        c.push(
+            "world.profile.reference_height",
+            format!(
+                "must be above the roughness length ({} m), got {} m: the log law has no wind there",
+                p.roughness_length, p.reference_height
+            ),
+        );
+    }
 }
 
 /// `depth`: arrows from the tree's root to `n`.

@@ -952,6 +952,13 @@ fn everything() -> serde_json::Value {
         image: "level.png".into(),
         opacity: 1.0,
     });
+    // Not the default profile, so that the layout holds it; a roughness below every
+    // reference height the bounds allow.
+    l.world.profile = doc::VerticalProfile {
+        roughness_length: 0.001,
+        layers: 8,
+        ..Default::default()
+    };
     l.obstacles = vec![doc::Obstacle {
         id: 1,
         name: "rock".into(),
@@ -986,6 +993,7 @@ fn pointer(def: &str, prop: &str) -> String {
     match def {
         "World" | "MapBackdrop" if prop == "opacity" => "/world/map/opacity".into(),
         "World" => format!("/world/{prop}/1"),
+        "VerticalProfile" => format!("/world/profile/{prop}"),
         "Tree" => format!("/trees/0/{prop}"),
         "TimeWindow.between" => format!("/trees/0/window/{prop}"),
         "Emission.pulsed" => format!("/trees/0/emission/{prop}"),
@@ -1087,6 +1095,7 @@ fn the_schema_and_validate_state_every_bound_of_the_one_table() {
         );
         let ptr = match def {
             "World" => "/world/grid/0".to_string(),
+            "VerticalProfile" => format!("/world/profile/{prop}"),
             "AmbientKind.fft" => format!("/ambient/2/kind/{prop}"),
             _ => format!("/sim/{prop}"),
         };
@@ -1243,4 +1252,31 @@ fn the_editor_s_edits_stay_within_what_loads() {
         .unwrap_err()
         .to_string();
     assert!(e.contains("at most 256 characters"), "{e}");
+}
+
+/// The log law has no wind at or below the roughness length: a profile whose simulated wind
+/// stands there is refused, naming the field; an old layout without a profile loads with
+/// the defaults and saves without one.
+#[test]
+fn the_vertical_profile_is_checked_and_optional() {
+    let mut l = example("meadow.json");
+    assert!(l.world.profile.is_default());
+    assert!(
+        !doc::to_json(&l).contains("profile"),
+        "a default profile is not written"
+    );
+    l.world.profile.roughness_length = 3.0;
+    let issues = doc::validate(&l);
+    assert_eq!(issues.len(), 1, "{issues:?}");
+    assert_eq!(issues[0].path, "world.profile.reference_height");
+    assert!(
+        issues[0].message.contains("roughness length (3 m)"),
+        "{}",
+        issues[0]
+    );
+    l.world.profile.reference_height = 10.0;
+    assert!(doc::validate(&l).is_empty());
+    let text = doc::to_json(&l);
+    assert!(text.contains("\"roughness_length\": 3.0"), "{text}");
+    assert_eq!(doc::parse(&text).unwrap(), l);
 }

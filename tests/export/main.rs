@@ -1425,6 +1425,8 @@ mod manifest;
 /// What a studio must be able to trust: frame timing, other EXR readers, one bake per
 /// folder, limits and modes, and no half-written output after a kill.
 mod trust;
+/// The volume: DDS, the log law, Unity's and Godot's volume paths.
+mod volume;
 
 /// Hostile files, folders, signals and file systems, each ending in a result or a one-line
 /// refusal within seconds.

@@ -542,7 +542,8 @@ fn oversized_bakes_are_refused_up_front_with_the_figure() {
     };
     let m = run(&example("obstacles.json"), &out, &opts);
     let written: u64 = m.files.iter().map(|f| f.bytes).sum();
-    let need = bake::disk_need(48, 32, &Format::ALL, 3, true, false);
+    let layers = example("obstacles.json").world.profile.layers as usize;
+    let need = bake::disk_need(48, 32, layers, &Format::ALL, 3, true, false);
     assert!(
         written < need,
         "estimate {need} below the {written} bytes written"

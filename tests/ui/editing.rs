@@ -498,3 +498,36 @@ fn long_names_keep_the_panels_and_the_guide_opens() {
             .is_some()
     );
 }
+
+/// The wind's vertical profile sits under World, collapsed: opened, its fields show the
+/// layout's profile, a typed roughness length is one undo step, and the line under it says
+/// what the law makes of the wind near the ground.
+#[test]
+fn the_vertical_profile_is_edited_in_the_world_section() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.run_steps(2);
+    assert!(h.query_by_label("Roughness length").is_none(), "collapsed");
+    h.get_by_label("Wind above the ground").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.get_by_label("Roughness length").value().as_deref(),
+        Some("0.030 m")
+    );
+    assert!(h.query_by_label_contains("at 1 m is 83 %").is_some());
+    h.get_by_label("Roughness length").click();
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.run_steps(1);
+    h.get_by_label("Roughness length").type_text("0.5");
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.world.profile.roughness_length, 0.5);
+    // ln(1 / 0.5) / ln(2 / 0.5) = 0.5.
+    assert!(h.query_by_label_contains("at 1 m is 50 %").is_some());
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.world.profile.roughness_length, 0.03);
+}
