@@ -1,6 +1,8 @@
 //! The Export dialog: the same bake as `windloom bake`, on a background thread, with progress
 //! and cancel. A cancelled or failed bake leaves no files (the bake writes into a staging
-//! folder and moves files into place only on success).
+//! folder and moves files into place only on success). *Live export* (File menu, or the
+//! dialog) bakes again with the dialog's settings after each edit, as `bake --watch` does on
+//! each save: one bake at a time, the latest layout once the edits pause.
 
 use crate::bake::{self, BakeOptions, Format};
 use crate::doc::Layout;
@@ -27,7 +29,17 @@ pub struct ExportDialog {
     suggested: String,
     job: Option<Job>,
     pub result: Option<Result<String, String>>,
+    /// Bake again after each edit.
+    pub live: bool,
+    /// When the layout last changed unbaked (live export), editor seconds.
+    dirty_at: Option<f64>,
+    /// A finished live bake's one-line result, for the status bar.
+    live_news: Option<String>,
 }
+
+/// Seconds a live export waits after an edit, so that a drag bakes once at its end rather
+/// than at each frame of it.
+pub const LIVE_SETTLE: f64 = 0.4;
 
 struct Job {
     cancel: Arc<AtomicBool>,
@@ -56,6 +68,9 @@ impl Default for ExportDialog {
             suggested: "bake".into(),
             job: None,
             result: None,
+            live: false,
+            dirty_at: None,
+            live_news: None,
         }
     }
 }
@@ -82,7 +97,6 @@ impl ExportDialog {
             flip_green: self.flip_green,
             max_bytes: bake::DEFAULT_MAX_BYTES,
             backend: crate::engine::Backend::Cpu,
-            sequence: 0,
         }
     }
 
@@ -138,10 +152,11 @@ impl ExportDialog {
                             // The manifest's notes (advice that applied, a field far past
                             // its arrows, a still field) under the summary.
                             let mut msg = format!(
-                                "Baked {} frame(s), {} files, into {}",
+                                "Baked {} frame(s), {} files, into {} (sequence {})",
                                 m.frames.count,
                                 m.files.len() + 1,
-                                out.display()
+                                out.display(),
+                                m.sequence
                             );
                             for n in &m.notes {
                                 msg += &format!("\nNote: {n}");
@@ -187,6 +202,12 @@ impl ExportDialog {
             .as_ref()
             .and_then(|j| j.done.lock().ok().and_then(|mut d| d.take()));
         if let Some(r) = finished {
+            if self.live {
+                self.live_news = Some(match &r {
+                    Ok(msg) => format!("Live export: {}", msg.lines().next().unwrap_or_default()),
+                    Err(e) => format!("Live export failed: {e}"),
+                });
+            }
             self.result = Some(r);
             if let Some(h) = self.job.take().and_then(|mut j| j.handle.take()) {
                 let _ = h.join();
@@ -205,8 +226,45 @@ impl ExportDialog {
         }
     }
 
+    /// The layout changed: a live export bakes it once the edits pause.
+    pub fn edited(&mut self, now: f64) {
+        if self.live {
+            self.dirty_at = Some(now);
+        }
+    }
+
+    /// Turns live export on (baking the layout at once) or off (a running bake finishes).
+    pub fn set_live(&mut self, on: bool) {
+        self.live = on;
+        self.dirty_at = on.then_some(f64::NEG_INFINITY);
+    }
+
+    /// A finished live bake's result, once.
+    pub fn take_live_news(&mut self) -> Option<String> {
+        self.live_news.take()
+    }
+
+    /// Starts a live bake when one is due and none runs; wakes the editor when one will be.
+    fn live_tick(&mut self, ctx: &egui::Context, layout: &Layout) {
+        let Some(at) = self.dirty_at.filter(|_| self.live) else {
+            return;
+        };
+        if self.running() {
+            // The edit bakes when this bake is done (its end repaints).
+            return;
+        }
+        let now = ctx.input(|i| i.time);
+        if now - at >= LIVE_SETTLE {
+            self.dirty_at = None;
+            self.start(layout, ctx);
+        } else {
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(LIVE_SETTLE - (now - at)));
+        }
+    }
+
     pub fn ui(&mut self, ctx: &egui::Context, layout: &Layout) {
         self.poll();
+        self.live_tick(ctx, layout);
         if !self.open {
             return;
         }
@@ -300,6 +358,13 @@ impl ExportDialog {
                     }
                 } else if ui.button("Bake").clicked() {
                     self.start(layout, ctx);
+                }
+                let mut live = self.live;
+                if ui
+                    .checkbox(&mut live, "Live export: bake again after each edit")
+                    .changed()
+                {
+                    self.set_live(live);
                 }
                 match &self.result {
                     Some(Ok(msg)) => {

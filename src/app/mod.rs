@@ -860,9 +860,13 @@ impl eframe::App for EditorApp {
         panels::dialogs(self, &ctx);
         panels::guide_window(&mut self.guide, &ctx);
         self.export.ui(&ctx, &self.doc);
+        if let Some(news) = self.export.take_live_news() {
+            self.say(&ctx, news);
+        }
 
         if self.doc.take_changed() {
             self.live.set_layout(&self.doc);
+            self.export.edited(now);
         }
         // Every viewport command requests another frame: send the title only when it changes,
         // or an idle editor would redraw forever.

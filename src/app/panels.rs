@@ -76,6 +76,18 @@ fn file_menu(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         app.export.open = true;
         app.export.suggest_out(app.doc.path());
     }
+    let mut live = app.export.live;
+    if ui
+        .checkbox(&mut live, "Live export")
+        .on_hover_text(
+            "Bake again into the Export dialog's folder, with its settings, after each edit; \
+             engine scripts reload when the manifest's sequence changes",
+        )
+        .changed()
+    {
+        app.export.suggest_out(app.doc.path());
+        app.export.set_live(live);
+    }
     ui.separator();
     if ui.button("Quit").clicked() {
         app.request(ctx, Pending::Quit);

@@ -52,6 +52,8 @@ pub(crate) struct Staging {
     /// Names an earlier bake in `out` wrote (from its manifest), `manifest.json` included.
     /// Everything else in `out` is the user's and is carried over.
     previous: Option<BTreeSet<String>>,
+    /// The earlier bake's manifest `sequence` (0: none, or a version 1 manifest).
+    previous_sequence: u64,
     /// The output folder cannot be renamed (a mount point), or its parent not written.
     in_place: bool,
     committed: bool,
@@ -183,6 +185,7 @@ impl Staging {
         } else {
             None
         };
+        let previous_sequence = previous.as_ref().map_or(0, |_| previous_sequence(&out));
         let mut in_place = exists && (force_in_place || is_mount_root(&out));
         let made = if in_place {
             make_staging(&out)
@@ -219,6 +222,7 @@ impl Staging {
             lock,
             _lock: file,
             previous,
+            previous_sequence,
             in_place,
             committed: false,
         };
@@ -235,6 +239,12 @@ impl Staging {
 
     pub(crate) fn path(&self) -> &Path {
         &self.dir
+    }
+
+    /// The `sequence` this bake's manifest carries: one more than the bake it replaces (1
+    /// into a new folder), so a reader polling the folder reloads when it changes.
+    pub(crate) fn next_sequence(&self) -> u64 {
+        self.previous_sequence + 1
     }
 
     /// Refuses to replace a file of the user's with an output of the same name.
@@ -425,6 +435,15 @@ fn entry_names(dir: &Path) -> Result<Vec<String>, BakeError> {
         names.push(e.file_name().to_string_lossy().into_owned());
     }
     Ok(names)
+}
+
+/// The `sequence` of the bake in `out` (0 where it has none).
+fn previous_sequence(out: &Path) -> u64 {
+    std::fs::read_to_string(out.join(MANIFEST))
+        .ok()
+        .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+        .and_then(|v| v["sequence"].as_u64())
+        .unwrap_or(0)
 }
 
 /// The names an earlier bake wrote into `out`. An empty folder has none; a folder that holds

@@ -215,8 +215,9 @@ pub struct Manifest {
     /// Always `windloom-bake`.
     pub format: &'static str,
     pub version: u32,
-    /// Counts the bakes of one `--watch` or live-export session, from 1; a reader reloads
-    /// when it changes. 0 for a single bake.
+    /// Counts the bakes into this folder: one more than the bake this one replaced (1 in a
+    /// new folder). A reader polling the folder (`bake --watch`, the editor's Live export)
+    /// reloads when it changes.
     pub sequence: u64,
     pub layout: LayoutInfo,
     pub grid: [usize; 2],

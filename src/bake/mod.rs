@@ -580,7 +580,7 @@ fn bake_staged(
     let manifest = Manifest {
         format: "windloom-bake",
         version: MANIFEST_VERSION,
-        sequence: opts.sequence,
+        sequence: staging.next_sequence(),
         layout: LayoutInfo {
             name: layout.name.clone(),
             hash: layout_hash(&layout),

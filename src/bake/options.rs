@@ -30,9 +30,6 @@ pub struct BakeOptions {
     pub max_bytes: u64,
     /// Which solver runs the bake.
     pub backend: Backend,
-    /// The manifest's `sequence`: which bake of a `--watch` or live-export session this is
-    /// (0: a single bake).
-    pub sequence: u64,
 }
 
 /// The default disk budget of a bake: 16 GiB.
@@ -58,7 +55,6 @@ impl Default for BakeOptions {
             flip_green: false,
             max_bytes: DEFAULT_MAX_BYTES,
             backend: Backend::Cpu,
-            sequence: 0,
         }
     }
 }

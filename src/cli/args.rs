@@ -109,7 +109,7 @@ pub enum Command {
         /// Override the layout's grid, e.g. 256x256.
         #[arg(long, value_parser = parse_grid)]
         grid: Option<[u32; 2]>,
-        /// EXR as 16-bit half floats.
+        /// EXR and the DDS volume as 16-bit half floats.
         #[arg(long)]
         half: bool,
         /// Flowmaps (png8, png16) and the atlas with green flipped: green grows up the image
@@ -124,6 +124,10 @@ pub enum Command {
         /// Solver to run.
         #[arg(long, value_enum, default_value_t = Backend::Cpu)]
         backend: Backend,
+        /// Bake again whenever the layout file changes, until Ctrl-C: each bake replaces the
+        /// folder whole, its manifest's sequence one higher (engine scripts reload on it).
+        #[arg(long)]
+        watch: bool,
     },
     /// Draw a top-down picture of a layout and its simulated wind (PNG, tiny-skia).
     ///

@@ -1,6 +1,7 @@
 //! `windloom bake LAYOUT --out DIR`: the layout simulated headless and written in the chosen
 //! formats, with a progress bar (or a line every 10 s where stderr is not a terminal), and
-//! Ctrl-C, SIGTERM and SIGHUP cancelling it cleanly.
+//! Ctrl-C, SIGTERM and SIGHUP cancelling it cleanly. With `--watch` it bakes again each time
+//! the layout file changes, until a signal stops it.
 
 use super::{CliError, Command, MESSAGE_SHOWN, warn_advice};
 use crate::bake::{self, BakeError, SettingsError};
@@ -26,6 +27,7 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         flip_green,
         max_disk,
         backend,
+        watch,
     } = command
     else {
         unreachable!("bake::run is called with a bake command");
@@ -47,7 +49,6 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         flip_green,
         max_bytes: max_disk,
         backend,
-        sequence: 0,
     };
     let cancel = Arc::new(AtomicBool::new(false));
     let flag = cancel.clone();
@@ -59,6 +60,76 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
             e,
         )
     })?;
+    if !watch {
+        return match bake_once(&l, &out, &opts, &cancel) {
+            Ok(()) => Ok(ExitCode::SUCCESS),
+            Err(BakeError::Cancelled) => Ok(cancelled()),
+            Err(e) => Err(in_flags(e)),
+        };
+    }
+    // Watching: what the file holds now is what was just loaded.
+    let mut file = io::disk::Watch::read(&layout);
+    match bake_once(&l, &out, &opts, &cancel) {
+        Ok(()) => {}
+        Err(BakeError::Cancelled) => return Ok(cancelled()),
+        Err(e) => return Err(in_flags(e)),
+    }
+    println!("watching {} for changes; Ctrl-C stops", layout.display());
+    loop {
+        if cancel.load(Ordering::SeqCst) {
+            println!("stopped watching");
+            return Ok(ExitCode::SUCCESS);
+        }
+        std::thread::sleep(WATCH_POLL);
+        match file.check() {
+            None => {}
+            Some(io::disk::Change::Deleted) => eprintln!(
+                "warning: {} is gone; the last bake stays, watching for it to come back",
+                layout.display()
+            ),
+            Some(io::disk::Change::Modified) => match io::load(&layout) {
+                Err(e) => eprintln!(
+                    "error: {}; the last bake stays, watching for the next save",
+                    doc::printable(&e.to_string(), MESSAGE_SHOWN)
+                ),
+                Ok(l) => {
+                    warn_advice(&l, &layout);
+                    match bake_once(&l, &out, &opts, &cancel) {
+                        Ok(()) => {}
+                        Err(BakeError::Cancelled) => return Ok(cancelled()),
+                        // Settings and the disk budget are the command line's: no save of
+                        // the layout changes them.
+                        Err(
+                            e @ (BakeError::Settings(_) | BakeError::Disk { budget: true, .. }),
+                        ) => {
+                            return Err(in_flags(e));
+                        }
+                        Err(e) => eprintln!(
+                            "error: {}; the last bake stays, watching for the next save",
+                            in_flags(e)
+                        ),
+                    }
+                }
+            },
+        }
+    }
+}
+
+/// How often `--watch` looks at the layout file (a `stat`; it is read only when that changed).
+const WATCH_POLL: Duration = Duration::from_millis(200);
+
+fn cancelled() -> ExitCode {
+    eprintln!("cancelled (a signal): no files were written");
+    ExitCode::from(130)
+}
+
+/// One bake with its progress bar, and what it says when done.
+fn bake_once(
+    l: &doc::Layout,
+    out: &std::path::Path,
+    opts: &bake::BakeOptions,
+    cancel: &AtomicBool,
+) -> Result<(), BakeError> {
     let bar = if std::io::stderr().is_terminal() {
         indicatif::ProgressBar::new(1)
     } else {
@@ -85,31 +156,24 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
             );
         }
     };
-    let result = bake::bake(&l, &out, &opts, &cancel, &mut progress);
+    let result = bake::bake(l, out, opts, cancel, &mut progress);
     bar.finish_and_clear();
-    match result {
-        Ok(m) => {
-            // The advice was said before the bake; the rest is news.
-            for n in m.notes.iter().filter(|n| !n.starts_with(bake::ADVICE)) {
-                eprintln!("note: {}", doc::printable(n, MESSAGE_SHOWN));
-            }
-            println!(
-                "baked {} frame(s) of {}x{} into {} ({} files + {})",
-                m.frames.count,
-                m.grid[0],
-                m.grid[1],
-                out.display(),
-                m.files.len(),
-                bake::MANIFEST
-            );
-            Ok(ExitCode::SUCCESS)
-        }
-        Err(BakeError::Cancelled) => {
-            eprintln!("cancelled (a signal): no files were written");
-            Ok(ExitCode::from(130))
-        }
-        Err(e) => Err(in_flags(e)),
+    let m = result?;
+    // The advice was said before the bake; the rest is news.
+    for n in m.notes.iter().filter(|n| !n.starts_with(bake::ADVICE)) {
+        eprintln!("note: {}", doc::printable(n, MESSAGE_SHOWN));
     }
+    println!(
+        "baked {} frame(s) of {}x{} into {} ({} files + {}, sequence {})",
+        m.frames.count,
+        m.grid[0],
+        m.grid[1],
+        out.display(),
+        m.files.len(),
+        bake::MANIFEST,
+        m.sequence
+    );
+    Ok(())
 }
 
 /// A bake's error said with the flags that change it.

@@ -97,7 +97,7 @@ fn manifest_lists_exactly_the_files_written() {
     let m = manifest(dir.path());
     assert_eq!(m["format"], "windloom-bake");
     assert_eq!(m["version"], 2);
-    assert_eq!(m["sequence"], 0);
+    assert_eq!(m["sequence"], 1, "the first bake into a folder");
     assert_eq!(m["layout"]["name"], "Obstacles");
     assert_eq!(
         m["layout"]["hash"],
@@ -1420,6 +1420,8 @@ fn staging_folders(dir: &Path) -> Vec<PathBuf> {
         .collect()
 }
 
+/// `bake --watch` and an engine polling its folder.
+mod live;
 /// The manifest's schema, and every file decoded by the manifest alone.
 mod manifest;
 /// What a studio must be able to trust: frame timing, other EXR readers, one bake per

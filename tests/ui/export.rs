@@ -97,3 +97,101 @@ fn the_suggested_export_folder_is_the_layout_s_own() {
     h.state_mut().doc.set_path(Some(levels.join("meadow.json")));
     assert_eq!(open_dialog(&mut h), "/srv/game/wind");
 }
+
+/// File → Live export bakes the layout at once, then again after each edit once the edits
+/// pause — one bake for a burst of edits, not one per frame — each with the next sequence,
+/// and says so in the status bar.
+#[test]
+fn live_export_bakes_again_after_each_edit() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("live");
+    let mut h = harness(example("meadow.json"));
+    {
+        let e = &mut h.state_mut().export;
+        e.use_layout_grid = false;
+        e.grid = [24, 16];
+        e.warmup = 0.2;
+        e.formats = vec![(windloom::bake::Format::Raw, true)];
+        e.out = out.display().to_string();
+    }
+    h.get_by_label("File").click();
+    h.run_steps(2);
+    h.get_by_label("Live export").click();
+    h.run_steps(2);
+    assert!(h.state().export.live);
+    let sequence = |h: &mut Harness<'_, EditorApp>, want: u64| -> serde_json::Value {
+        let deadline = std::time::Instant::now() + std::time::Duration::from_secs(60);
+        loop {
+            h.run_steps(1);
+            if let Ok(text) = std::fs::read_to_string(out.join("manifest.json")) {
+                let m: serde_json::Value = serde_json::from_str(&text).unwrap();
+                if m["sequence"].as_u64() >= Some(want) && !h.state().export.running() {
+                    return m;
+                }
+            }
+            assert!(std::time::Instant::now() < deadline, "no bake {want}");
+            std::thread::sleep(std::time::Duration::from_millis(20));
+        }
+    };
+    let m = sequence(&mut h, 1);
+    assert_eq!(
+        m["layout"]["hash"],
+        windloom::bake::layout_hash(&{
+            let mut l = h.state().doc.layout().clone();
+            l.world.grid = [24, 16];
+            l
+        })
+    );
+    // A burst of edits (a drag's worth), then a pause: one more bake, of the last state.
+    let ctx = h.ctx.clone();
+    let node = h.state().doc.trees[0].root.children[0].clone();
+    let set = |h: &mut Harness<'_, EditorApp>, strength: f32| {
+        h.state_mut().edit(
+            &ctx,
+            windloom::doc::Edit::SetNode {
+                id: node.id,
+                strength,
+                radius: node.radius,
+            },
+        );
+    };
+    for k in 0..5 {
+        set(&mut h, 4.0 + k as f32);
+        h.run_steps(1);
+    }
+    let m = sequence(&mut h, 2);
+    std::thread::sleep(std::time::Duration::from_secs_f64(
+        windloom::app::export::LIVE_SETTLE * 2.0,
+    ));
+    h.run_steps(3);
+    let again: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(again["sequence"], 2, "one bake for the burst");
+    let mut last = h.state().doc.layout().clone();
+    assert_eq!(last.trees[0].root.children[0].strength, 8.0);
+    last.world.grid = [24, 16];
+    assert_eq!(m["layout"]["hash"], windloom::bake::layout_hash(&last));
+    assert!(
+        h.state()
+            .message
+            .as_ref()
+            .is_some_and(|(t, _)| t.starts_with("Live export: Baked")),
+        "{:?}",
+        h.state().message
+    );
+    // Off: edits no longer bake.
+    h.state_mut().export.set_live(false);
+    set(&mut h, 1.0);
+    h.run_steps(3);
+    std::thread::sleep(std::time::Duration::from_secs_f64(
+        windloom::app::export::LIVE_SETTLE * 2.0,
+    ));
+    h.run_steps(3);
+    assert!(!h.state().export.running());
+    let after: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
+    assert_eq!(after["sequence"], 2);
+}
