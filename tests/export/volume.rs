@@ -280,7 +280,8 @@ fn unity_s_vector_field_force_gives_the_volume_s_wind() {
 #[test]
 fn godot_s_texture3d_gives_the_volume_s_wind() {
     use exr::prelude::*;
-    let shader = include_str!("../../docs/engines/windloom_particles.gdshader");
+    let shader =
+        include_str!("../../docs/engines/godot/addons/windloom/windloom_particles.gdshader");
     assert!(
         shader.contains("vec3 uvw = (p - volume_min) / volume_size;")
             && shader.contains("texture(wind_volume, uvw.xzy).rgb"),

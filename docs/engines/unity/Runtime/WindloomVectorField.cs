@@ -1,0 +1,48 @@
+// windloom → Unity: places a VFX Graph's vector field box as the bake's manifest says.
+//
+// Add it to the GameObject holding a VisualEffect whose graph has a Vector Field Force block
+// reading an exposed Texture3D, and exposed Vector3 properties for the block's Field
+// Transform position and scale (names below). Give it the bake's manifest.json (a TextAsset)
+// and the imported vector field. It sets the field, the box's centre and size from
+// engines.unity (vector_field, or volume with useVolume), and the graph then gives the baked
+// wind in m/s with the block's Data Encoding set to Signed and Closed Field on
+// (docs/engines/unity.md).
+using System;
+using UnityEngine;
+using UnityEngine.VFX;
+
+[RequireComponent(typeof(VisualEffect))]
+public class WindloomVectorField : MonoBehaviour
+{
+    public TextAsset manifest;
+    public Texture3D vectorField;
+    public bool useVolume;
+    public string fieldProperty = "WindField";
+    public string centreProperty = "WindBoxCenter";
+    public string sizeProperty = "WindBoxSize";
+
+    [Serializable] class Field { public float[] box_center; public float[] box_size; public string data_encoding; }
+    [Serializable] class UnityBlock { public Field vector_field; public Field volume; }
+    [Serializable] class Engines { public UnityBlock unity; }
+    [Serializable] class Manifest { public Engines engines; }
+
+    void OnEnable() => Apply();
+
+    void OnValidate() { if (isActiveAndEnabled) Apply(); }
+
+    public void Apply()
+    {
+        if (manifest == null) return;
+        var unity = JsonUtility.FromJson<Manifest>(manifest.text)?.engines?.unity;
+        var field = useVolume ? unity?.volume : unity?.vector_field;
+        if (field?.box_center == null || field.box_center.Length != 3)
+        {
+            Debug.LogWarning("windloom: the manifest has no " + (useVolume ? "volume (bake dds)" : "vector field (bake vf)"), this);
+            return;
+        }
+        var vfx = GetComponent<VisualEffect>();
+        if (vectorField != null) vfx.SetTexture(fieldProperty, vectorField);
+        vfx.SetVector3(centreProperty, new Vector3(field.box_center[0], field.box_center[1], field.box_center[2]));
+        vfx.SetVector3(sizeProperty, new Vector3(field.box_size[0], field.box_size[1], field.box_size[2]));
+    }
+}
