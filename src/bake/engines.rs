@@ -232,6 +232,8 @@ pub struct GodotShader {
     pub use_atlas: bool,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub wind_atlas: Option<String>,
+    /// The atlas holds m/s as floats (`atlas.exr`), not a flowmap.
+    pub atlas_is_float: bool,
     pub atlas_grid: [usize; 2],
     pub atlas_frames: usize,
     pub atlas_fps: f32,
@@ -253,6 +255,11 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
     let min_cm = [min[0] * CM, min[1] * CM];
     let size_cm = [(max[0] - min[0]) * CM, (max[1] - min[1]) * CM];
     let atlas = files.iter().find(|f| f.format == Format::Atlas);
+    // Godot reads the EXR atlas at full precision, the PNG one at 8 bits: the EXR first.
+    let godot_atlas = files
+        .iter()
+        .find(|f| f.format == Format::AtlasExr)
+        .or(atlas);
 
     // The volume's files by extension.
     let volume = |ext: &str| -> Vec<String> {
@@ -347,7 +354,7 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
         .filter(|f| {
             matches!(
                 f.format,
-                Format::Exr | Format::Png8 | Format::Png16 | Format::Atlas
+                Format::Exr | Format::Png8 | Format::Png16 | Format::Atlas | Format::AtlasExr
             )
         })
         .map(|f| f.name.clone())
@@ -367,7 +374,8 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
         volume_size: [max[0] - min[0], top, max[1] - min[1]],
     });
     let godot = (!textures.is_empty() || godot_volume.is_some()).then(|| {
-        let sub = atlas.and_then(|a| a.axes.sub_images.as_ref());
+        let sub = godot_atlas.and_then(|a| a.axes.sub_images.as_ref());
+        let float = godot_atlas.is_some_and(|a| a.format == Format::AtlasExr);
         Godot {
             textures,
             import: GodotImport {
@@ -381,12 +389,13 @@ pub(crate) fn engines(ctx: &ExportContext, files: &[FileEntry]) -> Engines {
                 bounds_min: min,
                 bounds_max: max,
                 wind_tex: exr.first().cloned(),
-                use_atlas: atlas.is_some(),
-                wind_atlas: atlas.map(|a| a.name.clone()),
+                use_atlas: godot_atlas.is_some(),
+                wind_atlas: godot_atlas.map(|a| a.name.clone()),
+                atlas_is_float: float,
                 atlas_grid: sub.map_or([1, 1], |s| [s.columns, s.rows]),
                 atlas_frames: sub.map_or(1, |s| s.count),
                 atlas_fps: sub.map_or(ctx.fps, |s| s.fps),
-                atlas_scale: ctx.flow_scale(),
+                atlas_scale: if float { 1.0 } else { ctx.flow_scale() },
             },
             volume: godot_volume,
         }

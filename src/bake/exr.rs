@@ -105,3 +105,105 @@ impl Encoder for Exr {
         frame(ctx, k, f).map(|o| vec![o])
     }
 }
+
+pub(crate) const ATLAS_EXR_NAME: &str = "atlas.exr";
+
+/// All frames in one half-float EXR, laid out as the PNG atlas (`png::atlas_grid`): R, G the
+/// wind along x and z, B the speed, in m/s — what Godot reads at full precision where its
+/// PNG loader keeps 8 bits of the 16-bit atlas. Written after the frames are made, from the
+/// frame stream, one band of sub-images in memory at a time.
+pub(crate) fn atlas(
+    ctx: &ExportContext,
+    frames: &mut super::frames::FrameReader,
+) -> Result<(Vec<u8>, FileEntry), BakeError> {
+    let (columns, rows) = super::png::atlas_grid(ctx.count);
+    let (nx, ny) = (ctx.nx, ctx.ny);
+    // The band of sub-images holding the rows being written: (band, its frames).
+    let band: std::sync::Mutex<(usize, Vec<Field>)> =
+        std::sync::Mutex::new((usize::MAX, Vec::new()));
+    let frames = std::sync::Mutex::new(frames);
+    let failed = std::sync::Mutex::new(None);
+    let bytes = rgb_bytes(ATLAS_EXR_NAME, (columns * nx, rows * ny), true, |x, y| {
+        let (r, column) = (y / ny, x / nx);
+        let k = r * columns + column;
+        if k >= ctx.count {
+            return (0.0, 0.0, 0.0);
+        }
+        let mut band = band.lock().unwrap_or_else(|e| e.into_inner());
+        if band.0 != r {
+            let mut reader = frames.lock().unwrap_or_else(|e| e.into_inner());
+            let first = r * columns;
+            let last = (first + columns).min(ctx.count);
+            let mut loaded = Vec::with_capacity(last - first);
+            for k in first..last {
+                match reader.read(k) {
+                    Ok(f) => loaded.push(f),
+                    Err(e) => {
+                        *failed.lock().unwrap_or_else(|e| e.into_inner()) = Some(e);
+                        return (0.0, 0.0, 0.0);
+                    }
+                }
+            }
+            *band = (r, loaded);
+        }
+        let Some(f) = band.1.get(column) else {
+            return (0.0, 0.0, 0.0);
+        };
+        let v = f.at(x % nx, y % ny);
+        (v[0], v[1], v[0].hypot(v[1]))
+    })?;
+    if let Some(e) = failed.into_inner().unwrap_or_else(|e| e.into_inner()) {
+        return Err(e);
+    }
+    let entry = FileEntry {
+        name: ATLAS_EXR_NAME.to_string(),
+        format: Format::AtlasExr,
+        frame: None,
+        grid: [nx, ny],
+        resampled_from: None,
+        encoding: m::Encoding {
+            sample: Sample::F16,
+            units: "m/s",
+            channels: vec![
+                Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
+                Channel::velocity("G", WorldAxis::PlusZ, 1.0, 0.0),
+                Channel::speed("B"),
+            ],
+            green_flipped: None,
+            storage: format!(
+                "OpenEXR scanline, increasing Y, ZIP, half floats: {columns} × {rows} sub-images of {nx} × {ny} pixels; unused sub-images hold zero wind"
+            ),
+        },
+        axes: Axes {
+            index: image_axes(ctx, nx, ny),
+            sub_images: Some(m::SubImages {
+                columns,
+                rows,
+                count: ctx.count,
+                fps: ctx.fps,
+                order: "frame k at column k % columns, row k / columns (row 0 at the top)",
+            }),
+            engine_frame: None,
+        },
+        bytes: 0,
+    };
+    Ok((bytes, entry))
+}
+
+/// The EXR atlas: one file, written from the frame stream after the frames are made.
+pub(crate) struct AtlasExr;
+
+impl Encoder for AtlasExr {
+    fn names(&self, _count: usize) -> Vec<String> {
+        vec![ATLAS_EXR_NAME.to_string()]
+    }
+
+    fn max_bytes(&self, e: &Extent) -> u64 {
+        let (c, r) = super::png::atlas_grid(e.frames);
+        rgb_max_bytes(c * e.nx, r * e.ny, true)
+    }
+
+    fn frame(&self, _: &ExportContext, _: usize, _: &Field) -> Result<Vec<Output>, BakeError> {
+        Ok(Vec::new())
+    }
+}

@@ -26,13 +26,16 @@ pub enum Format {
     Raw,
     /// All frames in one 16-bit PNG flipbook.
     Atlas,
+    /// All frames in one half-float EXR flipbook, laid out as `Atlas`, in m/s.
+    #[serde(rename = "atlas-exr")]
+    AtlasExr,
     /// The wind as a volume up the layout's vertical profile: a DDS 3D texture, with the
     /// same volume as a Unity vector field and as Godot's EXR slices.
     Dds,
 }
 
 impl Format {
-    pub const ALL: [Format; 8] = [
+    pub const ALL: [Format; 9] = [
         Format::Exr,
         Format::Png8,
         Format::Png16,
@@ -40,6 +43,7 @@ impl Format {
         Format::Vf,
         Format::Raw,
         Format::Atlas,
+        Format::AtlasExr,
         Format::Dds,
     ];
 
@@ -53,6 +57,7 @@ impl Format {
             Self::Vf => "vf",
             Self::Raw => "raw",
             Self::Atlas => "atlas",
+            Self::AtlasExr => "atlas-exr",
             Self::Dds => "dds",
         }
     }

@@ -308,6 +308,7 @@ fn encoder(format: Format) -> &'static dyn format::Encoder {
         Format::Vf => &vf::Vf,
         Format::Raw => &raw::Raw,
         Format::Atlas => &png::AtlasFormat,
+        Format::AtlasExr => &exr::AtlasExr,
         Format::Dds => &volume::Volume,
     }
 }
@@ -432,7 +433,7 @@ fn bake_staged(
     let mut formats = opts.formats.clone();
     formats.sort();
     formats.dedup();
-    if formats.contains(&Format::Atlas) {
+    if formats.contains(&Format::Atlas) || formats.contains(&Format::AtlasExr) {
         options::check_atlas(n, nx, ny)?;
     }
     let layers = layout.world.profile.layers as usize;
@@ -558,6 +559,11 @@ fn bake_staged(
             a.push(f)?;
         }
         progress(sim_steps + k + 1, total, "encoding");
+    }
+    if formats.contains(&Format::AtlasExr) {
+        let (bytes, mut entry) = exr::atlas(&ctx, &mut reader)?;
+        entry.bytes = write_file(&dir, exr::ATLAS_EXR_NAME, &bytes)?;
+        files.insert(Format::AtlasExr, vec![entry]);
     }
     drop(reader);
     if let Some(a) = atlas {

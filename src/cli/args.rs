@@ -77,9 +77,10 @@ pub enum Command {
     ///
     /// Formats (repeat --format; default all): exr (float RGB), png8 / png16 (flowmaps, RG
     /// centred on 0.5), fga (Unreal vector field, ≤128 per axis, area-averaged), vf (Unity
-    /// VF_V), raw (f32 + manifest), atlas (all frames in one 16-bit PNG flipbook), dds (the
-    /// wind as a volume up the layout's world.profile: a DDS 3D texture, and the same volume
-    /// for Unity as VF and for Godot as EXR slices). Frame k is the wind at exactly warmup +
+    /// VF_V), raw (f32 + manifest), atlas (all frames in one 16-bit PNG flipbook), atlas-exr
+    /// (the same in half-float EXR, m/s), dds (the wind as a volume up the layout's
+    /// world.profile: a DDS 3D texture, and the same volume for Unity as VF and for Godot as
+    /// EXR slices). Frame k is the wind at exactly warmup +
     /// k/fps seconds. The new bake replaces the output folder as a
     /// whole when everything is written (files you put there stay); Ctrl-C or an error leaves
     /// the folder as it was.

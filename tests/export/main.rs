@@ -1435,3 +1435,87 @@ mod volume;
 /// Hostile files, folders, signals and file systems, each ending in a result or a one-line
 /// refusal within seconds.
 mod hostile;
+
+/// The half-float EXR atlas, read as Godot reads an EXR (floats, not 8 bits) and sampled as
+/// `windloom_grass.gdshader` does with `atlas_is_float` (the manifest's choice when the bake
+/// has it): each frame's wind at the level's edges within half-float rounding, ten times
+/// closer than the 16-bit PNG atlas gets in Godot.
+#[test]
+fn godot_reads_the_float_atlas_at_full_precision() {
+    use exr::prelude::*;
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::AtlasExr, Format::Atlas, Format::Raw],
+        ..small(5)
+    };
+    run(&example("two-winds.json"), dir.path(), &opts);
+    let m = manifest(dir.path());
+    let raw = Raw::read(dir.path(), &m);
+    let p = &m["engines"]["godot"]["shader_parameters"];
+    assert_eq!(p["wind_atlas"], "atlas.exr", "Godot gets the float atlas");
+    assert_eq!(p["atlas_is_float"], true);
+    let grid = [
+        p["atlas_grid"][0].as_f64().unwrap(),
+        p["atlas_grid"][1].as_f64().unwrap(),
+    ];
+    let image = read_all_flat_layers_from_file(dir.path().join("atlas.exr")).unwrap();
+    let layer = &image.layer_data[0];
+    let (w, h) = (layer.size.width(), layer.size.height());
+    let channel = |name: &str| -> Vec<f32> {
+        let c = layer
+            .channel_data
+            .list
+            .iter()
+            .find(|c| c.name.to_string() == name)
+            .unwrap();
+        c.sample_data.values_as_f32().collect()
+    };
+    let rg = [channel("R"), channel("G")];
+    let sample = |t: [f64; 2], c: usize| {
+        let texel = |x: i64, y: i64| {
+            let x = x.clamp(0, w as i64 - 1) as usize;
+            let y = y.clamp(0, h as i64 - 1) as usize;
+            f64::from(rg[c][y * w + x])
+        };
+        let (x, y) = (t[0] * w as f64 - 0.5, t[1] * h as f64 - 0.5);
+        let (x0, y0) = (x.floor(), y.floor());
+        let (fx, fy) = (x - x0, y - y0);
+        let (x0, y0) = (x0 as i64, y0 as i64);
+        let row = |y| texel(x0, y) * (1.0 - fx) + texel(x0 + 1, y) * fx;
+        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
+    };
+    let (nx, ny) = (raw.nx, raw.ny);
+    let mut worst = 0.0f64;
+    for frame in 0..5 {
+        for (i, j) in [
+            (0, 0),
+            (nx - 1, 0),
+            (0, ny - 1),
+            (nx - 1, ny - 1),
+            (nx / 2, ny / 2),
+        ] {
+            let uv = [edge_uv(i, nx), edge_uv(j, ny)];
+            let columns = grid[0] as usize;
+            let cell = [(frame % columns) as f64, (frame / columns) as f64];
+            let size = [w as f64, h as f64];
+            let auv: [f64; 2] = [0, 1].map(|a| {
+                let half = 0.5 * grid[a] / size[a];
+                (cell[a] + uv[a].clamp(half, 1.0 - half)) / grid[a]
+            });
+            for (c, &want) in raw.at(frame, i, j).iter().enumerate() {
+                let got = sample(auv, c);
+                let err = (got - f64::from(want)).abs();
+                worst = worst.max(err);
+                assert!(
+                    err <= 1e-3 * f64::from(want).abs() + 1e-4,
+                    "frame {frame} cell {i},{j} channel {c}: {got} against {want}"
+                );
+            }
+        }
+    }
+    let png_step = 2.0 * m["max_speed"].as_f64().unwrap() / 255.0;
+    assert!(
+        worst * 10.0 < png_step,
+        "{worst} m/s against the PNG's {png_step}"
+    );
+}

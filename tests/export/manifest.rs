@@ -104,10 +104,11 @@ fn samples(dir: &Path, entry: &Value) -> Vec<Vec<Vec<f64>>> {
             };
             vec![floats.chunks_exact(channels).map(|c| c.to_vec()).collect()]
         }
-        "exr" => {
+        "exr" | "atlas-exr" => {
             use exr::prelude::*;
             let image = read_all_flat_layers_from_file(&path).unwrap();
             let layer = &image.layer_data[0];
+            let width = layer.size.width();
             let list = &layer.channel_data.list;
             let by_name: Vec<Vec<f32>> = entry["encoding"]["channels"]
                 .as_array()
@@ -120,11 +121,30 @@ fn samples(dir: &Path, entry: &Value) -> Vec<Vec<Vec<f64>>> {
                 })
                 .collect();
             let n = by_name[0].len();
-            vec![
-                (0..n)
-                    .map(|k| by_name.iter().map(|c| f64::from(c[k])).collect())
-                    .collect(),
-            ]
+            let pixel = |k: usize| {
+                by_name
+                    .iter()
+                    .map(|c| f64::from(c[k]))
+                    .collect::<Vec<f64>>()
+            };
+            let Some(sub) = entry["axes"].get("sub_images") else {
+                return vec![(0..n).map(pixel).collect()];
+            };
+            // An atlas: each frame's sub-image, row by row.
+            let (w, h) = (
+                entry["grid"][0].as_u64().unwrap() as usize,
+                entry["grid"][1].as_u64().unwrap() as usize,
+            );
+            let columns = sub["columns"].as_u64().unwrap() as usize;
+            (0..sub["count"].as_u64().unwrap() as usize)
+                .map(|k| {
+                    let (ox, oy) = ((k % columns) * w, (k / columns) * h);
+                    (0..h)
+                        .flat_map(|y| (0..w).map(move |x| (x, y)))
+                        .map(|(x, y)| pixel((oy + y) * width + ox + x))
+                        .collect()
+                })
+                .collect()
         }
         "png8" | "png16" | "atlas" => {
             let max = if entry["encoding"]["sample"] == "unorm8" {
@@ -372,7 +392,14 @@ fn the_engines_block_matches_the_bake() {
     assert_eq!(shader["bounds_max"], serde_json::json!(max));
     assert_eq!(shader["use_atlas"], true);
     assert_eq!(shader["atlas_frames"], 4);
-    assert_eq!(shader["atlas_scale"].as_f64().unwrap() as f32, m.max_speed);
+    // The float atlas where the bake has it (Godot reads it at full precision).
+    assert_eq!(shader["wind_atlas"], "atlas.exr");
+    assert_eq!(shader["atlas_is_float"], true);
+    assert_eq!(shader["atlas_scale"], 1.0);
+    assert_eq!(
+        unreal["niagara_atlas"]["scale"].as_f64().unwrap() as f32,
+        m.max_speed
+    );
     // A bake with no file an engine reads has no block for it.
     let dir = tempfile::tempdir().unwrap();
     run(

@@ -79,6 +79,7 @@ static func apply_grass(material: ShaderMaterial, dir: String, m: Dictionary) ->
 		material.set_shader_parameter("atlas_frames", int(p["atlas_frames"]))
 		material.set_shader_parameter("atlas_fps", float(p["atlas_fps"]))
 		material.set_shader_parameter("atlas_scale", float(p["atlas_scale"]))
+		material.set_shader_parameter("atlas_is_float", p["atlas_is_float"])
 
 
 ## Sets windloom_particles.gdshader's uniforms on `material` from the manifest's volume.
