@@ -335,3 +335,50 @@ fn godot_s_texture3d_gives_the_volume_s_wind() {
         }
     }
 }
+
+/// Unreal: `wind_volume.dds` as a Volume Texture, sampled at `uvw = (position − min) / size`
+/// from `engines.unreal.volume_texture` (cm, Unreal's axes) with trilinear filtering, and
+/// swizzled as the guide says (`float3(R, B, G) × 100`), gives the wind in cm/s in Unreal's
+/// axes times the profile at every cell and layer.
+#[test]
+fn unreal_s_volume_texture_gives_the_volume_s_wind() {
+    let (dir, m, raw, p) = volume_bake(vec![Format::Dds, Format::Raw], false);
+    let v = &m["engines"]["unreal"]["volume_texture"];
+    assert_eq!(v["swizzle"], "wind_cm_s = float3(R, B, G) * 100");
+    let vec3 = |x: &Value| [0, 1, 2].map(|k| x[k].as_f64().unwrap());
+    let (min_cm, size_cm) = (vec3(&v["bounds_min_cm"]), vec3(&v["bounds_size_cm"]));
+    let b = std::fs::read(dir.path().join(v["files"][0].as_str().unwrap())).unwrap();
+    let data = f32s(&b[148..]);
+    // Texel (x, y, z) of the texture: width, height, depth; RGBA.
+    let texel = |x: usize, y: usize, z: usize| {
+        let at = ((z * 20 + y) * 30 + x) * 4;
+        [0, 1, 2].map(|c| f64::from(data[at + c]))
+    };
+    let factors = log_law(&p);
+    for j in 0..20 {
+        for i in 0..30 {
+            for (k, f) in factors.iter().enumerate() {
+                let w = centre(&m, i, j, k, [30, 20], &p);
+                // Unreal: X = world x, Y = world z, Z = up, in cm.
+                let unreal_cm = [w[0] * 100.0, w[2] * 100.0, w[1] * 100.0];
+                let uvw = [0, 1, 2].map(|a| (unreal_cm[a] - min_cm[a]) / size_cm[a]);
+                let s = trilinear([30, 20, 6], texel, uvw);
+                let got = [s[0] * 100.0, s[2] * 100.0, s[1] * 100.0];
+                let r = raw.at(0, i, j);
+                let want = [
+                    f64::from(r[0]) * f * 100.0,
+                    f64::from(r[1]) * f * 100.0,
+                    0.0,
+                ];
+                for a in 0..3 {
+                    assert!(
+                        (got[a] - want[a]).abs() <= 1e-3 * (1.0 + want[a].abs()),
+                        "cell {i},{j} layer {k} axis {a}: {} cm/s against {}",
+                        got[a],
+                        want[a]
+                    );
+                }
+            }
+        }
+    }
+}
