@@ -518,10 +518,26 @@ fn draw_obstacles(pix: &mut Pixmap, view: &View, layout: &Layout, ui: f32) {
                 pb.close();
                 pb.finish()
             }
+            Shape::Mask { .. } => {
+                // Its solid pixels as rectangles, at up to 1024 a side.
+                let mut pb = PathBuilder::new();
+                for [a, b] in o.shape.mask_runs(layout.bounds(), 1024) {
+                    let ((x0, y0), (x1, y1)) = (view.px(a), view.px(b));
+                    if let Some(r) =
+                        tiny_skia::Rect::from_ltrb(x0.min(x1), y0.min(y1), x0.max(x1), y0.max(y1))
+                    {
+                        pb.push_rect(r);
+                    }
+                }
+                pb.finish()
+            }
         };
         if let Some(path) = path {
             pix.fill_path(&path, &fill, FillRule::Winding, Transform::identity(), None);
-            pix.stroke_path(&path, &edge, &stroke, Transform::identity(), None);
+            // A mask's rows are filled only: an outline per row would stripe it.
+            if !matches!(o.shape, Shape::Mask { .. }) {
+                pix.stroke_path(&path, &edge, &stroke, Transform::identity(), None);
+            }
         }
     }
 }

@@ -343,6 +343,29 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
                 changed |= num(ui, "Centre z", &mut center[1], bounds::COORD, 0.1, " m");
                 changed |= num(ui, "Radius", radius, bounds::RADIUS, 0.05, " m");
             }
+            Shape::Mask {
+                image,
+                threshold,
+                invert,
+                pixels,
+                ..
+            } => {
+                let before = image.clone();
+                changed |= row(ui, "Mask image", |ui| {
+                    ui.add(egui::TextEdit::singleline(image).desired_width(140.0))
+                        .on_hover_text("PNG or EXR, relative to the layout's folder")
+                });
+                if *image != before {
+                    *pixels = doc::MaskPixels::NotLoaded;
+                }
+                changed |= row(ui, "Threshold", |ui| {
+                    ui.add(egui::Slider::new(threshold, bounds::MASK_THRESHOLD.range()))
+                        .on_hover_text(
+                            "Solid where the image is darker than this (lighter, inverted)",
+                        )
+                });
+                changed |= row(ui, "Inverted", |ui| ui.checkbox(invert, ""));
+            }
             Shape::Polygon { points } => {
                 for (k, p) in points.iter_mut().enumerate() {
                     let l = ui.label(format!("Corner {}", k + 1));
@@ -361,6 +384,27 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
             }
         }
     });
+    if let Shape::Mask { image, pixels, .. } = &mut o.shape {
+        // A new image path is read at once (relative to the layout's folder).
+        if changed && !matches!(pixels, doc::MaskPixels::Loaded(_)) {
+            let base = crate::io::layout_base(app.doc.path());
+            *pixels = match crate::io::load_mask(&base, image) {
+                Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
+                Err(e) => doc::MaskPixels::Failed(
+                    e.to_string().replacen("map image", "mask image", 1).into(),
+                ),
+            };
+        }
+        match pixels {
+            doc::MaskPixels::Loaded(m) => {
+                ui.weak(format!("{} × {} pixels", m.width, m.height));
+            }
+            doc::MaskPixels::Failed(why) => {
+                ui.colored_label(ui.visuals().warn_fg_color, format!("Not read: {why}"));
+            }
+            doc::MaskPixels::NotLoaded => {}
+        }
+    }
     if changed {
         app.edit_merged(ctx, Edit::SetObstacle { obstacle: o }, ("obstacle", id));
     }

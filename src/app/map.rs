@@ -658,7 +658,10 @@ fn select_tool(
                                 .obstacles
                                 .iter()
                                 .filter(|o| {
-                                    r.contains(cam.to_screen(rect, obstacle_centre(&o.shape)))
+                                    r.contains(cam.to_screen(
+                                        rect,
+                                        obstacle_centre(&o.shape, app.doc.bounds()),
+                                    ))
                                 })
                                 .map(|o| Sel::Obstacle(o.id)),
                         )
@@ -675,7 +678,7 @@ fn select_tool(
     }
 }
 
-pub fn obstacle_centre(shape: &Shape) -> doc::Vec2 {
+pub fn obstacle_centre(shape: &Shape, bounds: (doc::Vec2, doc::Vec2)) -> doc::Vec2 {
     match shape {
         Shape::Circle { center, .. } => *center,
         Shape::Polygon { points } => {
@@ -685,23 +688,20 @@ pub fn obstacle_centre(shape: &Shape) -> doc::Vec2 {
                 .fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
             [s[0] / n, s[1] / n]
         }
+        Shape::Mask { rect, .. } => {
+            let [a, b] = Shape::mask_rect(rect, bounds);
+            [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]
+        }
     }
 }
 
-fn moved_obstacle(o: &doc::Obstacle, d: doc::Vec2) -> doc::Obstacle {
+fn moved_obstacle(
+    o: &doc::Obstacle,
+    d: doc::Vec2,
+    bounds: (doc::Vec2, doc::Vec2),
+) -> doc::Obstacle {
     let mut o = o.clone();
-    match &mut o.shape {
-        Shape::Circle { center, .. } => {
-            center[0] += d[0];
-            center[1] += d[1];
-        }
-        Shape::Polygon { points } => {
-            for p in points {
-                p[0] += d[0];
-                p[1] += d[1];
-            }
-        }
-    }
+    o.shape.translate(d, bounds);
     o
 }
 
@@ -721,7 +721,7 @@ fn move_selection(app: &mut EditorApp, ctx: &egui::Context, d: doc::Vec2, key: u
             Sel::Obstacle(id) => {
                 if let Some(o) = app.doc.obstacles.iter().find(|o| o.id == id) {
                     edits.push(Edit::SetObstacle {
-                        obstacle: moved_obstacle(o, d),
+                        obstacle: moved_obstacle(o, d, app.doc.bounds()),
                     });
                 }
             }

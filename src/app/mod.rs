@@ -668,18 +668,7 @@ impl EditorApp {
                         // Named apart from the original in the Layers list, as a tree's
                         // copy is.
                         o.name = format!("{} copy", o.name);
-                        match &mut o.shape {
-                            doc::Shape::Circle { center, .. } => {
-                                center[0] += offset;
-                                center[1] += offset;
-                            }
-                            doc::Shape::Polygon { points } => {
-                                for p in points {
-                                    p[0] += offset;
-                                    p[1] += offset;
-                                }
-                            }
-                        }
+                        o.shape.translate([offset, offset], self.doc.bounds());
                         edits.push((None, None, Some(o)));
                     }
                 }

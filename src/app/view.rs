@@ -279,6 +279,22 @@ pub fn draw_obstacles(
                 painter.add(mesh);
                 painter.add(egui::Shape::closed_line(pts, stroke));
             }
+            Shape::Mask { rect: r, .. } => {
+                // The solid pixels (sampled at up to 512 a side), and the image's rectangle.
+                let mut mesh = egui::Mesh::default();
+                for [a, b] in o.shape.mask_runs(doc.bounds(), 512) {
+                    let q = Rect::from_two_pos(cam.to_screen(rect, a), cam.to_screen(rect, b));
+                    mesh.add_colored_rect(q, OBSTACLE_COLOUR);
+                }
+                painter.add(mesh);
+                let [a, b] = Shape::mask_rect(r, doc.bounds());
+                painter.rect_stroke(
+                    Rect::from_two_pos(cam.to_screen(rect, a), cam.to_screen(rect, b)),
+                    0.0,
+                    stroke,
+                    egui::StrokeKind::Middle,
+                );
+            }
         }
     }
 }
@@ -303,6 +319,7 @@ pub fn hit_obstacle(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2) -> Option<u
                 (w[0] - center[0]).hypot(w[1] - center[1]) <= *radius
             }
             Shape::Polygon { points } => point_in_polygon(w, points),
+            Shape::Mask { .. } => o.shape.mask_contains(w, doc.bounds()),
         })
         .map(|o| o.id)
 }

@@ -427,6 +427,11 @@ fn bake_staged(
     if let Some(i) = doc::validate(&layout).first() {
         return Err(BakeError::Layout(i.to_string()));
     }
+    if let Some(p) = doc::mask_problems(&layout).first() {
+        return Err(BakeError::Layout(format!(
+            "{p}; a bake without the mask's obstacles would ship wrong wind"
+        )));
+    }
     let timing = FrameTiming::new(opts.fps, layout.sim.dt, opts.warmup);
     let (nx, ny) = (layout.world.grid[0] as usize, layout.world.grid[1] as usize);
     let n = opts.frames;

@@ -103,6 +103,9 @@ fn warn_advice(l: &doc::Layout, file: &std::path::Path) {
     for a in doc::advise(l) {
         warn(&format!("{}: {a}", file.display()));
     }
+    for m in doc::mask_problems(l) {
+        warn(&format!("{}: {m}", file.display()));
+    }
 }
 
 /// The camera `--camera` names (45° lens).

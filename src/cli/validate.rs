@@ -15,6 +15,9 @@ pub fn run(files: &[PathBuf]) -> Result<ExitCode, CliError> {
                 if let Some(w) = backdrop_warning(&l, f) {
                     line += &format!("; warning: {w} (the layout opens without it)");
                 }
+                for m in doc::mask_problems(&l) {
+                    line += &format!("; warning: {m} (the wind runs without it; bake refuses)");
+                }
                 for a in doc::advise(&l) {
                     line += &format!("; warning: {a}");
                 }

@@ -106,6 +106,10 @@ pub const COORD: Bound = Bound::new(-1.0e6, 1.0e6);
 pub const GRID_AXIS: Count = Count::new(8, 16384);
 /// The map backdrop's opacity.
 pub const OPACITY: Bound = Bound::new(0.0, 1.0);
+/// A mask obstacle's luminance threshold.
+pub const MASK_THRESHOLD: Bound = Bound::new(0.0, 1.0);
+/// Largest side of a mask image, pixels.
+pub const MASK_MAX_SIDE: u32 = 16384;
 /// A surface's roughness length, metres: from still water to a city centre.
 pub const ROUGHNESS: Bound = Bound::positive(0.0, 10.0);
 /// A height in the vertical profile, metres.
@@ -204,6 +208,7 @@ pub const NUMBERS: &[(&str, &str, Bound)] = &[
     ("Node", "radius", RADIUS),
     ("Shape.circle", "center", COORD),
     ("Shape.circle", "radius", RADIUS),
+    ("Shape.mask", "threshold", MASK_THRESHOLD),
     ("AmbientKind.directional", "main", AMBIENT_SPEED),
     ("AmbientKind.directional", "turbulence", AMBIENT_SPEED),
     (

@@ -287,6 +287,179 @@ pub enum Shape {
         #[schemars(length(min = 3, max = POLYGON_POINTS_MAX), inner(inner(range(min = COORD.min, max = COORD.max))))]
         points: Vec<Vec2>,
     },
+    /// A level's collision mask: solid where the image's luminance is below `threshold`
+    /// (above it when `invert`), stretched over `rect` (the world rectangle when absent).
+    Mask {
+        /// Image path, relative to the layout file: PNG (8 or 16 bits) or EXR, at most 16384
+        /// pixels a side.
+        #[schemars(length(min = 1))]
+        image: String,
+        /// Luminance 0 to 1 at which a pixel turns solid.
+        #[serde(default = "half")]
+        #[schemars(range(min = MASK_THRESHOLD.min, max = MASK_THRESHOLD.max))]
+        threshold: f32,
+        /// Solid where the luminance is above the threshold instead.
+        #[serde(default)]
+        invert: bool,
+        /// Where the image lies, `[[x0, z0], [x1, z1]]` in metres (`x0 < x1`, `z0 < z1`; the
+        /// image's top-left at `[x0, z0]`); absent: the world rectangle.
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        #[schemars(inner(inner(inner(range(min = COORD.min, max = COORD.max)))))]
+        rect: Option<[Vec2; 2]>,
+        /// The image's pixels, read beside the layout file by `io` (never written into it).
+        #[serde(skip)]
+        #[schemars(skip)]
+        pixels: MaskPixels,
+    },
+}
+
+fn half() -> f32 {
+    0.5
+}
+
+/// A decoded mask image: luminance per pixel, row-major from the top-left, 0 to 65535.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct MaskImage {
+    pub width: u32,
+    pub height: u32,
+    pub luminance: Vec<u16>,
+}
+
+impl MaskImage {
+    /// Whether the pixel under `(u, v)` (0 to 1 across and down the image) is solid.
+    pub fn solid_at(&self, u: f32, v: f32, threshold: f32, invert: bool) -> bool {
+        let x = ((u * self.width as f32) as i64).clamp(0, i64::from(self.width) - 1) as usize;
+        let y = ((v * self.height as f32) as i64).clamp(0, i64::from(self.height) - 1) as usize;
+        let l = f32::from(self.luminance[y * self.width as usize + x]) / 65535.0;
+        (l < threshold) != invert
+    }
+}
+
+/// A mask obstacle's pixels: a cache of the file its `image` names, so two masks naming one
+/// file are equal whatever is loaded.
+#[derive(Debug, Clone, Default)]
+pub enum MaskPixels {
+    /// Not read yet (a layout parsed from text).
+    #[default]
+    NotLoaded,
+    Loaded(std::sync::Arc<MaskImage>),
+    /// Read and refused: why, in one line naming the file.
+    Failed(std::sync::Arc<str>),
+}
+
+impl PartialEq for MaskPixels {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl MaskPixels {
+    pub fn image(&self) -> Option<&MaskImage> {
+        match self {
+            Self::Loaded(i) => Some(i),
+            _ => None,
+        }
+    }
+}
+
+impl Shape {
+    /// A mask's world rectangle: its own, or the world's.
+    pub fn mask_rect(rect: &Option<[Vec2; 2]>, layout_bounds: (Vec2, Vec2)) -> [Vec2; 2] {
+        rect.unwrap_or([layout_bounds.0, layout_bounds.1])
+    }
+
+    /// Whether world point `p` lies on a mask obstacle's solid pixels (`false` for other
+    /// shapes and for a mask whose image is not loaded). `bounds`: the layout's.
+    pub fn mask_contains(&self, p: Vec2, bounds: (Vec2, Vec2)) -> bool {
+        let Self::Mask {
+            threshold,
+            invert,
+            rect,
+            pixels,
+            ..
+        } = self
+        else {
+            return false;
+        };
+        let Some(image) = pixels.image() else {
+            return false;
+        };
+        let r = Self::mask_rect(rect, bounds);
+        let (u, v) = (
+            (p[0] - r[0][0]) / (r[1][0] - r[0][0]),
+            (p[1] - r[0][1]) / (r[1][1] - r[0][1]),
+        );
+        (0.0..1.0).contains(&u)
+            && (0.0..1.0).contains(&v)
+            && image.solid_at(u, v, *threshold, *invert)
+    }
+
+    /// A mask's solid area as world rectangles `[min, max]`: the runs of solid samples along
+    /// each row of a grid of at most `max` samples a side over the mask's rectangle (for
+    /// drawing; the solvers sample every cell).
+    pub fn mask_runs(&self, bounds: (Vec2, Vec2), max: u32) -> Vec<[Vec2; 2]> {
+        let Self::Mask {
+            threshold,
+            invert,
+            rect,
+            pixels,
+            ..
+        } = self
+        else {
+            return Vec::new();
+        };
+        let Some(image) = pixels.image() else {
+            return Vec::new();
+        };
+        let r = Self::mask_rect(rect, bounds);
+        let (cols, rows) = (image.width.min(max), image.height.min(max));
+        let (dx, dz) = (
+            (r[1][0] - r[0][0]) / cols as f32,
+            (r[1][1] - r[0][1]) / rows as f32,
+        );
+        let mut runs = Vec::new();
+        for row in 0..rows {
+            let v = (row as f32 + 0.5) / rows as f32;
+            let mut start = None;
+            for col in 0..=cols {
+                let solid = col < cols
+                    && image.solid_at((col as f32 + 0.5) / cols as f32, v, *threshold, *invert);
+                match (solid, start) {
+                    (true, None) => start = Some(col),
+                    (false, Some(c0)) => {
+                        runs.push([
+                            [r[0][0] + c0 as f32 * dx, r[0][1] + row as f32 * dz],
+                            [r[0][0] + col as f32 * dx, r[0][1] + (row + 1) as f32 * dz],
+                        ]);
+                        start = None;
+                    }
+                    _ => {}
+                }
+            }
+        }
+        runs
+    }
+
+    /// The shape moved by `d` metres (a mask's rectangle, placed over the world when it had
+    /// none).
+    pub fn translate(&mut self, d: Vec2, bounds: (Vec2, Vec2)) {
+        match self {
+            Self::Circle { center, .. } => {
+                center[0] += d[0];
+                center[1] += d[1];
+            }
+            Self::Polygon { points } => {
+                for p in points {
+                    p[0] += d[0];
+                    p[1] += d[1];
+                }
+            }
+            Self::Mask { rect, .. } => {
+                let [a, b] = Self::mask_rect(rect, bounds);
+                *rect = Some([[a[0] + d[0], a[1] + d[1]], [b[0] + d[0], b[1] + d[1]]]);
+            }
+        }
+    }
 }
 
 /// A named ambient layer.

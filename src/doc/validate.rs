@@ -244,6 +244,29 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                 c.point(&format!("{p}.shape.center"), *center);
                 c.bound(&format!("{p}.shape.radius"), *radius, RADIUS);
             }
+            Shape::Mask {
+                image,
+                threshold,
+                rect,
+                ..
+            } => {
+                if image.trim().is_empty() {
+                    c.push(&format!("{p}.shape.image"), "must name an image file");
+                }
+                c.bound(&format!("{p}.shape.threshold"), *threshold, MASK_THRESHOLD);
+                if let Some([a, b]) = rect {
+                    let lo = c.point(&format!("{p}.shape.rect[0]"), *a);
+                    let hi = c.point(&format!("{p}.shape.rect[1]"), *b);
+                    if lo && hi && !(a[0] < b[0] && a[1] < b[1]) {
+                        c.push(
+                            &format!("{p}.shape.rect"),
+                            format!(
+                                "[[x0, z0], [x1, z1]] needs x0 < x1 and z0 < z1, got [{a:?}, {b:?}]"
+                            ),
+                        );
+                    }
+                }
+            }
             Shape::Polygon { points } => {
                 c.count(
                     &format!("{p}.shape.points"),
@@ -550,4 +573,26 @@ pub fn for_each_ear(points: &[Vec2], mut tri: impl FnMut(usize, usize, usize)) {
     if idx.len() == 3 {
         tri(idx[0], idx[1], idx[2]);
     }
+}
+
+/// What went wrong with the layout's mask images: one line each, naming the obstacle and the
+/// file (`io::load` reads them). Empty when every mask is loaded. A warning in the editor,
+/// `validate` and `render`; a refusal in `bake`, which would ship wrong wind without them.
+pub fn mask_problems(layout: &Layout) -> Vec<String> {
+    layout
+        .obstacles
+        .iter()
+        .enumerate()
+        .filter_map(|(k, o)| match &o.shape {
+            Shape::Mask { pixels, image, .. } => match pixels {
+                MaskPixels::Loaded(_) => None,
+                MaskPixels::Failed(why) => Some(format!("obstacles[{k}] \"{}\": {why}", o.name)),
+                MaskPixels::NotLoaded => Some(format!(
+                    "obstacles[{k}] \"{}\": mask image {image} was not read",
+                    o.name
+                )),
+            },
+            _ => None,
+        })
+        .collect()
 }

@@ -61,6 +61,7 @@ pub fn hash01(a: u32, b: u32, seed: u64) -> f32 {
 pub fn in_obstacle(layout: &Layout, p: [f32; 2]) -> bool {
     layout.obstacles.iter().any(|o| match &o.shape {
         Shape::Circle { center, radius } => (p[0] - center[0]).hypot(p[1] - center[1]) <= *radius,
+        Shape::Mask { .. } => o.shape.mask_contains(p, layout.bounds()),
         Shape::Polygon { points } => {
             let mut inside = false;
             let n = points.len();

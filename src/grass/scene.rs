@@ -37,7 +37,22 @@ pub fn solids(layout: &Layout) -> Vec<SceneVertex> {
                 })
                 .collect(),
             Shape::Polygon { points } => points.clone(),
+            Shape::Mask { .. } => {
+                // A box per run of solid samples (at up to 128 a side).
+                for [a, b] in o.shape.mask_runs(layout.bounds(), 128) {
+                    prism(&mut out, &[a, [b[0], a[1]], b, [a[0], b[1]]], h);
+                }
+                continue;
+            }
         };
+        prism(&mut out, &ring, h);
+    }
+    out
+}
+
+/// A prism `h` tall over the polygon `ring`: walls and a top.
+fn prism(out: &mut Vec<SceneVertex>, ring: &[[f32; 2]], h: f32) {
+    {
         let n = ring.len();
         for k in 0..n {
             let (a, b) = (ring[k], ring[(k + 1) % n]);
@@ -48,13 +63,12 @@ pub fn solids(layout: &Layout) -> Vec<SceneVertex> {
             }
         }
         let top = [STONE[0] * 1.3, STONE[1] * 1.3, STONE[2] * 1.3, 1.0];
-        crate::doc::for_each_ear(&ring, |a, b, c| {
+        crate::doc::for_each_ear(ring, |a, b, c| {
             for k in [a, b, c] {
                 out.push(v([ring[k][0], h, ring[k][1]], top));
             }
         });
     }
-    out
 }
 
 /// The enabled AGC trees as lines on the ground (an arrow per edge, a cross at each root), as

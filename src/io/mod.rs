@@ -242,9 +242,109 @@ pub fn load(path: &Path) -> Result<Layout, LoadError> {
             path: path.to_path_buf(),
             source: plain(source),
         })?;
-    doc::parse_bytes(&bytes).map_err(|diagnostics| LoadError::Invalid {
+    let mut layout = doc::parse_bytes(&bytes).map_err(|diagnostics| LoadError::Invalid {
         path: path.to_path_buf(),
         diagnostics,
+    })?;
+    load_masks(&mut layout, &layout_base(Some(path)));
+    Ok(layout)
+}
+
+/// Reads each mask obstacle's image (relative to the layout's folder `base`) into its
+/// `pixels`: loaded, or failed with the reason. Masks already loaded stay.
+pub fn load_masks(layout: &mut Layout, base: &Path) {
+    for o in &mut layout.obstacles {
+        if let doc::Shape::Mask { image, pixels, .. } = &mut o.shape
+            && !matches!(pixels, doc::MaskPixels::Loaded(_))
+        {
+            *pixels = match load_mask(base, image) {
+                Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
+                // The backdrop's errors, said of a mask.
+                Err(e) => doc::MaskPixels::Failed(
+                    e.to_string().replacen("map image", "mask image", 1).into(),
+                ),
+            };
+        }
+    }
+}
+
+/// A mask obstacle's image (`image`, relative to `base`) as luminance: PNG through `image`
+/// (8 or 16 bits, its luma), EXR through `exr` (linear Rec. 709 luminance, clamped to 0–1);
+/// its size checked before any pixel is decoded.
+pub fn load_mask(base: &Path, image: &str) -> Result<doc::MaskImage, BackdropError> {
+    let path = base.join(image);
+    let io = |source| BackdropError::Io {
+        path: path.clone(),
+        source: plain(source),
+    };
+    let size = std::fs::metadata(&path).map_err(io)?.len();
+    if size > BACKDROP_MAX_BYTES {
+        return Err(BackdropError::TooManyBytes { path, size });
+    }
+    let bytes = read_regular(&path, BACKDROP_MAX_BYTES, "a mask image").map_err(io)?;
+    let decode = |message: String| BackdropError::Decode {
+        path: path.clone(),
+        message,
+    };
+    let too_large = |w: u32, h: u32| {
+        w > doc::bounds::MASK_MAX_SIDE
+            || h > doc::bounds::MASK_MAX_SIDE
+            || w == 0
+            || h == 0
+            || u64::from(w) * u64::from(h) > BACKDROP_MAX_PIXELS
+    };
+    if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
+        use exr::prelude::*;
+        let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(&bytes[..]), false)
+            .map_err(|e| decode(e.to_string()))?;
+        let s = meta.headers[0].layer_size;
+        let (w, h) = (s.width() as u32, s.height() as u32);
+        if too_large(w, h) {
+            return Err(BackdropError::TooLarge { path, w, h });
+        }
+        let img = read_first_rgba_layer_from_file(
+            &path,
+            |res, _| (res.width(), vec![0u16; res.width() * res.height()]),
+            |(w, px): &mut (usize, Vec<u16>),
+             p: Vec2<usize>,
+             (r, g, b, _a): (f32, f32, f32, f32)| {
+                let l = (0.2126 * r + 0.7152 * g + 0.0722 * b).clamp(0.0, 1.0);
+                px[p.y() * *w + p.x()] = (l * 65535.0).round() as u16;
+            },
+        )
+        .map_err(|e| decode(e.to_string()))?;
+        let (_, luminance) = img.layer_data.channel_data.pixels;
+        return Ok(doc::MaskImage {
+            width: w,
+            height: h,
+            luminance,
+        });
+    }
+    let open = || {
+        image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
+            .with_guessed_format()
+            .map_err(io)
+    };
+    let (w, h) = open()?
+        .into_dimensions()
+        .map_err(|e| decode(e.to_string()))?;
+    if too_large(w, h) {
+        return Err(BackdropError::TooLarge { path, w, h });
+    }
+    let mut reader = open()?;
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(doc::bounds::MASK_MAX_SIDE);
+    limits.max_image_height = Some(doc::bounds::MASK_MAX_SIDE);
+    limits.max_alloc = Some(BACKDROP_MAX_PIXELS * 8);
+    reader.limits(limits);
+    let luma = reader
+        .decode()
+        .map_err(|e| decode(e.to_string()))?
+        .into_luma16();
+    Ok(doc::MaskImage {
+        width: w,
+        height: h,
+        luminance: luma.into_raw(),
     })
 }
 

@@ -959,14 +959,27 @@ fn everything() -> serde_json::Value {
         layers: 8,
         ..Default::default()
     };
-    l.obstacles = vec![doc::Obstacle {
-        id: 1,
-        name: "rock".into(),
-        shape: Shape::Circle {
-            center: [10.0, 10.0],
-            radius: 2.0,
+    l.obstacles = vec![
+        doc::Obstacle {
+            id: 1,
+            name: "rock".into(),
+            shape: Shape::Circle {
+                center: [10.0, 10.0],
+                radius: 2.0,
+            },
         },
-    }];
+        doc::Obstacle {
+            id: 2,
+            name: "walls".into(),
+            shape: Shape::Mask {
+                image: "walls.png".into(),
+                threshold: 0.5,
+                invert: false,
+                rect: None,
+                pixels: Default::default(),
+            },
+        },
+    ];
     let kinds = [
         r#"{"type": "directional", "direction_deg": 0, "main": 3, "turbulence": 1, "pulse_magnitude": 0.5, "pulse_frequency": 0.2}"#,
         r#"{"type": "noise", "direction_deg": 0, "scale": 20, "speed": 2, "strength": 3}"#,
@@ -1001,6 +1014,7 @@ fn pointer(def: &str, prop: &str) -> String {
         "Node" => format!("/trees/0/root/{prop}"),
         "Shape.circle" if prop == "center" => "/obstacles/0/shape/center/1".into(),
         "Shape.circle" => format!("/obstacles/0/shape/{prop}"),
+        "Shape.mask" => format!("/obstacles/1/shape/{prop}"),
         "AmbientKind.directional" => ambient(0),
         "AmbientKind.noise" => ambient(1),
         "AmbientKind.fft" => ambient(2),

@@ -990,6 +990,7 @@ fn every_example_bakes_in_every_format_and_the_same_bake_gives_the_same_bytes() 
         "branching.json",
         "obstacles.json",
         "breeze-fft.json",
+        "walled-garden.json",
     ] {
         let layout = example(name);
         let a = tempfile::tempdir().unwrap();

@@ -927,3 +927,76 @@ fn sigkill_during_a_save_leaves_the_old_file_or_the_new_one() {
         .collect();
     println!("left beside it by the kills: {left:?}");
 }
+
+/// A mask obstacle whose image cannot be read: `validate` says so as a warning (the layout
+/// opens, the wind runs without it); `bake` refuses in one line naming the obstacle and the
+/// file, non-zero, writing nothing — a bake without the obstacles would ship wrong wind. With
+/// the image there, the bake's wind is zero in the mask's cells.
+#[test]
+fn a_bake_refuses_a_mask_it_cannot_read_and_honours_one_it_can() {
+    let dir = tempfile::tempdir().unwrap();
+    let layouts = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    let file = dir.path().join("garden.json");
+    std::fs::copy(layouts.join("walled-garden.json"), &file).unwrap();
+    let out = dir.path().join("wind");
+    let bin = env!("CARGO_BIN_EXE_windloom");
+    let v = std::process::Command::new(bin)
+        .args(["validate", file.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&v.stdout);
+    assert!(v.status.success(), "{said}");
+    assert!(
+        said.contains("ok; warning: obstacles[0]") && said.contains("walled-garden-mask.png"),
+        "{said}"
+    );
+    let b = std::process::Command::new(bin)
+        .args([
+            "bake",
+            file.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .args(["--format", "raw", "--grid", "48x32", "--warmup", "0.5"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&b.stderr);
+    assert_eq!(b.status.code(), Some(1), "{err}");
+    let line = err.lines().find(|l| l.starts_with("error:")).unwrap();
+    assert!(
+        line.contains("obstacles[0] \"Garden walls (mask)\"")
+            && line.contains("walled-garden-mask.png")
+            && line.contains("wrong wind"),
+        "{line}"
+    );
+    assert!(!out.exists(), "nothing written");
+    // With the image beside it, the bake runs and the walls are still.
+    std::fs::copy(
+        layouts.join("walled-garden-mask.png"),
+        dir.path().join("walled-garden-mask.png"),
+    )
+    .unwrap();
+    let mut layout = windloom::io::load(&file).unwrap();
+    assert!(windloom::doc::mask_problems(&layout).is_empty());
+    layout.world.grid = [48, 32];
+    let solid = windloom::sim::obstacles::rasterize(&layout);
+    assert!(solid.iter().filter(|&&s| s == 1).count() > 48);
+    let m = run(
+        &layout,
+        &out,
+        &BakeOptions {
+            formats: vec![Format::Raw],
+            grid: None,
+            ..small(1)
+        },
+    );
+    let raw = Raw::read(&out, &manifest(&out));
+    assert!(m.max_speed > 1.0);
+    for j in 0..32 {
+        for i in 0..48 {
+            if solid[j * 48 + i] == 1 {
+                assert_eq!(raw.at(0, i, j), [0.0, 0.0], "wall cell {i},{j}");
+            }
+        }
+    }
+}

@@ -167,6 +167,7 @@ fn the_3d_scene_has_every_obstacle_and_arrow() {
     let ring = |s: &Shape| match s {
         Shape::Circle { .. } => 32,
         Shape::Polygon { points } => points.len(),
+        Shape::Mask { .. } => unreachable!("obstacles.json has no mask"),
     };
     let want: usize = l
         .obstacles
@@ -195,6 +196,7 @@ fn the_3d_scene_has_every_obstacle_and_arrow() {
                 16.0 * radius * radius * (std::f32::consts::TAU / 32.0).sin()
             }
             Shape::Polygon { points } => windloom::doc::polygon_area(points).abs(),
+            Shape::Mask { .. } => unreachable!("obstacles.json has no mask"),
         })
         .sum();
     assert!(

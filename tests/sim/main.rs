@@ -86,6 +86,8 @@ mod bench;
 mod bits;
 mod fluid;
 mod forcing;
+/// Obstacles from a level's collision mask.
+mod masks;
 mod pressure;
 mod stability;
 
