@@ -21,12 +21,13 @@ impl EditorApp {
     pub fn open_path(&mut self, path: &Path) {
         match crate::io::load(path) {
             Ok(doc) => {
-                let masks = crate::doc::mask_problems(&doc);
+                let mut masks = crate::doc::mask_problems(&doc);
+                masks.extend(crate::doc::density_map_problem(&doc));
                 self.replace_document(doc, Some(path.to_path_buf()), true);
                 self.remember_recent(path);
                 if let Some(m) = masks.first() {
                     // The wind runs without the mask's obstacles; the inspector says why too.
-                    self.tell(format!("Warning: {m}; the wind runs without it"));
+                    self.tell(format!("Warning: {m}; the layout runs without it"));
                 }
             }
             Err(e) => {

@@ -851,6 +851,41 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 1.0,
                 " /m²",
             );
+            // Where the level has grass: a grey image over the world (typed; read at once).
+            let mut path = g
+                .density_map
+                .as_ref()
+                .map_or(String::new(), |m| m.image.clone());
+            if row(ui, "Density map", |ui| {
+                ui.add(
+                    egui::TextEdit::singleline(&mut path)
+                        .hint_text("none")
+                        .desired_width(140.0),
+                )
+                .on_hover_text(
+                    "A grey image over the world (PNG or EXR, relative to the layout's folder): \
+                     white grows the full density, black none",
+                )
+            }) {
+                changed = true;
+                g.density_map = (!path.trim().is_empty()).then(|| {
+                    let base = crate::io::layout_base(app.doc.path());
+                    doc::DensityMap {
+                        image: path.trim().to_owned(),
+                        pixels: match crate::io::load_mask(&base, path.trim()) {
+                            Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
+                            Err(e) => doc::MaskPixels::Failed(
+                                e.to_string().replacen("map image", "density map", 1).into(),
+                            ),
+                        },
+                    }
+                });
+            }
+            if let Some(doc::MaskPixels::Failed(why)) = g.density_map.as_ref().map(|m| &m.pixels) {
+                ui.label("");
+                ui.colored_label(ui.visuals().warn_fg_color, format!("Not read: {why}"));
+                ui.end_row();
+            }
             changed |= num(ui, "k1 (gravity)", &mut g.k1, bounds::BEND, 0.005, "");
             changed |= num(ui, "k2 (forward)", &mut g.k2, bounds::BEND, 0.005, "");
             changed |= num(ui, "λ (stiffness)", &mut g.lambda, bounds::LAMBDA, 0.01, "");

@@ -106,6 +106,12 @@ fn warn_advice(l: &doc::Layout, file: &std::path::Path) {
     for m in doc::mask_problems(l) {
         warn(&format!("{}: {m}", file.display()));
     }
+    if let Some(d) = doc::density_map_problem(l) {
+        warn(&format!(
+            "{}: {d} (the grass grows everywhere)",
+            file.display()
+        ));
+    }
 }
 
 /// The camera `--camera` names (45° lens).

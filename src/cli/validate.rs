@@ -18,6 +18,9 @@ pub fn run(files: &[PathBuf]) -> Result<ExitCode, CliError> {
                 for m in doc::mask_problems(&l) {
                     line += &format!("; warning: {m} (the wind runs without it; bake refuses)");
                 }
+                if let Some(d) = doc::density_map_problem(&l) {
+                    line += &format!("; warning: {d} (the grass grows everywhere)");
+                }
                 for a in doc::advise(&l) {
                     line += &format!("; warning: {a}");
                 }

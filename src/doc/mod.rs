@@ -19,7 +19,9 @@ pub use bounds::{
 pub use edit::{Edit, EditError, History, TreeProps};
 pub use parse::{Diagnostic, Diagnostics, parse, parse_bytes, schema, to_json};
 pub use types::*;
-pub use validate::{Issue, for_each_ear, grid_memory, mask_problems, polygon_area, validate};
+pub use validate::{
+    Issue, density_map_problem, for_each_ear, grid_memory, mask_problems, polygon_area, validate,
+};
 
 /// The bundled default layout (`layouts/meadow.json`), embedded in the binary.
 pub const DEFAULT_LAYOUT_JSON: &str = include_str!("../../layouts/meadow.json");

@@ -694,6 +694,37 @@ pub struct GrassParams {
     pub palettes: Vec<Palette>,
     pub seed: u64,
     pub model: GrassModel,
+    /// Where the level has grass: a grey image (PNG 8/16-bit or EXR, relative to the layout
+    /// file) stretched over the world, its luminance 0–1 multiplying `density` (black: no
+    /// grass, on roads and water).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub density_map: Option<DensityMap>,
+}
+
+/// A grass density map: its image, and the image's pixels once `io` has read them.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct DensityMap {
+    #[schemars(length(min = 1))]
+    pub image: String,
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub pixels: MaskPixels,
+}
+
+impl DensityMap {
+    /// The density's share at world point `p` (`bounds`: the world's), 0 to 1; 1 where the
+    /// image is not loaded (the grass grows as if there were no map).
+    pub fn at(&self, p: Vec2, bounds: (Vec2, Vec2)) -> f32 {
+        let Some(m) = self.pixels.image() else {
+            return 1.0;
+        };
+        let u = (p[0] - bounds.0[0]) / (bounds.1[0] - bounds.0[0]);
+        let v = (p[1] - bounds.0[1]) / (bounds.1[1] - bounds.0[1]);
+        let x = ((u * m.width as f32) as i64).clamp(0, i64::from(m.width) - 1) as usize;
+        let y = ((v * m.height as f32) as i64).clamp(0, i64::from(m.height) - 1) as usize;
+        f32::from(m.luminance[y * m.width as usize + x]) / 65535.0
+    }
 }
 
 impl Default for GrassParams {
@@ -721,6 +752,7 @@ impl Default for GrassParams {
             ],
             seed: 1,
             model: GrassModel::CwdQuadratic,
+            density_map: None,
         }
     }
 }

@@ -478,6 +478,11 @@ fn check_sim(c: &mut Checker, s: &SimParams) {
 
 fn check_grass(c: &mut Checker, g: &GrassParams) {
     c.bound("grass.density", g.density, GRASS_DENSITY);
+    if let Some(m) = &g.density_map
+        && m.image.trim().is_empty()
+    {
+        c.push("grass.density_map.image", "must name an image file");
+    }
     c.min_max("grass.height", g.height, BLADE_HEIGHT);
     c.min_max("grass.width", g.width, BLADE_WIDTH);
     c.min_max("grass.stiffness", g.stiffness, STIFFNESS);
@@ -595,4 +600,15 @@ pub fn mask_problems(layout: &Layout) -> Vec<String> {
             _ => None,
         })
         .collect()
+}
+
+/// Why the grass's density map (if the layout has one) is not read: a warning — the grass
+/// grows everywhere without it, and the wind does not depend on it.
+pub fn density_map_problem(layout: &Layout) -> Option<String> {
+    let map = layout.grass.density_map.as_ref()?;
+    match &map.pixels {
+        MaskPixels::Loaded(_) => None,
+        MaskPixels::Failed(why) => Some(format!("grass.density_map: {why}")),
+        MaskPixels::NotLoaded => Some(format!("grass.density_map: {} was not read", map.image)),
+    }
 }

@@ -3,7 +3,8 @@
 //! its CPU twins.
 //!
 //! - [`scatter`]: blades placed deterministically for `grass.seed` (stratified jitter at
-//!   `grass.density` per m²), none inside an obstacle, each with its own facing, height,
+//!   `grass.density` per m², thinned by the density map where there is one), none inside an
+//!   obstacle, each with its own facing, height,
 //!   width, stiffness, palette and colour variation.
 //! - [`cwd`]: the CWD-Sim quadratic deformation (paper eqs. 11–14) as
 //!   `../shared/reference/wind-model.md` reads it, with the paper's open problem solved
@@ -136,6 +137,7 @@ pub fn scatter_within(layout: &Layout, cap: usize) -> Vec<Blade> {
     let palettes = g.palettes.len().max(1) as u32;
     let lerp = |r: [f32; 2], t: f32| r[0] + (r[1] - r[0]) * t;
     let mut blades = Vec::with_capacity(nx * nz);
+    let bounds = layout.bounds();
     for j in 0..nz {
         for i in 0..nx {
             let (a, b) = (i as u32, j as u32);
@@ -148,6 +150,13 @@ pub fn scatter_within(layout: &Layout, cap: usize) -> Vec<Blade> {
             };
             let pos = [o[0] + (i as f32 + r(0)) * sx, o[1] + (j as f32 + r(1)) * sz];
             if in_obstacle(layout, pos) {
+                continue;
+            }
+            // Where the level has grass: kept with the density map's share there (a draw of
+            // its own, so a layout without a map keeps every blade as it was).
+            if let Some(map) = &g.density_map
+                && r(8) >= map.at(pos, bounds)
+            {
                 continue;
             }
             blades.push(Blade {

@@ -250,9 +250,20 @@ pub fn load(path: &Path) -> Result<Layout, LoadError> {
     Ok(layout)
 }
 
-/// Reads each mask obstacle's image (relative to the layout's folder `base`) into its
-/// `pixels`: loaded, or failed with the reason. Masks already loaded stay.
+/// Reads each mask obstacle's image, and the grass's density map (relative to the layout's
+/// folder `base`), into its `pixels`: loaded, or failed with the reason. Images already
+/// loaded stay.
 pub fn load_masks(layout: &mut Layout, base: &Path) {
+    if let Some(map) = &mut layout.grass.density_map
+        && !matches!(map.pixels, doc::MaskPixels::Loaded(_))
+    {
+        map.pixels = match load_mask(base, &map.image) {
+            Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
+            Err(e) => doc::MaskPixels::Failed(
+                e.to_string().replacen("map image", "density map", 1).into(),
+            ),
+        };
+    }
     for o in &mut layout.obstacles {
         if let doc::Shape::Mask { image, pixels, .. } = &mut o.shape
             && !matches!(pixels, doc::MaskPixels::Loaded(_))

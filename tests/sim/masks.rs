@@ -165,3 +165,61 @@ fn the_wind_flows_around_a_mask_on_the_cpu_and_the_gpu() {
         );
     }
 }
+
+/// Grass where the level has grass: a density map's black third grows none, its grey third
+/// about half, its white third all; an all-white map changes no blade at all.
+#[test]
+fn a_density_map_thins_the_grass_where_the_level_has_none() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut l = Layout::new("lawn", [90.0, 30.0], [45, 15]);
+    l.obstacles.clear();
+    l.grass.density = 8.0;
+    let img = image::GrayImage::from_fn(90, 10, |x, _| {
+        image::Luma([match x / 30 {
+            0 => 0,
+            1 => 128,
+            _ => 255,
+        }])
+    });
+    img.save(dir.path().join("grass.png")).unwrap();
+    let map = |name: &str| doc::DensityMap {
+        image: name.into(),
+        pixels: MaskPixels::Loaded(std::sync::Arc::new(
+            windloom::io::load_mask(dir.path(), name).unwrap(),
+        )),
+    };
+    let all = windloom::grass::scatter(&l);
+    let mut thinned = l.clone();
+    thinned.grass.density_map = Some(map("grass.png"));
+    let some = windloom::grass::scatter(&thinned);
+    let third = |b: &[windloom::grass::Blade], k: f32| {
+        b.iter()
+            .filter(|b| b.pos[0] >= 30.0 * k && b.pos[0] < 30.0 * (k + 1.0))
+            .count()
+    };
+    let full = third(&all, 1.0) as f64;
+    assert!(full > 5000.0, "{full}");
+    assert_eq!(third(&some, 0.0), 0, "none on black");
+    assert_eq!(third(&some, 2.0), third(&all, 2.0), "all on white");
+    let grey = third(&some, 1.0) as f64 / full;
+    assert!((grey - 128.0 / 255.0).abs() < 0.03, "grey keeps {grey}");
+    // Each kept blade is the blade the layout without a map has there.
+    assert!(some.iter().all(|b| all.contains(b)));
+    let white = image::GrayImage::from_pixel(4, 4, image::Luma([255]));
+    white.save(dir.path().join("white.png")).unwrap();
+    let mut lawn = l.clone();
+    lawn.grass.density_map = Some(map("white.png"));
+    assert_eq!(windloom::grass::scatter(&lawn), all);
+    // Unread, the map is a warning and the grass grows everywhere.
+    let mut unread = l.clone();
+    unread.grass.density_map = Some(doc::DensityMap {
+        image: "gone.png".into(),
+        pixels: MaskPixels::NotLoaded,
+    });
+    assert_eq!(windloom::grass::scatter(&unread), all);
+    assert!(
+        doc::density_map_problem(&unread)
+            .unwrap()
+            .contains("gone.png")
+    );
+}
