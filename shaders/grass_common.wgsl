@@ -58,6 +58,8 @@ struct Scene {
     // m/s, at the top of the scale.
     wind_colours: f32,
     wind_scale: f32,
+    // Where the map backdrop lies: x0, z0, x1, z1 in metres (`MapBackdrop::placed`).
+    backdrop_rect: vec4<f32>,
 }
 
 // The far field (`gpu::grass::FarUniform`; `grass::far`): a grid of texels over the world

@@ -32,8 +32,12 @@ fn vs_main(@builtin(vertex_index) k: u32) -> GroundOut {
 fn ground_colour(in: GroundOut) -> vec3<f32> {
     let soil = palettes[0].rgb * 0.55 + vec3<f32>(0.035, 0.028, 0.015);
     // The image is sRGB; the texture view decodes it to linear.
-    let map = textureSample(backdrop_image, backdrop_sampler, in.uv).rgb;
-    let ground = mix(soil, map, clamp(S.backdrop, 0.0, 1.0));
+    // Where the layout places the picture; soil outside it.
+    let r = S.backdrop_rect;
+    let buv = (in.world - r.xy) / (r.zw - r.xy);
+    let map = textureSample(backdrop_image, backdrop_sampler, buv).rgb;
+    let inside = all(buv >= vec2<f32>(0.0)) && all(buv <= vec2<f32>(1.0));
+    let ground = mix(soil, map, select(0.0, clamp(S.backdrop, 0.0, 1.0), inside));
     // The far field, bilinear between texel centres and clamped at the edges (the sampler's).
     let far_uv = (in.world - F.origin) / (F.cell * vec2<f32>(f32(F.nx), f32(F.ny)));
     let far = textureSample(far_image, far_sampler, far_uv);

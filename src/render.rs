@@ -144,7 +144,7 @@ pub fn render_scaled(
         Transform::identity(),
         None,
     );
-    draw_backdrop(&mut pix, layout, base, world);
+    draw_backdrop(&mut pix, layout, base, &view);
 
     // Speed underlay: the field as a small image, stretched with bilinear filtering.
     let field = solver.velocity_field();
@@ -296,7 +296,7 @@ fn line(pix: &mut Pixmap, a: (f32, f32), b: (f32, f32), p: &Paint, s: &Stroke) {
     }
 }
 
-fn draw_backdrop(pix: &mut Pixmap, layout: &Layout, base: &Path, world: Rect) {
+fn draw_backdrop(pix: &mut Pixmap, layout: &Layout, base: &Path, view: &View) {
     let Some(map) = &layout.world.map else {
         return;
     };
@@ -310,13 +310,16 @@ fn draw_backdrop(pix: &mut Pixmap, layout: &Layout, base: &Path, world: Rect) {
     for (dst, src) in p.pixels_mut().iter_mut().zip(img.pixels()) {
         *dst = tiny_skia::ColorU8::from_rgba(src[0], src[1], src[2], src[3]).premultiply();
     }
+    // Where the layout places it (the world rectangle unless it says otherwise).
+    let [a, b] = map.placed(layout.bounds());
+    let ((x0, y0), (x1, y1)) = (view.px(a), view.px(b));
     let t = Transform::from_row(
-        world.width() / img.width() as f32,
+        (x1 - x0) / img.width() as f32,
         0.0,
         0.0,
-        world.height() / img.height() as f32,
-        world.left(),
-        world.top(),
+        (y1 - y0) / img.height() as f32,
+        x0,
+        y0,
     );
     let pp = PixmapPaint {
         opacity: map.opacity,

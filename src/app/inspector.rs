@@ -578,9 +578,11 @@ fn map_image_row(
     let current = map.as_ref().map_or(String::new(), |m| m.image.clone());
     let set = |map: &mut Option<doc::MapBackdrop>, image: String| {
         let opacity = map.as_ref().map_or(1.0, |m| m.opacity);
+        let rect = map.as_ref().and_then(|m| m.rect);
         *map = (!image.trim().is_empty()).then(|| doc::MapBackdrop {
             image: image.trim().to_owned(),
             opacity,
+            rect,
         });
     };
     let mut changed = false;
@@ -683,10 +685,23 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         });
         ui.end_row();
         image_changed = map_image_row(ui, &mut w.map, app.doc.path(), &mut dialog_failed);
+        let world_bounds = app.doc.bounds();
         if let Some(map) = &mut w.map {
             changed |= row(ui, "Map opacity", |ui| {
                 ui.add(egui::Slider::new(&mut map.opacity, bounds::OPACITY.range()))
             });
+            // Where the picture lies: its top-left and bottom-right corners in the world.
+            let [mut a, mut b] = map.placed(world_bounds);
+            let mut xs = [a[0], b[0]];
+            let mut zs = [a[1], b[1]];
+            let moved = min_max(ui, "Map placed x", &mut xs, bounds::COORD, 0.1, " m")
+                | min_max(ui, "Map placed z", &mut zs, bounds::COORD, 0.1, " m");
+            // Only a rectangle with its corners in order (as `validate` asks).
+            if moved && xs[0] < xs[1] && zs[0] < zs[1] {
+                (a, b) = ([xs[0], zs[0]], [xs[1], zs[1]]);
+                map.rect = (a != world_bounds.0 || b != world_bounds.1).then_some([a, b]);
+                changed = true;
+            }
         }
     });
     // The vertical profile of the baked volume (Export: dds).

@@ -84,7 +84,7 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     let (min, max) = app.doc.bounds();
     let world = Rect::from_min_max(cam.to_screen(rect, min), cam.to_screen(rect, max));
     painter.rect_filled(world, 0.0, Color32::from_rgb(38, 52, 34));
-    draw_backdrop(app, &ctx, &painter, world);
+    draw_backdrop(app, &ctx, &painter, &cam, rect);
     let snap = app.live.snapshot();
     let max_speed = draw_wind(app, &ctx, &painter, &cam, rect, world, &snap);
     app.map.legend_scale = max_speed;
@@ -159,7 +159,13 @@ fn navigate(map: &mut MapState, ui: &egui::Ui, response: &egui::Response, rect: 
     }
 }
 
-fn draw_backdrop(app: &mut EditorApp, ctx: &egui::Context, painter: &egui::Painter, world: Rect) {
+fn draw_backdrop(
+    app: &mut EditorApp,
+    ctx: &egui::Context,
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+) {
     let Some(map) = app.doc.world.map.clone() else {
         app.map.backdrop = None;
         return;
@@ -183,9 +189,11 @@ fn draw_backdrop(app: &mut EditorApp, ctx: &egui::Context, painter: &egui::Paint
         app.map.backdrop = Some((file, texture));
     }
     if let Some((_, Some(t))) = &app.map.backdrop {
+        // Where the layout places it (the world rectangle unless it says otherwise).
+        let [a, b] = map.placed(app.doc.bounds());
         painter.image(
             t.id(),
-            world,
+            Rect::from_two_pos(cam.to_screen(rect, a), cam.to_screen(rect, b)),
             Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
             Color32::from_white_alpha((map.opacity * 255.0) as u8),
         );

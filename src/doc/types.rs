@@ -165,6 +165,19 @@ pub struct MapBackdrop {
     #[serde(default = "one")]
     #[schemars(range(min = OPACITY.min, max = OPACITY.max))]
     pub opacity: f32,
+    /// Where the image lies, `[[x0, z0], [x1, z1]]` in metres (`x0 < x1`, `z0 < z1`; the
+    /// image's top-left at `[x0, z0]`), so a level's picture lines up with its world; absent:
+    /// stretched over the world rectangle.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(inner(inner(inner(range(min = COORD.min, max = COORD.max)))))]
+    pub rect: Option<[Vec2; 2]>,
+}
+
+impl MapBackdrop {
+    /// The world rectangle the image covers (`bounds`: the world's).
+    pub fn placed(&self, bounds: (Vec2, Vec2)) -> [Vec2; 2] {
+        self.rect.unwrap_or([bounds.0, bounds.1])
+    }
 }
 
 fn one() -> f32 {

@@ -129,6 +129,20 @@ impl Checker {
         a && b
     }
 
+    /// An image's placement rectangle `[[x0, z0], [x1, z1]]`, if it has one.
+    fn placement(&mut self, path: &str, rect: &Option<[Vec2; 2]>) {
+        if let Some([a, b]) = rect {
+            let lo = self.point(&format!("{path}[0]"), *a);
+            let hi = self.point(&format!("{path}[1]"), *b);
+            if lo && hi && !(a[0] < b[0] && a[1] < b[1]) {
+                self.push(
+                    path,
+                    format!("[[x0, z0], [x1, z1]] needs x0 < x1 and z0 < z1, got [{a:?}, {b:?}]"),
+                );
+            }
+        }
+    }
+
     /// A `[min, max]` range, each end within `b`.
     fn min_max(&mut self, path: &str, r: Vec2, b: Bound) {
         let a = self.bound(&format!("{path}[0]"), r[0], b);
@@ -254,18 +268,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
                     c.push(&format!("{p}.shape.image"), "must name an image file");
                 }
                 c.bound(&format!("{p}.shape.threshold"), *threshold, MASK_THRESHOLD);
-                if let Some([a, b]) = rect {
-                    let lo = c.point(&format!("{p}.shape.rect[0]"), *a);
-                    let hi = c.point(&format!("{p}.shape.rect[1]"), *b);
-                    if lo && hi && !(a[0] < b[0] && a[1] < b[1]) {
-                        c.push(
-                            &format!("{p}.shape.rect"),
-                            format!(
-                                "[[x0, z0], [x1, z1]] needs x0 < x1 and z0 < z1, got [{a:?}, {b:?}]"
-                            ),
-                        );
-                    }
-                }
+                c.placement(&format!("{p}.shape.rect"), rect);
             }
             Shape::Polygon { points } => {
                 c.count(
@@ -405,6 +408,7 @@ fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
             c.push("world.map.image", "must name an image file");
         }
         c.bound("world.map.opacity", map.opacity, OPACITY);
+        c.placement("world.map.rect", &map.rect);
     }
     let p = &w.profile;
     let z0 = c.bound(

@@ -951,6 +951,7 @@ fn everything() -> serde_json::Value {
     l.world.map = Some(doc::MapBackdrop {
         image: "level.png".into(),
         opacity: 1.0,
+        rect: None,
     });
     // Not the default profile, so that the layout holds it; a roughness below every
     // reference height the bounds allow.

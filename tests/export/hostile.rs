@@ -326,6 +326,7 @@ fn inputs_that_never_end_or_are_not_text_are_refused() {
     l.world.map = Some(windloom::doc::MapBackdrop {
         image: "fifo.json".into(),
         opacity: 1.0,
+        rect: None,
     });
     let with_map = d.join("with-map.json");
     windloom::io::save(&with_map, &l).unwrap();

@@ -1520,3 +1520,48 @@ fn godot_reads_the_float_atlas_at_full_precision() {
         "{worst} m/s against the PNG's {png_step}"
     );
 }
+
+/// A backdrop placed by `world.map.rect` lines up with the world where it says: rendered over
+/// the east half only, the picture's colour is there and not in the west half; the 3D view's
+/// ground lays it the same way (`backdrop_rect` in the grass scene).
+#[test]
+fn a_placed_backdrop_lands_where_its_rectangle_says() {
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([250, 20, 200, 255]))
+        .save(dir.path().join("level.png"))
+        .unwrap();
+    let mut layout = example("meadow.json");
+    layout.trees.clear();
+    layout.ambient.clear();
+    let (lo, hi) = layout.bounds();
+    let mid = (lo[0] + hi[0]) / 2.0;
+    layout.world.map = Some(windloom::doc::MapBackdrop {
+        image: "level.png".into(),
+        opacity: 1.0,
+        rect: Some([[mid, lo[1]], [hi[0], hi[1]]]),
+    });
+    assert!(windloom::doc::validate(&layout).is_empty());
+    let solver = windloom::sim::Solver::new(&layout);
+    let pix = windloom::render::render(&layout, dir.path(), &solver, 800, 600).unwrap();
+    let magenta = |x: u32, y: u32| {
+        let c = pix.pixel(x, y).unwrap().demultiply();
+        c.red() > 200 && c.green() < 60 && c.blue() > 160
+    };
+    // The world spans most of the picture; sample a row through its middle.
+    let row = 300;
+    let (west, east): (Vec<u32>, Vec<u32>) = (100..700).partition(|&x| x < 400);
+    let east_hits = east.iter().filter(|&&x| magenta(x, row)).count();
+    let west_hits = west.iter().filter(|&&x| magenta(x, row)).count();
+    assert!(
+        east_hits > 200 && west_hits == 0,
+        "east {east_hits}, west {west_hits}"
+    );
+    // Corners out of order are refused by name.
+    let mut bad = layout.clone();
+    bad.world.map.as_mut().unwrap().rect = Some([[hi[0], lo[1]], [mid, hi[1]]]);
+    let issues = windloom::doc::validate(&bad);
+    assert!(
+        issues.iter().any(|i| i.path == "world.map.rect"),
+        "{issues:?}"
+    );
+}

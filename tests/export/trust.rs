@@ -745,6 +745,7 @@ fn a_bad_backdrop_is_a_warning_not_a_failure() {
         l.world.map = Some(windloom::doc::MapBackdrop {
             image: image.into(),
             opacity: 0.8,
+            rect: None,
         });
         let file = dir.path().join(format!("{image}.json"));
         windloom::io::save(&file, &l).unwrap();

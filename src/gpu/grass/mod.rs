@@ -162,6 +162,8 @@ pub struct Scene {
     pub wind_colours: f32,
     /// The speed, m/s, at the top of the wind colours' scale.
     pub wind_scale: f32,
+    /// Where the map backdrop lies: `[x0, z0, x1, z1]` in metres.
+    pub backdrop_rect: [f32; 4],
 }
 
 /// A blade's pose this frame; mirrors `struct Pose` in `shaders/grass_common.wgsl`.
@@ -331,6 +333,14 @@ impl GrassRenderer {
             lifetime: TRAIL_LIFETIME,
             wind_colours: 0.0,
             wind_scale: 1.0,
+            backdrop_rect: {
+                let [a, b] = layout
+                    .world
+                    .map
+                    .as_ref()
+                    .map_or([min, max], |m| m.placed((min, max)));
+                [a[0], a[1], b[0], b[1]]
+            },
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -545,7 +555,8 @@ impl GrassRenderer {
     }
 
     /// Lays the layout's map backdrop over the ground: `rgba` (sRGB, 8 bits, `size` pixels,
-    /// stretched over the world as on the map) at `opacity`; `None` removes it.
+    /// placed where the layout's `world.map` says, as on the map) at `opacity`; `None`
+    /// removes it.
     pub fn set_backdrop(
         &mut self,
         device: &wgpu::Device,

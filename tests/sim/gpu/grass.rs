@@ -525,6 +525,7 @@ fn the_ground_shows_the_map_backdrop() {
     l.world.map = Some(windloom::doc::MapBackdrop {
         image: "level.png".into(),
         opacity: 1.0,
+        rect: None,
     });
     let camera = Camera {
         eye: glam::Vec3::new(5.0, 14.0, 9.0),
@@ -551,6 +552,27 @@ fn the_ground_shows_the_map_backdrop() {
         right[2] > 120 && right[0] < 60,
         "the blue half on the right: {right:?}"
     );
+    // Placed over the east half only (`world.map.rect`): the red half of the picture now
+    // lands right of the middle, and the west is soil.
+    l.world.map.as_mut().unwrap().rect = Some([[5.0, 0.0], [10.0, 10.0]]);
+    let px = windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, dir.path()).as_ref(), &options)
+        .unwrap();
+    let at = |x: u32, y: u32| px[((y * w + x) * 4) as usize..][..3].to_vec();
+    let (west, east_red, east_blue) = (
+        at(w / 4, h / 2),
+        at(w / 2 + w / 12, h / 2),
+        at(w / 2 + w / 4 + w / 32, h / 2),
+    );
+    assert!(west[0] < 120 && west[2] < 60, "soil in the west: {west:?}");
+    assert!(
+        east_red[0] > 120 && east_red[2] < 60,
+        "red east of the middle: {east_red:?}"
+    );
+    assert!(
+        east_blue[2] > 120 && east_blue[0] < 60,
+        "blue at the east edge: {east_blue:?}"
+    );
+    l.world.map.as_mut().unwrap().rect = None;
     // Without the backdrop (the same picture otherwise), soil.
     l.world.map = None;
     let px = windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, dir.path()).as_ref(), &options)
