@@ -408,8 +408,9 @@ impl Shape {
     }
 
     /// A mask's solid area as world rectangles `[min, max]`: the runs of solid samples along
-    /// each row of a grid of at most `max` samples a side over the mask's rectangle (for
-    /// drawing; the solvers sample every cell).
+    /// each row of a grid of at most `max` samples a side over the mask's rectangle, a run
+    /// that spans the same columns as one on the row above merged into it (for drawing; the
+    /// solvers sample every cell).
     pub fn mask_runs(&self, bounds: (Vec2, Vec2), max: u32) -> Vec<[Vec2; 2]> {
         let Self::Mask {
             threshold,
@@ -430,8 +431,13 @@ impl Shape {
             (r[1][0] - r[0][0]) / cols as f32,
             (r[1][1] - r[0][1]) / rows as f32,
         );
-        let mut runs = Vec::new();
+        let mut runs: Vec<[Vec2; 2]> = Vec::new();
+        // Runs open on the row above, by their columns: a run that spans the same columns
+        // on the next row grows down instead of starting a new rectangle (a wall is one box,
+        // not one per row).
+        let mut open: std::collections::HashMap<(u32, u32), usize> = Default::default();
         for row in 0..rows {
+            let mut next = std::collections::HashMap::new();
             let v = (row as f32 + 0.5) / rows as f32;
             let mut start = None;
             for col in 0..=cols {
@@ -440,15 +446,27 @@ impl Shape {
                 match (solid, start) {
                     (true, None) => start = Some(col),
                     (false, Some(c0)) => {
-                        runs.push([
-                            [r[0][0] + c0 as f32 * dx, r[0][1] + row as f32 * dz],
-                            [r[0][0] + col as f32 * dx, r[0][1] + (row + 1) as f32 * dz],
-                        ]);
+                        let bottom = r[0][1] + (row + 1) as f32 * dz;
+                        let k = match open.get(&(c0, col)) {
+                            Some(&k) => {
+                                runs[k][1][1] = bottom;
+                                k
+                            }
+                            None => {
+                                runs.push([
+                                    [r[0][0] + c0 as f32 * dx, r[0][1] + row as f32 * dz],
+                                    [r[0][0] + col as f32 * dx, bottom],
+                                ]);
+                                runs.len() - 1
+                            }
+                        };
+                        next.insert((c0, col), k);
                         start = None;
                     }
                     _ => {}
                 }
             }
+            open = next;
         }
         runs
     }

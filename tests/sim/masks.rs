@@ -223,3 +223,36 @@ fn a_density_map_thins_the_grass_where_the_level_has_none() {
             .contains("gone.png")
     );
 }
+
+/// A mask's solid area as the views draw it: rectangles that cover exactly its solid samples,
+/// a straight wall one rectangle (not one per row, which showed seams in the 3D view).
+#[test]
+fn a_mask_s_solid_area_is_few_rectangles_covering_exactly_its_pixels() {
+    let dir = tempfile::tempdir().unwrap();
+    let image = mask_file(dir.path(), "mask.png", 40, 40, |x, y| {
+        (10..14).contains(&x) || ((20..30).contains(&x) && (5..15).contains(&y))
+    });
+    let mut l = Layout::new("walls", [40.0, 40.0], [40, 40]);
+    l.obstacles.clear();
+    with_mask(&mut l, image, None, false);
+    let runs = l.obstacles[0].shape.mask_runs(l.bounds(), 512);
+    assert_eq!(runs.len(), 2, "{runs:?}");
+    let area: f32 = runs
+        .iter()
+        .map(|[a, b]| (b[0] - a[0]) * (b[1] - a[1]))
+        .sum();
+    assert_eq!(area, 4.0 * 40.0 + 10.0 * 10.0);
+    for x in 0..40 {
+        for z in 0..40 {
+            let p = [x as f32 + 0.5, z as f32 + 0.5];
+            let drawn = runs
+                .iter()
+                .any(|[a, b]| p[0] > a[0] && p[0] < b[0] && p[1] > a[1] && p[1] < b[1]);
+            assert_eq!(
+                drawn,
+                l.obstacles[0].shape.mask_contains(p, l.bounds()),
+                "{p:?}"
+            );
+        }
+    }
+}
