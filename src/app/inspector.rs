@@ -887,6 +887,7 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                     let base = crate::io::layout_base(app.doc.path());
                     doc::DensityMap {
                         image: path.trim().to_owned(),
+                        rect: g.density_map.as_ref().and_then(|m| m.rect),
                         pixels: match crate::io::load_mask(&base, path.trim()) {
                             Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
                             Err(e) => doc::MaskPixels::Failed(

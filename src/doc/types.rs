@@ -726,8 +726,8 @@ pub struct GrassParams {
     pub seed: u64,
     pub model: GrassModel,
     /// Where the level has grass: a grey image (PNG 8/16-bit or EXR, relative to the layout
-    /// file) stretched over the world, its luminance 0–1 multiplying `density` (black: no
-    /// grass, on roads and water).
+    /// file) over the world (or its `rect`), its luminance 0–1 multiplying `density` (black:
+    /// no grass, on roads and water).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub density_map: Option<DensityMap>,
 }
@@ -738,6 +738,11 @@ pub struct GrassParams {
 pub struct DensityMap {
     #[schemars(length(min = 1))]
     pub image: String,
+    /// Where the image lies, `[[x0, z0], [x1, z1]]` in metres, as a mask's or the backdrop's;
+    /// absent: the world rectangle. Outside it the grass grows at the full density.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(inner(inner(inner(range(min = COORD.min, max = COORD.max)))))]
+    pub rect: Option<[Vec2; 2]>,
     #[serde(skip)]
     #[schemars(skip)]
     pub pixels: MaskPixels,
@@ -745,13 +750,17 @@ pub struct DensityMap {
 
 impl DensityMap {
     /// The density's share at world point `p` (`bounds`: the world's), 0 to 1; 1 where the
-    /// image is not loaded (the grass grows as if there were no map).
+    /// image is not loaded or does not reach (the grass grows as if there were no map).
     pub fn at(&self, p: Vec2, bounds: (Vec2, Vec2)) -> f32 {
         let Some(m) = self.pixels.image() else {
             return 1.0;
         };
-        let u = (p[0] - bounds.0[0]) / (bounds.1[0] - bounds.0[0]);
-        let v = (p[1] - bounds.0[1]) / (bounds.1[1] - bounds.0[1]);
+        let [a, b] = self.rect.unwrap_or([bounds.0, bounds.1]);
+        let u = (p[0] - a[0]) / (b[0] - a[0]);
+        let v = (p[1] - a[1]) / (b[1] - a[1]);
+        if !((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v)) {
+            return 1.0;
+        }
         let x = ((u * m.width as f32) as i64).clamp(0, i64::from(m.width) - 1) as usize;
         let y = ((v * m.height as f32) as i64).clamp(0, i64::from(m.height) - 1) as usize;
         f32::from(m.luminance[y * m.width as usize + x]) / 65535.0

@@ -482,10 +482,11 @@ fn check_sim(c: &mut Checker, s: &SimParams) {
 
 fn check_grass(c: &mut Checker, g: &GrassParams) {
     c.bound("grass.density", g.density, GRASS_DENSITY);
-    if let Some(m) = &g.density_map
-        && m.image.trim().is_empty()
-    {
-        c.push("grass.density_map.image", "must name an image file");
+    if let Some(m) = &g.density_map {
+        if m.image.trim().is_empty() {
+            c.push("grass.density_map.image", "must name an image file");
+        }
+        c.placement("grass.density_map.rect", &m.rect);
     }
     c.min_max("grass.height", g.height, BLADE_HEIGHT);
     c.min_max("grass.width", g.width, BLADE_WIDTH);

@@ -184,6 +184,7 @@ fn a_density_map_thins_the_grass_where_the_level_has_none() {
     img.save(dir.path().join("grass.png")).unwrap();
     let map = |name: &str| doc::DensityMap {
         image: name.into(),
+        rect: None,
         pixels: MaskPixels::Loaded(std::sync::Arc::new(
             windloom::io::load_mask(dir.path(), name).unwrap(),
         )),
@@ -214,6 +215,7 @@ fn a_density_map_thins_the_grass_where_the_level_has_none() {
     let mut unread = l.clone();
     unread.grass.density_map = Some(doc::DensityMap {
         image: "gone.png".into(),
+        rect: None,
         pixels: MaskPixels::NotLoaded,
     });
     assert_eq!(windloom::grass::scatter(&unread), all);
