@@ -25,28 +25,46 @@ pub(crate) fn box_size(ctx: &ExportContext) -> [f32; 3] {
     [ctx.max[0] - ctx.min[0], 1.0, ctx.max[1] - ctx.min[1]]
 }
 
-fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
-    let (nx, ny) = (f.nx, f.ny);
-    let box_size = box_size(ctx);
-    let mut bytes = Vec::with_capacity(size(nx, ny) as usize);
+/// A VF file of `f` carried up `factors` (one Y layer per factor, the field times it), in
+/// a box of `box_size` whose Y covers `y_range` metres: `STEM.vf` or `STEM_NNNN.vf`, its
+/// manifest entry under `format`. The 2D field is one layer of factor 1 in a 1 m slab; the
+/// volume (`volume.rs`) is its layers up the profile.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "each says one thing about the file"
+)]
+pub(crate) fn field(
+    ctx: &ExportContext,
+    k: usize,
+    f: &Field,
+    stem: &str,
+    format: Format,
+    factors: &[f32],
+    box_size: [f32; 3],
+    y_range: [f32; 2],
+) -> Output {
+    let (nx, ny, nl) = (f.nx, f.ny, factors.len());
+    let mut bytes = Vec::with_capacity(size(nx, ny * nl) as usize);
     bytes.extend_from_slice(b"VF_V");
-    for size in [nx, 1, ny] {
-        bytes.extend_from_slice(&(size as u16).to_le_bytes());
+    for n in [nx, nl, ny] {
+        bytes.extend_from_slice(&(n as u16).to_le_bytes());
     }
     for kz in 0..ny {
         let j = ny - 1 - kz;
-        for i in 0..nx {
-            let v = f.at(i, j);
-            for c in [v[0] / box_size[0], 0.0, -v[1] / box_size[2]] {
-                bytes.extend_from_slice(&c.to_le_bytes());
+        for s in factors {
+            for i in 0..nx {
+                let v = f.at(i, j);
+                for c in [v[0] * s / box_size[0], 0.0, -(v[1] * s) / box_size[2]] {
+                    bytes.extend_from_slice(&c.to_le_bytes());
+                }
             }
         }
     }
-    let name = ctx.name("wind", k, "vf");
+    let name = ctx.name(stem, k, "vf");
     Output {
         entry: FileEntry {
             name: name.clone(),
-            format: Format::Vf,
+            format,
             frame: ctx.frame_index(k),
             grid: [nx, ny],
             resampled_from: None,
@@ -73,8 +91,8 @@ fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
                     IndexAxis {
                         name: "Y",
                         world: WorldAxis::PlusY,
-                        cells: 1,
-                        range: [-box_size[1] / 2.0, box_size[1] / 2.0],
+                        cells: nl,
+                        range: y_range,
                     },
                     IndexAxis {
                         name: "Z",
@@ -91,6 +109,25 @@ fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
         name,
         bytes,
     }
+}
+
+fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Output {
+    let b = box_size(ctx);
+    field(
+        ctx,
+        k,
+        f,
+        "wind",
+        Format::Vf,
+        &[1.0],
+        b,
+        [-b[1] / 2.0, b[1] / 2.0],
+    )
+}
+
+/// Bytes of one volume file of `layers` layers (the volume's `max_bytes`).
+pub(crate) fn volume_size(nx: usize, ny: usize, layers: usize) -> u64 {
+    size(nx, ny * layers)
 }
 
 /// The VF format.

@@ -168,73 +168,17 @@ pub(crate) fn unity_box(ctx: &ExportContext) -> [f32; 3] {
 }
 
 fn vf(ctx: &ExportContext, k: usize, f: &Field, factors: &[f32]) -> Output {
-    let (nx, ny, nl) = (f.nx, f.ny, factors.len());
-    let size = unity_box(ctx);
-    let mut bytes = Vec::with_capacity(10 + 12 * nx * ny * nl);
-    bytes.extend_from_slice(b"VF_V");
-    for n in [nx, nl, ny] {
-        bytes.extend_from_slice(&(n as u16).to_le_bytes());
-    }
-    for kz in 0..ny {
-        let j = ny - 1 - kz;
-        for layer in 0..nl {
-            for i in 0..nx {
-                let w = at(f, factors, i, j, layer);
-                for c in [w[0] / size[0], w[1] / size[1], -w[2] / size[2]] {
-                    bytes.extend_from_slice(&c.to_le_bytes());
-                }
-            }
-        }
-    }
-    let name = ctx.name("wind_volume", k, "vf");
-    Output {
-        entry: FileEntry {
-            name: name.clone(),
-            format: Format::Dds,
-            frame: ctx.frame_index(k),
-            grid: [nx, ny],
-            resampled_from: None,
-            encoding: Encoding {
-                sample: Sample::F32,
-                units: "m/s",
-                channels: vec![
-                    Channel::velocity("X", WorldAxis::PlusX, size[0], 0.0),
-                    Channel::velocity("Y", WorldAxis::PlusY, size[1], 0.0),
-                    Channel::velocity("Z", WorldAxis::MinusZ, size[2], 0.0),
-                ],
-                green_flipped: None,
-                storage: "VF_V: \"VF_V\", u16 sizes X, Y, Z, then f32 X, Y, Z per cell, X fastest, then Y, then Z (little-endian)"
-                    .to_string(),
-            },
-            axes: Axes {
-                index: vec![
-                    IndexAxis {
-                        name: "X",
-                        world: WorldAxis::PlusX,
-                        cells: nx,
-                        range: [ctx.min[0], ctx.max[0]],
-                    },
-                    IndexAxis {
-                        name: "Y",
-                        world: WorldAxis::PlusY,
-                        cells: nl,
-                        range: [0.0, ctx.profile.top],
-                    },
-                    IndexAxis {
-                        name: "Z",
-                        world: WorldAxis::MinusZ,
-                        cells: ny,
-                        range: [ctx.min[1], ctx.max[1]],
-                    },
-                ],
-                sub_images: None,
-                engine_frame: Some("Unity: X east, Y up, Z north (left-handed, metres)"),
-            },
-            bytes: 0,
-        },
-        name,
-        bytes,
-    }
+    let top = ctx.profile.top;
+    super::vf::field(
+        ctx,
+        k,
+        f,
+        "wind_volume",
+        Format::Dds,
+        factors,
+        unity_box(ctx),
+        [0.0, top],
+    )
 }
 
 fn slices(ctx: &ExportContext, k: usize, f: &Field, factors: &[f32]) -> Result<Output, BakeError> {
@@ -286,7 +230,7 @@ impl Encoder for Volume {
     fn max_bytes(&self, e: &Extent) -> u64 {
         let cells = (e.nx * e.ny * e.layers) as u64;
         let dds = DDS_HEADER_BYTES as u64 + cells * if e.half { 8 } else { 16 };
-        let vf = 10 + 12 * cells;
+        let vf = super::vf::volume_size(e.nx, e.ny, e.layers);
         let exr = rgb_max_bytes(e.nx, e.ny * e.layers, e.half);
         e.frames as u64 * (dds + vf + exr)
     }
