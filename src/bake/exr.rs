@@ -50,6 +50,21 @@ pub(crate) fn rgb_max_bytes(width: usize, height: usize, half: bool) -> u64 {
     raw + raw / 100 + height.div_ceil(16) as u64 * 16 + 4096
 }
 
+/// A windloom EXR's channels: R, G the wind along x and z, B the speed, in m/s.
+fn wind_encoding(sample: Sample, storage: String) -> m::Encoding {
+    m::Encoding {
+        sample,
+        units: "m/s",
+        channels: vec![
+            Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
+            Channel::velocity("G", WorldAxis::PlusZ, 1.0, 0.0),
+            Channel::speed("B"),
+        ],
+        green_flipped: None,
+        storage,
+    }
+}
+
 fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> {
     let name = ctx.name("wind", k, "exr");
     let bytes = rgb_bytes(&name, (f.nx, f.ny), ctx.half, |x, y| {
@@ -63,19 +78,10 @@ fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> 
             frame: ctx.frame_index(k),
             grid: [f.nx, f.ny],
             resampled_from: None,
-            encoding: m::Encoding {
-                sample: if ctx.half { Sample::F16 } else { Sample::F32 },
-                units: "m/s",
-                channels: vec![
-                    Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
-                    Channel::velocity("G", WorldAxis::PlusZ, 1.0, 0.0),
-                    Channel::speed("B"),
-                ],
-                green_flipped: None,
-                storage:
-                    "OpenEXR scanline, increasing Y, ZIP (16 lines per block), channels B, G, R"
-                        .to_string(),
-            },
+            encoding: wind_encoding(
+                if ctx.half { Sample::F16 } else { Sample::F32 },
+                "OpenEXR scanline, increasing Y, ZIP (16 lines per block), channels B, G, R".into(),
+            ),
             axes: Axes {
                 index: image_axes(ctx, f.nx, f.ny),
                 sub_images: None,
@@ -161,30 +167,13 @@ pub(crate) fn atlas(
         frame: None,
         grid: [nx, ny],
         resampled_from: None,
-        encoding: m::Encoding {
-            sample: Sample::F16,
-            units: "m/s",
-            channels: vec![
-                Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
-                Channel::velocity("G", WorldAxis::PlusZ, 1.0, 0.0),
-                Channel::speed("B"),
-            ],
-            green_flipped: None,
-            storage: format!(
+        encoding: wind_encoding(
+            Sample::F16,
+            format!(
                 "OpenEXR scanline, increasing Y, ZIP, half floats: {columns} × {rows} sub-images of {nx} × {ny} pixels; unused sub-images hold zero wind"
             ),
-        },
-        axes: Axes {
-            index: image_axes(ctx, nx, ny),
-            sub_images: Some(m::SubImages {
-                columns,
-                rows,
-                count: ctx.count,
-                fps: ctx.fps,
-                order: "frame k at column k % columns, row k / columns (row 0 at the top)",
-            }),
-            engine_frame: None,
-        },
+        ),
+        axes: m::atlas_axes(ctx),
         bytes: 0,
     };
     Ok((bytes, entry))

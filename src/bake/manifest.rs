@@ -338,3 +338,20 @@ pub(crate) fn image_axes(ctx: &super::ExportContext, nx: usize, ny: usize) -> Ve
         },
     ]
 }
+
+/// The axes of an atlas of the bake's frames (`png::atlas_grid`): a frame's image axes, and
+/// where each frame's sub-image sits.
+pub(crate) fn atlas_axes(ctx: &super::ExportContext) -> Axes {
+    let (columns, rows) = super::png::atlas_grid(ctx.count);
+    Axes {
+        index: image_axes(ctx, ctx.nx, ctx.ny),
+        sub_images: Some(SubImages {
+            columns,
+            rows,
+            count: ctx.count,
+            fps: ctx.fps,
+            order: "frame k at column k % columns, row k / columns (row 0 at the top)",
+        }),
+        engine_frame: None,
+    }
+}

@@ -2,7 +2,7 @@
 //! G = 0.5 + 0.5·vz/max_speed, B = 0; decode with `rg * 2 − 1` times `max_speed`.
 
 use super::format::{Encoder, Extent, frame_names};
-use super::manifest::{Axes, Channel, Encoding, Sample, SubImages, WorldAxis, image_axes};
+use super::manifest::{Axes, Channel, Encoding, Sample, WorldAxis, atlas_axes, image_axes};
 use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
 use image::{ImageBuffer, ImageEncoder, Rgb};
 use std::io::Write;
@@ -204,17 +204,7 @@ impl Atlas {
             grid: [ctx.nx, ctx.ny],
             resampled_from: None,
             encoding,
-            axes: Axes {
-                index: image_axes(ctx, ctx.nx, ctx.ny),
-                sub_images: Some(SubImages {
-                    columns,
-                    rows,
-                    count: ctx.count,
-                    fps: ctx.fps,
-                    order: "frame k at column k % columns, row k / columns (row 0 at the top)",
-                }),
-                engine_frame: None,
-            },
+            axes: atlas_axes(ctx),
             bytes: 0,
         };
         Ok(Self {

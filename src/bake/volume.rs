@@ -90,48 +90,69 @@ fn dds(ctx: &ExportContext, k: usize, f: &Field, factors: &[f32]) -> Output {
         }
     }
     let name = ctx.name("wind_volume", k, "dds");
+    let storage = format!(
+        "DDS with a DX10 header: 3D texture, DXGI format {format} ({}), one mip level; texels row by row, rows slice by slice",
+        if ctx.half {
+            "R16G16B16A16_FLOAT"
+        } else {
+            "R32G32B32A32_FLOAT"
+        }
+    );
     Output {
-        entry: FileEntry {
-            name: name.clone(),
-            format: Format::Dds,
-            frame: ctx.frame_index(k),
-            grid: [nx, ny],
-            resampled_from: None,
-            encoding: Encoding {
-                sample: if ctx.half { Sample::F16 } else { Sample::F32 },
-                units: "m/s",
-                channels: vec![
-                    Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
-                    Channel::velocity("G", WorldAxis::PlusY, 1.0, 0.0),
-                    Channel::velocity("B", WorldAxis::PlusZ, 1.0, 0.0),
-                    Channel::speed("A"),
-                ],
-                green_flipped: None,
-                storage: format!(
-                    "DDS with a DX10 header: 3D texture, DXGI format {format} ({}), one mip level; texels row by row, rows slice by slice",
-                    if ctx.half {
-                        "R16G16B16A16_FLOAT"
-                    } else {
-                        "R32G32B32A32_FLOAT"
-                    }
-                ),
-            },
-            axes: volume_axes(ctx, nx, ny, ["width", "height", "depth"], None),
-            bytes: 0,
-        },
+        entry: entry(
+            ctx,
+            k,
+            &name,
+            (nx, ny),
+            true,
+            storage,
+            ["width", "height", "depth"],
+        ),
         name,
         bytes: b,
     }
 }
 
-/// Index axes of a volume whose first two axes run as the grid's and whose third goes up.
-fn volume_axes(
+/// The manifest entry of a volume file holding the wind along world x, y, z as R, G, B (and
+/// the speed as A, `speed`), floats as the bake's width, its index axes `axes`: the grid's
+/// two, then up the layers.
+fn entry(
     ctx: &ExportContext,
-    nx: usize,
-    ny: usize,
-    names: [&'static str; 3],
-    engine_frame: Option<&'static str>,
-) -> Axes {
+    k: usize,
+    name: &str,
+    (nx, ny): (usize, usize),
+    speed: bool,
+    storage: String,
+    axes: [&'static str; 3],
+) -> FileEntry {
+    let mut channels = vec![
+        Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
+        Channel::velocity("G", WorldAxis::PlusY, 1.0, 0.0),
+        Channel::velocity("B", WorldAxis::PlusZ, 1.0, 0.0),
+    ];
+    if speed {
+        channels.push(Channel::speed("A"));
+    }
+    FileEntry {
+        name: name.to_string(),
+        format: Format::Dds,
+        frame: ctx.frame_index(k),
+        grid: [nx, ny],
+        resampled_from: None,
+        encoding: Encoding {
+            sample: if ctx.half { Sample::F16 } else { Sample::F32 },
+            units: "m/s",
+            channels,
+            green_flipped: None,
+            storage,
+        },
+        axes: volume_axes(ctx, nx, ny, axes),
+        bytes: 0,
+    }
+}
+
+/// Index axes of a volume whose first two axes run as the grid's and whose third goes up.
+fn volume_axes(ctx: &ExportContext, nx: usize, ny: usize, names: [&'static str; 3]) -> Axes {
     Axes {
         index: vec![
             IndexAxis {
@@ -154,7 +175,7 @@ fn volume_axes(
             },
         ],
         sub_images: None,
-        engine_frame,
+        engine_frame: None,
     }
 }
 
@@ -188,29 +209,19 @@ fn slices(ctx: &ExportContext, k: usize, f: &Field, factors: &[f32]) -> Result<O
         let w = at(f, factors, x, y % ny, y / ny);
         (w[0], w[1], w[2])
     })?;
+    let storage = format!(
+        "OpenEXR scanline, increasing Y, ZIP: {nl} slices of {nx} × {ny} pixels stacked down the image, slice k (layer k) at rows k · {ny}"
+    );
     Ok(Output {
-        entry: FileEntry {
-            name: name.clone(),
-            format: Format::Dds,
-            frame: ctx.frame_index(k),
-            grid: [nx, ny],
-            resampled_from: None,
-            encoding: Encoding {
-                sample: if ctx.half { Sample::F16 } else { Sample::F32 },
-                units: "m/s",
-                channels: vec![
-                    Channel::velocity("R", WorldAxis::PlusX, 1.0, 0.0),
-                    Channel::velocity("G", WorldAxis::PlusY, 1.0, 0.0),
-                    Channel::velocity("B", WorldAxis::PlusZ, 1.0, 0.0),
-                ],
-                green_flipped: None,
-                storage: format!(
-                    "OpenEXR scanline, increasing Y, ZIP: {nl} slices of {nx} × {ny} pixels stacked down the image, slice k (layer k) at rows k · {ny}"
-                ),
-            },
-            axes: volume_axes(ctx, nx, ny, ["pixel_x", "pixel_y", "slice"], None),
-            bytes: 0,
-        },
+        entry: entry(
+            ctx,
+            k,
+            &name,
+            (nx, ny),
+            false,
+            storage,
+            ["pixel_x", "pixel_y", "slice"],
+        ),
         name,
         bytes,
     })
