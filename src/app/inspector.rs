@@ -388,12 +388,7 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
         // A new image path is read at once (relative to the layout's folder).
         if changed && !matches!(pixels, doc::MaskPixels::Loaded(_)) {
             let base = crate::io::layout_base(app.doc.path());
-            *pixels = match crate::io::load_mask(&base, image) {
-                Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
-                Err(e) => doc::MaskPixels::Failed(
-                    e.to_string().replacen("map image", "mask image", 1).into(),
-                ),
-            };
+            *pixels = crate::io::grey_pixels(&base, image, "mask image");
         }
         match pixels {
             doc::MaskPixels::Loaded(m) => {
@@ -888,12 +883,7 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                     doc::DensityMap {
                         image: path.trim().to_owned(),
                         rect: g.density_map.as_ref().and_then(|m| m.rect),
-                        pixels: match crate::io::load_mask(&base, path.trim()) {
-                            Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
-                            Err(e) => doc::MaskPixels::Failed(
-                                e.to_string().replacen("map image", "density map", 1).into(),
-                            ),
-                        },
+                        pixels: crate::io::grey_pixels(&base, path.trim(), "density map"),
                     }
                 });
             }

@@ -108,8 +108,6 @@ pub const GRID_AXIS: Count = Count::new(8, 16384);
 pub const OPACITY: Bound = Bound::new(0.0, 1.0);
 /// A mask obstacle's luminance threshold.
 pub const MASK_THRESHOLD: Bound = Bound::new(0.0, 1.0);
-/// Largest side of a mask image, pixels.
-pub const MASK_MAX_SIDE: u32 = 16384;
 /// A surface's roughness length, metres: from still water to a city centre.
 pub const ROUGHNESS: Bound = Bound::positive(0.0, 10.0);
 /// A height in the vertical profile, metres.

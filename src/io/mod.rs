@@ -30,21 +30,37 @@ pub const BACKDROP_MAX_SIDE: u32 = 16_384;
 pub const BACKDROP_MAX_PIXELS: u64 = 64 << 20;
 pub const BACKDROP_MAX_BYTES: u64 = 256 << 20;
 
-/// Why a layout's map backdrop could not be shown. Never a reason to refuse the layout: the
-/// editor, `render` and `validate` report it as a warning and go on without the image.
+/// Why an image the layout names — its map backdrop, a mask obstacle's image, the grass's
+/// density map; `what` says which — could not be read. Never a reason to refuse the layout:
+/// the editor, `render` and `validate` report it as a warning and go on without the image
+/// (a bake refuses a mask it cannot read: `doc::mask_problems`).
 #[derive(Debug, thiserror::Error)]
 pub enum BackdropError {
-    #[error("map image {}: {source}", path.display())]
+    #[error("{what} {}: {source}", path.display())]
     Io {
+        what: &'static str,
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("map image {}: {size} bytes, more than the {} MiB windloom reads", path.display(), BACKDROP_MAX_BYTES >> 20)]
-    TooManyBytes { path: PathBuf, size: u64 },
-    #[error("map image {}: {w}×{h} pixels, more than windloom reads ({BACKDROP_MAX_SIDE} a side, {} Mpixels)", path.display(), BACKDROP_MAX_PIXELS >> 20)]
-    TooLarge { path: PathBuf, w: u32, h: u32 },
-    #[error("map image {}: {message}", path.display())]
-    Decode { path: PathBuf, message: String },
+    #[error("{what} {}: {size} bytes, more than the {} MiB windloom reads", path.display(), BACKDROP_MAX_BYTES >> 20)]
+    TooManyBytes {
+        what: &'static str,
+        path: PathBuf,
+        size: u64,
+    },
+    #[error("{what} {}: {w}×{h} pixels, more than windloom reads ({BACKDROP_MAX_SIDE} a side, {} Mpixels)", path.display(), BACKDROP_MAX_PIXELS >> 20)]
+    TooLarge {
+        what: &'static str,
+        path: PathBuf,
+        w: u32,
+        h: u32,
+    },
+    #[error("{what} {}: {message}", path.display())]
+    Decode {
+        what: &'static str,
+        path: PathBuf,
+        message: String,
+    },
 }
 
 /// The folder a layout's relative paths (its map image) start from: the layout file's
@@ -86,38 +102,88 @@ pub fn load_backdrop(
     map: &doc::MapBackdrop,
 ) -> Result<image::RgbaImage, BackdropError> {
     let path = base.join(&map.image);
+    let what = "map image";
+    let bytes = read_image_file(&path, what)?;
+    let (reader, _) = image_decoder(&path, what, &bytes)?;
+    Ok(reader
+        .decode()
+        .map_err(|e| decode_error(&path, what, e))?
+        .to_rgba8())
+}
+
+/// An image file the layout names (`what` it is, for the messages), read whole after its
+/// size on disk is checked.
+fn read_image_file(path: &Path, what: &'static str) -> Result<Vec<u8>, BackdropError> {
     let io = |source| BackdropError::Io {
-        path: path.clone(),
+        what,
+        path: path.to_path_buf(),
         source: plain(source),
     };
-    let size = std::fs::metadata(&path).map_err(io)?.len();
+    let size = std::fs::metadata(path).map_err(io)?.len();
     if size > BACKDROP_MAX_BYTES {
-        return Err(BackdropError::TooManyBytes { path, size });
+        return Err(BackdropError::TooManyBytes {
+            what,
+            path: path.to_path_buf(),
+            size,
+        });
     }
-    let bytes = read_regular(&path, BACKDROP_MAX_BYTES, "a map image").map_err(io)?;
-    let decode = |e: image::ImageError| BackdropError::Decode {
-        path: path.clone(),
+    read_regular(path, BACKDROP_MAX_BYTES, &format!("a {what}")).map_err(io)
+}
+
+fn decode_error(path: &Path, what: &'static str, e: impl std::fmt::Display) -> BackdropError {
+    BackdropError::Decode {
+        what,
+        path: path.to_path_buf(),
         message: e.to_string(),
-    };
-    let open = || {
-        image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
-            .with_guessed_format()
-            .map_err(io)
-    };
-    let (w, h) = open()?.into_dimensions().map_err(decode)?;
+    }
+}
+
+/// Refuses an image of more pixels than windloom reads.
+fn check_pixels(path: &Path, what: &'static str, w: u32, h: u32) -> Result<(), BackdropError> {
     if w > BACKDROP_MAX_SIDE
         || h > BACKDROP_MAX_SIDE
         || u64::from(w) * u64::from(h) > BACKDROP_MAX_PIXELS
     {
-        return Err(BackdropError::TooLarge { path, w, h });
+        return Err(BackdropError::TooLarge {
+            what,
+            path: path.to_path_buf(),
+            w,
+            h,
+        });
     }
+    Ok(())
+}
+
+/// An image decoder over bytes in memory.
+type ImageDecoder<'a> = image::ImageReader<std::io::Cursor<&'a [u8]>>;
+
+/// A decoder of the image `bytes` (its format guessed) and its size, checked in its header,
+/// limited so that decoding allocates no more than windloom reads.
+fn image_decoder<'a>(
+    path: &Path,
+    what: &'static str,
+    bytes: &'a [u8],
+) -> Result<(ImageDecoder<'a>, [u32; 2]), BackdropError> {
+    let open = || {
+        image::ImageReader::new(std::io::Cursor::new(bytes))
+            .with_guessed_format()
+            .map_err(|source| BackdropError::Io {
+                what,
+                path: path.to_path_buf(),
+                source: plain(source),
+            })
+    };
+    let (w, h) = open()?
+        .into_dimensions()
+        .map_err(|e| decode_error(path, what, e))?;
+    check_pixels(path, what, w, h)?;
     let mut reader = open()?;
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(BACKDROP_MAX_SIDE);
     limits.max_image_height = Some(BACKDROP_MAX_SIDE);
     limits.max_alloc = Some(BACKDROP_MAX_PIXELS * 8);
     reader.limits(limits);
-    Ok(reader.decode().map_err(decode)?.to_rgba8())
+    Ok((reader, [w, h]))
 }
 
 /// An I/O error in plain words: the kinds a command meets on a hostile file system said as
@@ -257,73 +323,68 @@ pub fn load_masks(layout: &mut Layout, base: &Path) {
     if let Some(map) = &mut layout.grass.density_map
         && !matches!(map.pixels, doc::MaskPixels::Loaded(_))
     {
-        map.pixels = match load_mask(base, &map.image) {
-            Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
-            Err(e) => doc::MaskPixels::Failed(
-                e.to_string().replacen("map image", "density map", 1).into(),
-            ),
-        };
+        map.pixels = grey_pixels(base, &map.image, "density map");
     }
     for o in &mut layout.obstacles {
         if let doc::Shape::Mask { image, pixels, .. } = &mut o.shape
             && !matches!(pixels, doc::MaskPixels::Loaded(_))
         {
-            *pixels = match load_mask(base, image) {
-                Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
-                // The backdrop's errors, said of a mask.
-                Err(e) => doc::MaskPixels::Failed(
-                    e.to_string().replacen("map image", "mask image", 1).into(),
-                ),
-            };
+            *pixels = grey_pixels(base, image, "mask image");
         }
     }
 }
 
-/// A mask obstacle's image (`image`, relative to `base`) as luminance: PNG through `image`
-/// (8 or 16 bits, its luma), EXR through `exr` (linear Rec. 709 luminance, clamped to 0–1);
-/// its size checked before any pixel is decoded.
-pub fn load_mask(base: &Path, image: &str) -> Result<doc::MaskImage, BackdropError> {
-    let path = base.join(image);
-    let io = |source| BackdropError::Io {
-        path: path.clone(),
-        source: plain(source),
-    };
-    let size = std::fs::metadata(&path).map_err(io)?.len();
-    if size > BACKDROP_MAX_BYTES {
-        return Err(BackdropError::TooManyBytes { path, size });
+/// [`load_mask`] as a layout keeps it: the pixels, or why they could not be read.
+pub fn grey_pixels(base: &Path, image: &str, what: &'static str) -> doc::MaskPixels {
+    match load_mask(base, image, what) {
+        Ok(m) => doc::MaskPixels::Loaded(std::sync::Arc::new(m)),
+        Err(e) => doc::MaskPixels::Failed(e.to_string().into()),
     }
-    let bytes = read_regular(&path, BACKDROP_MAX_BYTES, "a mask image").map_err(io)?;
-    let decode = |message: String| BackdropError::Decode {
-        path: path.clone(),
-        message,
-    };
-    let too_large = |w: u32, h: u32| {
-        w > doc::bounds::MASK_MAX_SIDE
-            || h > doc::bounds::MASK_MAX_SIDE
-            || w == 0
-            || h == 0
-            || u64::from(w) * u64::from(h) > BACKDROP_MAX_PIXELS
+}
+
+/// A grey image the layout names (`image`, relative to `base`; `what` it is: a mask
+/// obstacle's image, the density map) as luminance: PNG through `image` (8 or 16 bits, its
+/// luma), EXR through `exr` (linear Rec. 709 luminance, clamped to 0–1); its size checked
+/// before any pixel is decoded.
+pub fn load_mask(
+    base: &Path,
+    image: &str,
+    what: &'static str,
+) -> Result<doc::MaskImage, BackdropError> {
+    let path = base.join(image);
+    let bytes = read_image_file(&path, what)?;
+    let decode = |e: &dyn std::fmt::Display| decode_error(&path, what, e);
+    let has_pixels = |w: u32, h: u32| {
+        if w == 0 || h == 0 {
+            Err(decode(&"it has no pixels"))
+        } else {
+            Ok(())
+        }
     };
     if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
         use exr::prelude::*;
         let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(&bytes[..]), false)
-            .map_err(|e| decode(e.to_string()))?;
+            .map_err(|e| decode(&e))?;
         let s = meta.headers[0].layer_size;
         let (w, h) = (s.width() as u32, s.height() as u32);
-        if too_large(w, h) {
-            return Err(BackdropError::TooLarge { path, w, h });
-        }
-        let img = read_first_rgba_layer_from_file(
-            &path,
-            |res, _| (res.width(), vec![0u16; res.width() * res.height()]),
-            |(w, px): &mut (usize, Vec<u16>),
-             p: Vec2<usize>,
-             (r, g, b, _a): (f32, f32, f32, f32)| {
-                let l = (0.2126 * r + 0.7152 * g + 0.0722 * b).clamp(0.0, 1.0);
-                px[p.y() * *w + p.x()] = (l * 65535.0).round() as u16;
-            },
-        )
-        .map_err(|e| decode(e.to_string()))?;
+        check_pixels(&path, what, w, h)?;
+        has_pixels(w, h)?;
+        let img = read()
+            .no_deep_data()
+            .largest_resolution_level()
+            .rgba_channels(
+                |res, _| (res.width(), vec![0u16; res.width() * res.height()]),
+                |(w, px): &mut (usize, Vec<u16>),
+                 p: Vec2<usize>,
+                 (r, g, b, _a): (f32, f32, f32, f32)| {
+                    let l = (0.2126 * r + 0.7152 * g + 0.0722 * b).clamp(0.0, 1.0);
+                    px[p.y() * *w + p.x()] = (l * 65535.0).round() as u16;
+                },
+            )
+            .first_valid_layer()
+            .all_attributes()
+            .from_buffered(std::io::Cursor::new(&bytes[..]))
+            .map_err(|e| decode(&e))?;
         let (_, luminance) = img.layer_data.channel_data.pixels;
         return Ok(doc::MaskImage {
             width: w,
@@ -331,27 +392,9 @@ pub fn load_mask(base: &Path, image: &str) -> Result<doc::MaskImage, BackdropErr
             luminance,
         });
     }
-    let open = || {
-        image::ImageReader::new(std::io::Cursor::new(&bytes[..]))
-            .with_guessed_format()
-            .map_err(io)
-    };
-    let (w, h) = open()?
-        .into_dimensions()
-        .map_err(|e| decode(e.to_string()))?;
-    if too_large(w, h) {
-        return Err(BackdropError::TooLarge { path, w, h });
-    }
-    let mut reader = open()?;
-    let mut limits = image::Limits::default();
-    limits.max_image_width = Some(doc::bounds::MASK_MAX_SIDE);
-    limits.max_image_height = Some(doc::bounds::MASK_MAX_SIDE);
-    limits.max_alloc = Some(BACKDROP_MAX_PIXELS * 8);
-    reader.limits(limits);
-    let luma = reader
-        .decode()
-        .map_err(|e| decode(e.to_string()))?
-        .into_luma16();
+    let (reader, [w, h]) = image_decoder(&path, what, &bytes)?;
+    has_pixels(w, h)?;
+    let luma = reader.decode().map_err(|e| decode(&e))?.into_luma16();
     Ok(doc::MaskImage {
         width: w,
         height: h,

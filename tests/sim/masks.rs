@@ -18,7 +18,7 @@ fn mask_file(
         image::Luma([if solid(x, y) { 0 } else { 255 }])
     });
     img.save(dir.join(name)).unwrap();
-    windloom::io::load_mask(dir, name).unwrap()
+    windloom::io::load_mask(dir, name, "mask image").unwrap()
 }
 
 fn with_mask(l: &mut Layout, image: MaskImage, rect: Option<[[f32; 2]; 2]>, invert: bool) {
@@ -119,7 +119,7 @@ fn an_unread_mask_is_named_and_an_exr_mask_reads_its_luminance() {
         .write()
         .to_file(dir.path().join("walls.exr"))
         .unwrap();
-    let m = windloom::io::load_mask(dir.path(), "walls.exr").unwrap();
+    let m = windloom::io::load_mask(dir.path(), "walls.exr", "mask image").unwrap();
     assert_eq!((m.width, m.height), (16, 4));
     assert!(m.solid_at(0.1, 0.5, 0.5, false) && !m.solid_at(0.9, 0.5, 0.5, false));
     assert!((f32::from(m.luminance[0]) / 65535.0 - 0.2).abs() < 1e-3);
@@ -186,7 +186,7 @@ fn a_density_map_thins_the_grass_where_the_level_has_none() {
         image: name.into(),
         rect: None,
         pixels: MaskPixels::Loaded(std::sync::Arc::new(
-            windloom::io::load_mask(dir.path(), name).unwrap(),
+            windloom::io::load_mask(dir.path(), name, "density map").unwrap(),
         )),
     };
     let all = windloom::grass::scatter(&l);
