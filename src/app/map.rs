@@ -697,7 +697,7 @@ pub fn obstacle_centre(shape: &Shape, bounds: (doc::Vec2, doc::Vec2)) -> doc::Ve
             [s[0] / n, s[1] / n]
         }
         Shape::Mask { rect, .. } => {
-            let [a, b] = Shape::mask_rect(rect, bounds);
+            let [a, b] = doc::placed(rect, bounds);
             [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]
         }
     }

@@ -287,7 +287,7 @@ pub fn draw_obstacles(
                     mesh.add_colored_rect(q, OBSTACLE_COLOUR);
                 }
                 painter.add(mesh);
-                let [a, b] = Shape::mask_rect(r, doc.bounds());
+                let [a, b] = crate::doc::placed(r, doc.bounds());
                 painter.rect_stroke(
                     Rect::from_two_pos(cam.to_screen(rect, a), cam.to_screen(rect, b)),
                     0.0,

@@ -176,7 +176,7 @@ pub struct MapBackdrop {
 impl MapBackdrop {
     /// The world rectangle the image covers (`bounds`: the world's).
     pub fn placed(&self, bounds: (Vec2, Vec2)) -> [Vec2; 2] {
-        self.rect.unwrap_or([bounds.0, bounds.1])
+        placed(&self.rect, bounds)
     }
 }
 
@@ -341,11 +341,28 @@ pub struct MaskImage {
 impl MaskImage {
     /// Whether the pixel under `(u, v)` (0 to 1 across and down the image) is solid.
     pub fn solid_at(&self, u: f32, v: f32, threshold: f32, invert: bool) -> bool {
+        (self.luminance_at(u, v) < threshold) != invert
+    }
+
+    /// The luminance, 0 to 1, of the pixel under `(u, v)` (0 to 1 across and down).
+    pub fn luminance_at(&self, u: f32, v: f32) -> f32 {
         let x = ((u * self.width as f32) as i64).clamp(0, i64::from(self.width) - 1) as usize;
         let y = ((v * self.height as f32) as i64).clamp(0, i64::from(self.height) - 1) as usize;
-        let l = f32::from(self.luminance[y * self.width as usize + x]) / 65535.0;
-        (l < threshold) != invert
+        f32::from(self.luminance[y * self.width as usize + x]) / 65535.0
     }
+}
+
+/// Where an image the layout places lies: its own rectangle, or the world's (`bounds`).
+pub fn placed(rect: &Option<[Vec2; 2]>, bounds: (Vec2, Vec2)) -> [Vec2; 2] {
+    rect.unwrap_or([bounds.0, bounds.1])
+}
+
+/// World point `p` as `(u, v)` across and down an image placed over `rect`, or `None`
+/// outside it.
+pub fn image_uv(rect: [Vec2; 2], p: Vec2) -> Option<[f32; 2]> {
+    let u = (p[0] - rect[0][0]) / (rect[1][0] - rect[0][0]);
+    let v = (p[1] - rect[0][1]) / (rect[1][1] - rect[0][1]);
+    ((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v)).then_some([u, v])
 }
 
 /// A mask obstacle's pixels: a cache of the file its `image` names, so two masks naming one
@@ -376,11 +393,6 @@ impl MaskPixels {
 }
 
 impl Shape {
-    /// A mask's world rectangle: its own, or the world's.
-    pub fn mask_rect(rect: &Option<[Vec2; 2]>, layout_bounds: (Vec2, Vec2)) -> [Vec2; 2] {
-        rect.unwrap_or([layout_bounds.0, layout_bounds.1])
-    }
-
     /// Whether world point `p` lies on a mask obstacle's solid pixels (`false` for other
     /// shapes and for a mask whose image is not loaded). `bounds`: the layout's.
     pub fn mask_contains(&self, p: Vec2, bounds: (Vec2, Vec2)) -> bool {
@@ -397,14 +409,8 @@ impl Shape {
         let Some(image) = pixels.image() else {
             return false;
         };
-        let r = Self::mask_rect(rect, bounds);
-        let (u, v) = (
-            (p[0] - r[0][0]) / (r[1][0] - r[0][0]),
-            (p[1] - r[0][1]) / (r[1][1] - r[0][1]),
-        );
-        (0.0..1.0).contains(&u)
-            && (0.0..1.0).contains(&v)
-            && image.solid_at(u, v, *threshold, *invert)
+        image_uv(placed(rect, bounds), p)
+            .is_some_and(|[u, v]| image.solid_at(u, v, *threshold, *invert))
     }
 
     /// A mask's solid area as world rectangles `[min, max]`: the runs of solid samples along
@@ -425,7 +431,7 @@ impl Shape {
         let Some(image) = pixels.image() else {
             return Vec::new();
         };
-        let r = Self::mask_rect(rect, bounds);
+        let r = placed(rect, bounds);
         let (cols, rows) = (image.width.min(max), image.height.min(max));
         let (dx, dz) = (
             (r[1][0] - r[0][0]) / cols as f32,
@@ -486,7 +492,7 @@ impl Shape {
                 }
             }
             Self::Mask { rect, .. } => {
-                let [a, b] = Self::mask_rect(rect, bounds);
+                let [a, b] = placed(rect, bounds);
                 *rect = Some([[a[0] + d[0], a[1] + d[1]], [b[0] + d[0], b[1] + d[1]]]);
             }
         }
@@ -755,15 +761,7 @@ impl DensityMap {
         let Some(m) = self.pixels.image() else {
             return 1.0;
         };
-        let [a, b] = self.rect.unwrap_or([bounds.0, bounds.1]);
-        let u = (p[0] - a[0]) / (b[0] - a[0]);
-        let v = (p[1] - a[1]) / (b[1] - a[1]);
-        if !((0.0..1.0).contains(&u) && (0.0..1.0).contains(&v)) {
-            return 1.0;
-        }
-        let x = ((u * m.width as f32) as i64).clamp(0, i64::from(m.width) - 1) as usize;
-        let y = ((v * m.height as f32) as i64).clamp(0, i64::from(m.height) - 1) as usize;
-        f32::from(m.luminance[y * m.width as usize + x]) / 65535.0
+        image_uv(placed(&self.rect, bounds), p).map_or(1.0, |[u, v]| m.luminance_at(u, v))
     }
 }
 

@@ -48,7 +48,7 @@ pub fn rasterize(layout: &Layout) -> Vec<u8> {
                 ..
             } => {
                 if let Some(image) = pixels.image() {
-                    let r = Shape::mask_rect(rect, layout.bounds());
+                    let r = crate::doc::placed(rect, layout.bounds());
                     cover(layout, image, r, *threshold, *invert, &mut images);
                 }
                 None
@@ -84,7 +84,6 @@ fn cover(
         layout.world.size[0] / nx as f32,
         layout.world.size[1] / ny as f32,
     ];
-    let size = [rect[1][0] - rect[0][0], rect[1][1] - rect[0][1]];
     let share = 1.0 / (MASK_SAMPLES * MASK_SAMPLES) as f32;
     for j in 0..ny {
         for i in 0..nx {
@@ -93,10 +92,8 @@ fn cover(
                 for si in 0..MASK_SAMPLES {
                     let x = min[0] + (i as f32 + (si as f32 + 0.5) / MASK_SAMPLES as f32) * cell[0];
                     let z = min[1] + (j as f32 + (sj as f32 + 0.5) / MASK_SAMPLES as f32) * cell[1];
-                    let (u, v) = ((x - rect[0][0]) / size[0], (z - rect[0][1]) / size[1]);
-                    if (0.0..1.0).contains(&u)
-                        && (0.0..1.0).contains(&v)
-                        && image.solid_at(u, v, threshold, invert)
+                    if crate::doc::image_uv(rect, [x, z])
+                        .is_some_and(|[u, v]| image.solid_at(u, v, threshold, invert))
                     {
                         hits += 1;
                     }
