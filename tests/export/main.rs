@@ -46,6 +46,48 @@ fn f32s(bytes: &[u8]) -> Vec<f32> {
         .collect()
 }
 
+/// Trilinear filtering of a `w × h × d` grid of 3-vectors at texture coordinate `t` (texel
+/// centres at `(i + 0.5) / size`), clamped at the edges, as GPUs sample a 3D texture.
+fn trilinear(
+    size: [usize; 3],
+    texel: impl Fn(usize, usize, usize) -> [f64; 3],
+    t: [f64; 3],
+) -> [f64; 3] {
+    let p = [0, 1, 2].map(|a| t[a] * size[a] as f64 - 0.5);
+    let f = p.map(|x| x - x.floor());
+    let b = p.map(|x| x.floor() as i64);
+    let mut out = [0.0; 3];
+    for corner in 0..8 {
+        let o = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
+        let weight: f64 = (0..3)
+            .map(|a| if o[a] == 1 { f[a] } else { 1.0 - f[a] })
+            .product();
+        let c = [0, 1, 2].map(|a| (b[a] + o[a] as i64).clamp(0, size[a] as i64 - 1) as usize);
+        for (o, t) in out.iter_mut().zip(texel(c[0], c[1], c[2])) {
+            *o += weight * t;
+        }
+    }
+    out
+}
+
+/// Bilinear filtering of a `w × h` grid of values at texture coordinate `t` (texel centres
+/// at `(i + 0.5) / size`), clamped at the edges, as GPUs sample a 2D texture.
+fn bilinear(size: [usize; 2], texel: impl Fn(usize, usize) -> f64, t: [f64; 2]) -> f64 {
+    let (w, h) = (size[0] as f64, size[1] as f64);
+    let at = |x: i64, y: i64| {
+        texel(
+            x.clamp(0, size[0] as i64 - 1) as usize,
+            y.clamp(0, size[1] as i64 - 1) as usize,
+        )
+    };
+    let (x, y) = (t[0] * w - 0.5, t[1] * h - 0.5);
+    let (x0, y0) = (x.floor(), y.floor());
+    let (fx, fy) = (x - x0, y - y0);
+    let (x0, y0) = (x0 as i64, y0 as i64);
+    let row = |y| at(x0, y) * (1.0 - fx) + at(x0 + 1, y) * fx;
+    row(y0) * (1.0 - fy) + row(y0 + 1) * fy
+}
+
 /// The raw bake: `[frame][j][i][x, z]`.
 struct Raw {
     nx: usize,
@@ -463,41 +505,15 @@ fn unity_s_vector_field_force_gives_the_wind_in_m_s() {
         .collect();
     let v = f32s(&bytes[10..]);
     let (w, h, d) = (dims[0], dims[1], dims[2]);
-    let texel = |x: i64, y: i64, z: i64| -> [f64; 3] {
-        let (x, y, z) = (
-            x.clamp(0, w as i64 - 1) as usize,
-            y.clamp(0, h as i64 - 1) as usize,
-            z.clamp(0, d as i64 - 1) as usize,
-        );
+    // Trilinear filtering of the imported Texture3D, clamped at its edges (wrap Clamp).
+    let texel = |x: usize, y: usize, z: usize| -> [f64; 3] {
         let i = (x + w * (y + h * z)) * 3;
         [0, 1, 2].map(|c| f64::from(v[i + c]))
-    };
-    // Trilinear filtering at texture coordinate `t` (texel centres at (i + 0.5) / size).
-    let sample = |t: [f64; 3]| -> [f64; 3] {
-        let p = [
-            t[0] * w as f64 - 0.5,
-            t[1] * h as f64 - 0.5,
-            t[2] * d as f64 - 0.5,
-        ];
-        let f = p.map(|x| x - x.floor());
-        let b = p.map(|x| x.floor() as i64);
-        let mut out = [0.0; 3];
-        for corner in 0..8 {
-            let o = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
-            let weight: f64 = (0..3)
-                .map(|a| if o[a] == 1 { f[a] } else { 1.0 - f[a] })
-                .product();
-            let t = texel(b[0] + o[0] as i64, b[1] + o[1] as i64, b[2] + o[2] as i64);
-            for (o, t) in out.iter_mut().zip(t) {
-                *o += weight * t;
-            }
-        }
-        out
     };
     let force = |position: [f64; 3], unsigned: bool| -> [f64; 3] {
         // An axis-aligned box: InvFieldTransform is (p - centre) / size.
         let coord = [0, 1, 2].map(|a| (position[a] - centre[a]) / size[a] + 0.5);
-        let mut value = sample(coord);
+        let mut value = trilinear([w, h, d], texel, coord);
         if unsigned {
             value = value.map(|x| x * 2.0 - 1.0);
         }
@@ -808,18 +824,12 @@ impl AtlasBake {
     /// (i + 0.5) / size), clamped at the texture's edge, each 16-bit texel read as the
     /// engine imports it (`unit`).
     fn sample(&self, t: [f64; 2], c: usize, unit: impl Fn(u16) -> f64) -> f64 {
-        let (w, h) = (f64::from(self.img.width()), f64::from(self.img.height()));
-        let texel = |x: i64, y: i64| {
-            let x = x.clamp(0, w as i64 - 1) as u32;
-            let y = y.clamp(0, h as i64 - 1) as u32;
-            unit(self.img.get_pixel(x, y)[c])
-        };
-        let (x, y) = (t[0] * w - 0.5, t[1] * h - 0.5);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i64, y0 as i64);
-        let row = |y| texel(x0, y) * (1.0 - fx) + texel(x0 + 1, y) * fx;
-        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
+        let size = [self.img.width() as usize, self.img.height() as usize];
+        bilinear(
+            size,
+            |x, y| unit(self.img.get_pixel(x as u32, y as u32)[c]),
+            t,
+        )
     }
 }
 
@@ -1472,19 +1482,7 @@ fn godot_reads_the_float_atlas_at_full_precision() {
         c.sample_data.values_as_f32().collect()
     };
     let rg = [channel("R"), channel("G")];
-    let sample = |t: [f64; 2], c: usize| {
-        let texel = |x: i64, y: i64| {
-            let x = x.clamp(0, w as i64 - 1) as usize;
-            let y = y.clamp(0, h as i64 - 1) as usize;
-            f64::from(rg[c][y * w + x])
-        };
-        let (x, y) = (t[0] * w as f64 - 0.5, t[1] * h as f64 - 0.5);
-        let (x0, y0) = (x.floor(), y.floor());
-        let (fx, fy) = (x - x0, y - y0);
-        let (x0, y0) = (x0 as i64, y0 as i64);
-        let row = |y| texel(x0, y) * (1.0 - fx) + texel(x0 + 1, y) * fx;
-        row(y0) * (1.0 - fy) + row(y0 + 1) * fy
-    };
+    let sample = |t: [f64; 2], c: usize| bilinear([w, h], |x, y| f64::from(rg[c][y * w + x]), t);
     let (nx, ny) = (raw.nx, raw.ny);
     let mut worst = 0.0f64;
     for frame in 0..5 {

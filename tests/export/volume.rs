@@ -184,30 +184,6 @@ fn dds_is_a_dx10_volume_texture() {
     }
 }
 
-/// Trilinear filtering of a `w × h × d` grid of 3-vectors at texture coordinate `t` (texel
-/// centres at `(i + 0.5) / size`), clamped at the edges, as GPUs sample a 3D texture.
-fn trilinear(
-    size: [usize; 3],
-    texel: impl Fn(usize, usize, usize) -> [f64; 3],
-    t: [f64; 3],
-) -> [f64; 3] {
-    let p = [0, 1, 2].map(|a| t[a] * size[a] as f64 - 0.5);
-    let f = p.map(|x| x - x.floor());
-    let b = p.map(|x| x.floor() as i64);
-    let mut out = [0.0; 3];
-    for corner in 0..8 {
-        let o = [corner & 1, (corner >> 1) & 1, (corner >> 2) & 1];
-        let weight: f64 = (0..3)
-            .map(|a| if o[a] == 1 { f[a] } else { 1.0 - f[a] })
-            .product();
-        let c = [0, 1, 2].map(|a| (b[a] + o[a] as i64).clamp(0, size[a] as i64 - 1) as usize);
-        for (o, t) in out.iter_mut().zip(texel(c[0], c[1], c[2])) {
-            *o += weight * t;
-        }
-    }
-    out
-}
-
 /// Cell `(i, j)`'s centre on layer `k` in world metres `[x, y, z]`.
 fn centre(
     m: &Value,
