@@ -32,6 +32,8 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
     else {
         unreachable!("bake::run is called with a bake command");
     };
+    // With --watch, the file as it is before it is read: a save from now on is a change.
+    let file = watch.then(|| io::disk::Watch::read(&layout));
     let l = io::load(&layout)?;
     warn_advice(&l, &layout);
     let opts = bake::BakeOptions {
@@ -60,20 +62,14 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
             e,
         )
     })?;
-    if !watch {
-        return match bake_once(&l, &out, &opts, &cancel) {
-            Ok(()) => Ok(ExitCode::SUCCESS),
-            Err(BakeError::Cancelled) => Ok(cancelled()),
-            Err(e) => Err(in_flags(e)),
-        };
-    }
-    // Watching: what the file holds now is what was just loaded.
-    let mut file = io::disk::Watch::read(&layout);
     match bake_once(&l, &out, &opts, &cancel) {
         Ok(()) => {}
         Err(BakeError::Cancelled) => return Ok(cancelled()),
         Err(e) => return Err(in_flags(e)),
     }
+    let Some(mut file) = file else {
+        return Ok(ExitCode::SUCCESS);
+    };
     println!("watching {} for changes; Ctrl-C stops", layout.display());
     loop {
         if cancel.load(Ordering::SeqCst) {
