@@ -112,6 +112,10 @@ pub const MASK_THRESHOLD: Bound = Bound::new(0.0, 1.0);
 pub const ROUGHNESS: Bound = Bound::positive(0.0, 10.0);
 /// A height in the vertical profile, metres.
 pub const PROFILE_HEIGHT: Bound = Bound::new(0.1, 1000.0);
+/// A terrain height, metres: the Dead Sea shore to above Everest, with room.
+pub const TERRAIN_HEIGHT: Bound = Bound::new(-10000.0, 10000.0);
+/// How strongly the terrain shapes the wind.
+pub const TERRAIN_STRENGTH: Bound = Bound::new(0.0, 2.0);
 /// Layers of the baked volume.
 pub const PROFILE_LAYERS: Count = Count::new(1, 256);
 
@@ -140,7 +144,7 @@ pub const AMBIENT_SPEED: Bound = Bound::new(0.0, 500.0);
 pub const PULSE_MAGNITUDE: Bound = Bound::new(0.0, 10.0);
 /// A directional layer's gusts per second.
 pub const PULSE_FREQUENCY: Bound = Bound::new(0.0, 100.0);
-/// A feature length in metres: a noise layer's scale, an FFT tile, a sine's wavelength.
+/// A feature length in metres: the terrain's hills, a noise layer's scale, an FFT tile, a sine's wavelength.
 pub const FEATURE_LENGTH: Bound = Bound::positive(1.0e-3, 100_000.0);
 /// A noise layer's scroll speed, m/s.
 pub const SCROLL_SPEED: Bound = Bound::new(0.0, 1000.0);
@@ -282,6 +286,9 @@ pub const SOLVER_BYTES_PER_CELL: u64 = 56;
 /// level's links and diagonal (16) and the coarser levels' links and unknowns (at most 28 over
 /// all of them, when every level halves one axis only).
 pub const MULTIGRID_BYTES_PER_CELL: u64 = 44;
+/// Bytes a cell of terrain adds: its height and its coefficients (`sim::terrain::Cell`), and
+/// the shaped copy of its two faces.
+pub const TERRAIN_BYTES_PER_CELL: u64 = 4 + 32 + 8;
 /// Largest solver memory a layout may ask for: 2 GiB.
 pub const GRID_MEMORY_BUDGET: u64 = 2 << 30;
 /// Largest layout file windloom reads, in bytes. A layout at every count limit below stays

@@ -77,6 +77,68 @@ pub struct World {
     /// --format dds`). Absent: the defaults (grass, the field at 2 m, 16 layers to 20 m).
     #[serde(default, skip_serializing_if = "VerticalProfile::is_default")]
     pub profile: VerticalProfile,
+    /// The level's ground: a heightmap that shapes the wind (`docs/SOLVER.md`, "Terrain"),
+    /// carries the grass and the obstacles in the 3D view, and is shaded on the map. Absent:
+    /// flat ground, and the wind is the 2D solve's, bit for bit.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub terrain: Option<Terrain>,
+}
+
+/// The level's heightmap and how the wind feels it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Terrain {
+    /// A grey image (16-bit PNG for smooth slopes, 8-bit PNG or EXR), relative to the layout
+    /// file: black is the lowest height, white the highest.
+    #[schemars(length(min = 1))]
+    pub heightmap: String,
+    /// The heights black and white stand for, `[min, max]` in metres (each within ±10000).
+    #[schemars(inner(range(min = TERRAIN_HEIGHT.min, max = TERRAIN_HEIGHT.max)))]
+    pub heights: Vec2,
+    /// Where the heightmap lies, `[[x0, z0], [x1, z1]]` in metres, as a mask's or the
+    /// backdrop's; absent: the world rectangle. Beyond it the ground continues at the
+    /// image's edge heights.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(inner(inner(inner(range(min = COORD.min, max = COORD.max)))))]
+    pub rect: Option<[Vec2; 2]>,
+    /// How strongly the terrain shapes the wind, 0 (not at all) to 2; 1 is the model as
+    /// documented.
+    #[serde(default = "default_terrain_strength")]
+    #[schemars(range(min = TERRAIN_STRENGTH.min, max = TERRAIN_STRENGTH.max))]
+    pub strength: f32,
+    /// The size of the hills and valleys the wind answers to, metres (the distance over
+    /// which slope and curvature are measured; above 0, at most 100000). Absent: a twentieth of the
+    /// world's shorter side.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    #[schemars(range(max = FEATURE_LENGTH.max), extend("exclusiveMinimum" = 0))]
+    pub feature_length: Option<f32>,
+    #[serde(skip)]
+    #[schemars(skip)]
+    pub pixels: MaskPixels,
+}
+
+fn default_terrain_strength() -> f32 {
+    1.0
+}
+
+impl Terrain {
+    /// The ground's height in metres at world point `p` (`bounds`: the world's), bilinear
+    /// between the heightmap's pixel centres, the edge pixels continuing beyond the image;
+    /// the lowest height where the image is not loaded.
+    pub fn height_at(&self, p: Vec2, bounds: (Vec2, Vec2)) -> f32 {
+        let Some(m) = self.pixels.image() else {
+            return self.heights[0];
+        };
+        let r = placed(&self.rect, bounds);
+        let u = (p[0] - r[0][0]) / (r[1][0] - r[0][0]);
+        let v = (p[1] - r[0][1]) / (r[1][1] - r[0][1]);
+        self.heights[0] + (self.heights[1] - self.heights[0]) * m.bilinear_at(u, v)
+    }
+
+    /// The feature length in metres for a world of `size`.
+    pub fn feature_length_for(&self, size: Vec2) -> f32 {
+        self.feature_length.unwrap_or(size[0].min(size[1]) / 20.0)
+    }
 }
 
 /// The wind's vertical profile: the log law of the surface layer,
@@ -349,6 +411,22 @@ impl MaskImage {
         let x = ((u * self.width as f32) as i64).clamp(0, i64::from(self.width) - 1) as usize;
         let y = ((v * self.height as f32) as i64).clamp(0, i64::from(self.height) - 1) as usize;
         f32::from(self.luminance[y * self.width as usize + x]) / 65535.0
+    }
+
+    /// The luminance, 0 to 1, at `(u, v)` (0 to 1 across and down), bilinear between pixel
+    /// centres, the edge pixels continuing beyond the image: for heights, which must not
+    /// step from pixel to pixel.
+    pub fn bilinear_at(&self, u: f32, v: f32) -> f32 {
+        let (w, h) = (self.width as usize, self.height as usize);
+        let x = (u * w as f32 - 0.5).clamp(0.0, (w - 1) as f32);
+        let y = (v * h as f32 - 0.5).clamp(0.0, (h - 1) as f32);
+        let (x0, y0) = (x as usize, y as usize);
+        let (x1, y1) = ((x0 + 1).min(w - 1), (y0 + 1).min(h - 1));
+        let (fx, fy) = (x - x0 as f32, y - y0 as f32);
+        let at = |x: usize, y: usize| f32::from(self.luminance[y * w + x]) / 65535.0;
+        let top = at(x0, y0) + (at(x1, y0) - at(x0, y0)) * fx;
+        let bottom = at(x0, y1) + (at(x1, y1) - at(x0, y1)) * fx;
+        top + (bottom - top) * fy
     }
 }
 
@@ -861,6 +939,7 @@ impl Layout {
                 grid,
                 map: None,
                 profile: VerticalProfile::default(),
+                terrain: None,
             },
             trees: Vec::new(),
             obstacles: Vec::new(),

@@ -390,7 +390,10 @@ fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
             );
         }
     }
-    let bytes = grid_memory(w.grid, pressure);
+    let mut bytes = grid_memory(w.grid, pressure);
+    if w.terrain.is_some() {
+        bytes += u64::from(w.grid[0]) * u64::from(w.grid[1]) * TERRAIN_BYTES_PER_CELL;
+    }
     if axes_ok && bytes > GRID_MEMORY_BUDGET {
         c.push(
             "world.grid",
@@ -409,6 +412,17 @@ fn check_world(c: &mut Checker, w: &World, pressure: PressureSolve) {
         }
         c.bound("world.map.opacity", map.opacity, OPACITY);
         c.placement("world.map.rect", &map.rect);
+    }
+    if let Some(t) = &w.terrain {
+        if t.heightmap.trim().is_empty() {
+            c.push("world.terrain.heightmap", "must name an image file");
+        }
+        c.min_max("world.terrain.heights", t.heights, TERRAIN_HEIGHT);
+        c.placement("world.terrain.rect", &t.rect);
+        c.bound("world.terrain.strength", t.strength, TERRAIN_STRENGTH);
+        if let Some(l) = t.feature_length {
+            c.bound("world.terrain.feature_length", l, FEATURE_LENGTH);
+        }
     }
     let p = &w.profile;
     let z0 = c.bound(
@@ -585,25 +599,40 @@ pub fn for_each_ear(points: &[Vec2], mut tri: impl FnMut(usize, usize, usize)) {
     }
 }
 
-/// What went wrong with the layout's mask images: one line each, naming the obstacle and the
-/// file (`io::load` reads them). Empty when every mask is loaded. A warning in the editor,
-/// `validate` and `render`; a refusal in `bake`, which would ship wrong wind without them.
+/// What went wrong with the images the wind depends on, the mask obstacles' and the
+/// terrain's heightmap: one line each, naming the field and the file (`io::load` reads them).
+/// Empty when every one is loaded. A warning in the editor, `validate` and `render`; a refusal
+/// in `bake`, which would ship wrong wind without them.
 pub fn mask_problems(layout: &Layout) -> Vec<String> {
-    layout
-        .obstacles
-        .iter()
-        .enumerate()
-        .filter_map(|(k, o)| match &o.shape {
-            Shape::Mask { pixels, image, .. } => match pixels {
-                MaskPixels::Loaded(_) => None,
-                MaskPixels::Failed(why) => Some(format!("obstacles[{k}] \"{}\": {why}", o.name)),
-                MaskPixels::NotLoaded => Some(format!(
-                    "obstacles[{k}] \"{}\": mask image {image} was not read",
-                    o.name
-                )),
-            },
-            _ => None,
-        })
+    let terrain = layout.world.terrain.as_ref().and_then(|t| match &t.pixels {
+        MaskPixels::Loaded(_) => None,
+        MaskPixels::Failed(why) => Some(format!("world.terrain: {why}")),
+        MaskPixels::NotLoaded => Some(format!(
+            "world.terrain: heightmap {} was not read",
+            t.heightmap
+        )),
+    });
+    terrain
+        .into_iter()
+        .chain(
+            layout
+                .obstacles
+                .iter()
+                .enumerate()
+                .filter_map(|(k, o)| match &o.shape {
+                    Shape::Mask { pixels, image, .. } => match pixels {
+                        MaskPixels::Loaded(_) => None,
+                        MaskPixels::Failed(why) => {
+                            Some(format!("obstacles[{k}] \"{}\": {why}", o.name))
+                        }
+                        MaskPixels::NotLoaded => Some(format!(
+                            "obstacles[{k}] \"{}\": mask image {image} was not read",
+                            o.name
+                        )),
+                    },
+                    _ => None,
+                }),
+        )
         .collect()
 }
 

@@ -26,8 +26,8 @@ pub struct Snapshot {
     pub origin: [f32; 2],
     pub size: [f32; 2],
     pub velocity: Vec<[f32; 2]>,
-    /// Face velocities as the solver stores them (`(nx + 1) × ny` and `nx × (ny + 1)`), so a
-    /// CPU-run field can be drawn by the same GPU passes as a GPU-run one.
+    /// The wind's face velocities (`(nx + 1) × ny` and `nx × (ny + 1)`, terrain-shaped as
+    /// `velocity`), so a CPU-run field can be drawn by the same GPU passes as a GPU-run one.
     pub u: Vec<f32>,
     pub v: Vec<f32>,
     pub curl: Vec<f32>,
@@ -461,8 +461,8 @@ impl Engine {
 
     fn set_layout(&mut self, layout: &Layout) {
         self.cpu.set_layout(layout);
-        if let Some(g) = &mut self.gpu {
-            g.set_layout(layout);
+        if let (Some(g), Some(ctx)) = (&mut self.gpu, &self.ctx) {
+            g.set_layout_on(ctx, layout);
         }
     }
 
@@ -497,14 +497,16 @@ impl Engine {
             field = None;
         }
         let solver = &mut self.cpu;
+        let (u, v) = solver.wind_faces();
+        let (u, v) = (u.into_owned(), v.into_owned());
         let snap = Snapshot {
             nx: solver.nx,
             ny: solver.ny,
             origin: solver.origin,
             size: [solver.hx * solver.nx as f32, solver.hz * solver.ny as f32],
-            velocity: solver.velocity_field(),
-            u: solver.u.clone(),
-            v: solver.v.clone(),
+            velocity: crate::sim::solver::cell_centred(solver.nx, solver.ny, &u, &v),
+            u,
+            v,
             curl: {
                 solver.compute_curl();
                 solver.curl.clone()

@@ -11,6 +11,7 @@ use crate::doc::{Boundary, PressureSolve};
 use crate::sim::Solver;
 use crate::sim::forces::{ArrowSplat, LayerParams};
 use crate::sim::solver::MAX_SPEED;
+use crate::sim::terrain::TerrainField;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
 
@@ -44,7 +45,7 @@ pub struct Params {
 pub const COMMON: &str = include_str!("../../shaders/common.wgsl");
 
 /// Every pass's shader file: `(name, source)`, each compiled after [`COMMON`].
-pub const SHADERS: [(&str, &str); 8] = [
+pub const SHADERS: [(&str, &str); 9] = [
     ("forces", include_str!("../../shaders/forces.wgsl")),
     ("curl", include_str!("../../shaders/curl.wgsl")),
     (
@@ -56,6 +57,7 @@ pub const SHADERS: [(&str, &str); 8] = [
     ("gradient", include_str!("../../shaders/gradient.wgsl")),
     ("advect", include_str!("../../shaders/advect.wgsl")),
     ("periodic", include_str!("../../shaders/periodic.wgsl")),
+    ("terrain", include_str!("../../shaders/terrain.wgsl")),
 ];
 
 /// The full WGSL of pass `name` (the common header, then the pass).
@@ -114,6 +116,16 @@ pub struct GpuFluid {
     mg_source: (Vec<u8>, [f32; 2], Boundary),
     multigrid: std::sync::OnceLock<GpuMultigrid>,
     profiler: std::sync::Mutex<Option<Profiler>>,
+    /// The terrain's coefficients per cell and the shaped faces it writes (`None`: flat
+    /// ground, and the wind is `u`, `v`).
+    terrain: Option<TerrainBuffers>,
+}
+
+/// The terrain pass's buffers: `sim::terrain::Cell` per cell, and the shaped u and v faces.
+struct TerrainBuffers {
+    cells: wgpu::Buffer,
+    u: wgpu::Buffer,
+    v: wgpu::Buffer,
 }
 
 /// Per-pass GPU times from timestamp queries around each dispatch.
@@ -140,6 +152,7 @@ fn pass_of(kernel: &str) -> &'static str {
         }
         "u_faces" | "v_faces" => "gradient",
         "sync_u" | "sync_v" => "periodic",
+        "shape_u" | "shape_v" => "terrain",
         _ => "advection",
     }
 }
@@ -305,7 +318,49 @@ impl GpuFluid {
             paired_sweeps: true,
             mg_source: (solver.flags.clone(), [solver.hx, solver.hz], sp.boundary),
             multigrid: Default::default(),
+            terrain: solver.terrain.as_ref().map(|t| TerrainBuffers {
+                cells: storage(device, "terrain cells", bytemuck::cast_slice(&t.cells)),
+                u: floats(device, "wind u", &solver.u),
+                v: floats(device, "wind v", &solver.v),
+            }),
         }
+    }
+
+    /// Replaces the terrain's coefficients (an edit of the terrain); `None`: flat ground.
+    pub fn set_terrain(&mut self, device: &wgpu::Device, terrain: Option<&TerrainField>) {
+        self.terrain = terrain.map(|t| TerrainBuffers {
+            cells: storage(device, "terrain cells", bytemuck::cast_slice(&t.cells)),
+            u: floats(device, "wind u", &vec![0.0; (self.nx + 1) * self.ny]),
+            v: floats(device, "wind v", &vec![0.0; self.nx * (self.ny + 1)]),
+        });
+    }
+
+    /// The buffers the wind leaves the solver in, `(u, v)` faces: the terrain-shaped copies
+    /// ([`Self::shape_terrain`]), or the solver's own over flat ground.
+    pub fn wind_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        match &self.terrain {
+            Some(t) => (&t.u, &t.v),
+            None => (&self.u, &self.v),
+        }
+    }
+
+    /// Records the terrain pass (`shaders/terrain.wgsl`): the wind faces from the solver's.
+    /// Nothing over flat ground. Twin of `sim::terrain::TerrainField::shape_faces`.
+    pub fn shape_terrain(&self, device: &wgpu::Device, enc: &mut wgpu::CommandEncoder) {
+        let Some(t) = &self.terrain else {
+            return;
+        };
+        let (nx, ny) = (self.nx, self.ny);
+        let b = [
+            (1, &self.u),
+            (2, &self.v),
+            (3, &t.cells),
+            (4, &t.u),
+            (5, &t.v),
+        ];
+        self.dispatch(device, enc, "shape_u", &b[..4], (nx + 1, ny));
+        let b = [(1, &self.u), (2, &self.v), (3, &t.cells), (5, &t.v)];
+        self.dispatch(device, enc, "shape_v", &b, (nx, ny + 1));
     }
 
     /// The GPU buffer holding field `f` (the editor's map view draws from u, v and p).
@@ -918,6 +973,7 @@ fn entry_points(shader: &str) -> &'static [(&'static str, &'static str)] {
             ("maccormack_v", "maccormack_v"),
         ],
         "periodic" => &[("sync_u", "sync_u"), ("sync_v", "sync_v")],
+        "terrain" => &[("shape_u", "shape_u"), ("shape_v", "shape_v")],
         _ => &[],
     }
 }

@@ -59,7 +59,7 @@ impl GpuSolver {
                 message: e.to_string(),
             });
         }
-        Ok(Self {
+        let solver = Self {
             fluid,
             layout: layout.clone(),
             ambient: Ambient::new(layout),
@@ -67,11 +67,36 @@ impl GpuSolver {
             nx: cpu.nx,
             ny: cpu.ny,
             time: cpu.time,
-        })
+        };
+        solver.reshape(ctx);
+        Ok(solver)
     }
 
     /// Replaces the layout the forces come from (an edit), keeping the running field; as
     /// [`Solver::set_layout`], grid, world, obstacle and boundary changes need a new solver.
+    /// Replaces the layout the forces come from (an edit), keeping the running field; a
+    /// change of terrain needs `ctx` to upload its coefficients.
+    pub fn set_layout_on(&mut self, ctx: &GpuContext, layout: &Layout) {
+        if layout.world.terrain != self.layout.world.terrain {
+            let t = crate::sim::terrain::TerrainField::new(layout);
+            self.fluid.set_terrain(&ctx.device, t.as_ref());
+            self.reshape(ctx);
+        }
+        self.set_layout(layout);
+    }
+
+    /// Writes the wind faces from the field as it is (after a new terrain, or a field handed
+    /// over), rather than waiting for the next step.
+    fn reshape(&self, ctx: &GpuContext) {
+        let mut enc = ctx
+            .device
+            .create_command_encoder(&wgpu::CommandEncoderDescriptor {
+                label: Some("terrain"),
+            });
+        self.fluid.shape_terrain(&ctx.device, &mut enc);
+        ctx.submit(enc.finish());
+    }
+
     pub fn set_layout(&mut self, layout: &Layout) {
         self.layout = layout.clone();
         self.ambient = Ambient::new(layout);
@@ -81,9 +106,10 @@ impl GpuSolver {
     /// The buffers the field lives in, for drawing it where it is (the editor's map view).
     pub fn field(&self) -> super::mapview::FieldBuffers {
         let l = &self.layout.world;
+        let (u, v) = self.fluid.wind_buffers();
         super::mapview::FieldBuffers {
-            u: self.fluid.buffer(FieldId::U).clone(),
-            v: self.fluid.buffer(FieldId::V).clone(),
+            u: u.clone(),
+            v: v.clone(),
             p: self.fluid.buffer(FieldId::P).clone(),
             nx: self.nx as u32,
             ny: self.ny as u32,
@@ -145,6 +171,7 @@ impl GpuSolver {
             );
             self.fluid
                 .record_substep(device, queue, &mut enc, dt, iterations, keep, maccormack);
+            self.fluid.shape_terrain(device, &mut enc);
             // One encoder a substep, no read-back: the parameters all passes read are written
             // once before it runs.
             ctx.submit(enc.finish());
@@ -193,19 +220,21 @@ impl GpuSolver {
         ))
     }
 
-    /// Cell-centred velocity `[x, z]` (m/s), row-major, as [`Solver::velocity_field`].
+    /// The wind's faces `(u, v)` as they leave the solver, read back: terrain-shaped, as
+    /// [`Solver::wind_faces`].
+    pub fn wind_faces(&self, ctx: &GpuContext) -> Result<(Vec<f32>, Vec<f32>), GpuError> {
+        let (u, v) = self.fluid.wind_buffers();
+        let read = |b| {
+            super::read_buffer_via(&ctx.device, &|cb| ctx.submit(cb), b)
+                .map(|bytes| bytemuck::cast_slice::<u8, f32>(&bytes).to_vec())
+        };
+        Ok((read(u)?, read(v)?))
+    }
+
+    /// The wind, cell-centred `[x, z]` (m/s), row-major, as [`Solver::velocity_field`].
     pub fn velocity_field(&self, ctx: &GpuContext) -> Result<Vec<[f32; 2]>, GpuError> {
-        let (u, v) = self.faces(ctx)?;
-        let nx = self.nx;
-        Ok((0..self.ny)
-            .flat_map(|j| (0..nx).map(move |i| (i, j)))
-            .map(|(i, j)| {
-                [
-                    0.5 * (u[j * (nx + 1) + i] + u[j * (nx + 1) + i + 1]),
-                    0.5 * (v[j * nx + i] + v[(j + 1) * nx + i]),
-                ]
-            })
-            .collect())
+        let (u, v) = self.wind_faces(ctx)?;
+        Ok(crate::sim::solver::cell_centred(self.nx, self.ny, &u, &v))
     }
 }
 

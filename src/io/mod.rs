@@ -316,10 +316,15 @@ pub fn load(path: &Path) -> Result<Layout, LoadError> {
     Ok(layout)
 }
 
-/// Reads each mask obstacle's image, and the grass's density map (relative to the layout's
+/// Reads each mask obstacle's image, the terrain's heightmap and the grass's density map (relative to the layout's
 /// folder `base`), into its `pixels`: loaded, or failed with the reason. Images already
 /// loaded stay.
 pub fn load_masks(layout: &mut Layout, base: &Path) {
+    if let Some(t) = &mut layout.world.terrain
+        && !matches!(t.pixels, doc::MaskPixels::Loaded(_))
+    {
+        t.pixels = grey_pixels(base, &t.heightmap, "heightmap");
+    }
     if let Some(map) = &mut layout.grass.density_map
         && !matches!(map.pixels, doc::MaskPixels::Loaded(_))
     {

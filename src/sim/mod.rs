@@ -5,5 +5,6 @@ pub mod bench;
 pub mod forces;
 pub mod obstacles;
 pub mod solver;
+pub mod terrain;
 
 pub use solver::{MAX_SPEED, PassTimes, Solver};

@@ -90,6 +90,7 @@ mod forcing;
 mod masks;
 mod pressure;
 mod stability;
+mod terrain;
 
 // ---- The GPU passes against the CPU ---------------------------------------------------------
 

@@ -11,6 +11,7 @@
 
 use super::forces::{Ambient, ArrowSplat, agc_splats};
 use super::obstacles;
+use super::terrain::TerrainField;
 use crate::doc::{Advection, Boundary, Layout, PressureSolve, SimParams, grid_memory};
 use rayon::prelude::*;
 use std::ops::{Range, RangeInclusive};
@@ -149,6 +150,9 @@ pub struct Solver {
     /// The multigrid hierarchy, made by the first multigrid solve (it depends only on the
     /// grid, the obstacles and the boundary, which a solver keeps for life).
     pub(crate) multigrid: Option<Multigrid>,
+    /// The level's ground over this grid (`None`: flat): what shapes the field as it leaves
+    /// the solver ([`Self::wind_faces`]), never the solve itself.
+    pub terrain: Option<std::sync::Arc<TerrainField>>,
 }
 
 impl Solver {
@@ -271,6 +275,7 @@ impl Solver {
             gain_cache: GainCache::default(),
             max_gain_bytes: None,
             multigrid: None,
+            terrain: TerrainField::new(layout).map(std::sync::Arc::new),
         }
     }
 
@@ -311,6 +316,9 @@ impl Solver {
     /// Replaces the layout the forces come from (an edit), keeping the running field. Grid,
     /// obstacles and boundary changes need a new solver.
     pub fn set_layout(&mut self, layout: &Layout) {
+        if layout.world.terrain != self.layout.world.terrain {
+            self.terrain = TerrainField::new(layout).map(std::sync::Arc::new);
+        }
         self.layout = layout.clone();
         self.ambient = Ambient::new(layout);
         self.params = layout.sim;
@@ -453,7 +461,8 @@ impl Solver {
         rest[(ny - 1) * nx..ny * nx].copy_from_slice(first);
     }
 
-    /// Velocity (m/s) at the centre of cell `(i, j)`: the average of its faces.
+    /// The solver's own velocity (m/s) at the centre of cell `(i, j)`, the average of its
+    /// faces, before any terrain shapes it.
     pub fn cell_velocity(&self, i: usize, j: usize) -> [f32; 2] {
         let nx = self.nx;
         [
@@ -462,20 +471,34 @@ impl Solver {
         ]
     }
 
-    /// Cell-centred velocity field, `nx × ny` pairs `[x, z]` in m/s, row-major.
-    pub fn velocity_field(&self) -> Vec<[f32; 2]> {
-        (0..self.ny)
-            .flat_map(|j| (0..self.nx).map(move |i| (i, j)))
-            .map(|(i, j)| self.cell_velocity(i, j))
-            .collect()
+    /// The wind's faces as they leave the solver: the solver's own over flat ground, shaped
+    /// by the terrain ([`TerrainField::shape_faces`]) where the layout has one.
+    pub fn wind_faces(&self) -> (std::borrow::Cow<'_, [f32]>, std::borrow::Cow<'_, [f32]>) {
+        use std::borrow::Cow;
+        match &self.terrain {
+            None => (Cow::Borrowed(&self.u[..]), Cow::Borrowed(&self.v[..])),
+            Some(t) => {
+                let (u, v) = t.shape_faces(&self.u, &self.v);
+                (Cow::Owned(u), Cow::Owned(v))
+            }
+        }
     }
 
-    /// Velocity at a world point (bilinear between cell centres).
+    /// The wind, cell-centred, `nx × ny` pairs `[x, z]` in m/s, row-major: the mean of each
+    /// cell's [`Self::wind_faces`] (the terrain-shaped field; [`Self::cell_velocity`] is the
+    /// solver's own).
+    pub fn velocity_field(&self) -> Vec<[f32; 2]> {
+        let (u, v) = self.wind_faces();
+        cell_centred(self.nx, self.ny, &u, &v)
+    }
+
+    /// The wind at a world point (bilinear between faces), terrain-shaped.
     pub fn velocity_at(&self, p: [f32; 2]) -> [f32; 2] {
         let g = self.geometry();
         let x = (p[0] - self.origin[0]) / self.hx;
         let z = (p[1] - self.origin[1]) / self.hz;
-        [sample_u(&g, &self.u, x, z).0, sample_v(&g, &self.v, x, z).0]
+        let (u, v) = self.wind_faces();
+        [sample_u(&g, &u, x, z).0, sample_v(&g, &v, x, z).0]
     }
 
     /// The cell containing world point `p`, if inside the grid.
@@ -546,6 +569,20 @@ impl Solver {
             .flat_map(|x| x.to_le_bytes())
             .collect()
     }
+}
+
+/// The cell-centred velocity of faces `u` (`(nx + 1) × ny`) and `v` (`nx × (ny + 1)`): each
+/// cell's mean, `nx × ny` pairs, row-major.
+pub fn cell_centred(nx: usize, ny: usize, u: &[f32], v: &[f32]) -> Vec<[f32; 2]> {
+    (0..ny)
+        .flat_map(|j| (0..nx).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            [
+                0.5 * (u[j * (nx + 1) + i] + u[j * (nx + 1) + i + 1]),
+                0.5 * (v[j * nx + i] + v[(j + 1) * nx + i]),
+            ]
+        })
+        .collect()
 }
 
 /// Runs shorter than this apart are merged, so the Jacobi row never switches paths for a few

@@ -1,0 +1,102 @@
+// The terrain's hand on the wind as it leaves the solver: each face's velocity shaped by the
+// slope and curvature of the ground (docs/SOLVER.md, "Terrain"), written to the shaped copies
+// the map and the grass read. Never part of the solve.
+// CPU twin: `sim::terrain::TerrainField::shape_faces` and `sim::terrain::shape`.
+
+// Mirrors `sim::terrain::Cell`.
+struct Cell {
+    slope: vec2<f32>,
+    base: f32,
+    ws: f32,
+    across: vec2<f32>,
+    kappa: f32,
+    pad: f32,
+}
+
+@group(0) @binding(1) var<storage, read> u: array<f32>;
+@group(0) @binding(2) var<storage, read> v: array<f32>;
+@group(0) @binding(3) var<storage, read> cells: array<Cell>;
+@group(0) @binding(4) var<storage, read_write> u_out: array<f32>;
+@group(0) @binding(5) var<storage, read_write> v_out: array<f32>;
+
+fn cell(i: i32, j: i32) -> Cell {
+    let ci = u32(clamp(i, 0, i32(P.nx) - 1));
+    let cj = u32(clamp(j, 0, i32(P.ny) - 1));
+    return cells[cj * P.nx + ci];
+}
+
+// `Cell::mean`: the axis is a line, so b's is turned to face a's before averaging.
+fn mean(a: Cell, b: Cell) -> Cell {
+    var r: Cell;
+    let flip = select(1.0, -1.0, dot(a.across, b.across) < 0.0);
+    let ax = 0.5 * (a.across.x + flip * b.across.x);
+    let az = 0.5 * (a.across.y + flip * b.across.y);
+    let len = sqrt(ax * ax + az * az);
+    r.across = select(a.across, vec2<f32>(ax / len, az / len), len > 1e-6);
+    r.slope = vec2<f32>(0.5 * (a.slope.x + b.slope.x), 0.5 * (a.slope.y + b.slope.y));
+    r.base = 0.5 * (a.base + b.base);
+    r.ws = 0.5 * (a.ws + b.ws);
+    r.kappa = 0.5 * (a.kappa + b.kappa);
+    r.pad = 0.0;
+    return r;
+}
+
+// `sim::terrain::shape`.
+fn shape(w: vec2<f32>, c: Cell) -> vec2<f32> {
+    let s2 = w.x * w.x + w.y * w.y;
+    if (s2 == 0.0) {
+        return w;
+    }
+    let speed = sqrt(s2);
+    let along = clamp((c.slope.x * w.x + c.slope.y * w.y) / speed, -1.0, 1.0);
+    let k = max(c.base + c.ws * along, 0.0);
+    if (c.kappa == 0.0) {
+        return vec2<f32>(w.x * k, w.y * k);
+    }
+    let d = c.kappa * (w.x * c.across.x + w.y * c.across.y);
+    let t = vec2<f32>(w.x - d * c.across.x, w.y - d * c.across.y);
+    let len = sqrt(t.x * t.x + t.y * t.y);
+    if (len == 0.0) {
+        return vec2<f32>(0.0, 0.0);
+    }
+    let f = k * speed / len;
+    return vec2<f32>(t.x * f, t.y * f);
+}
+
+fn vf(i: i32, j: u32) -> f32 {
+    return v[j * P.nx + u32(clamp(i, 0, i32(P.nx) - 1))];
+}
+
+fn uf(i: u32, j: i32) -> f32 {
+    return u[u32(clamp(j, 0, i32(P.ny) - 1)) * (P.nx + 1u) + i];
+}
+
+@compute @workgroup_size(8, 8)
+fn shape_u(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    let j = id.y;
+    if (i > P.nx || j >= P.ny) {
+        return;
+    }
+    let k = j * (P.nx + 1u) + i;
+    let il = i32(i) - 1;
+    let ir = i32(i);
+    let vbar = 0.25 * (vf(il, j) + vf(ir, j) + vf(il, j + 1u) + vf(ir, j + 1u));
+    let c = mean(cell(il, i32(j)), cell(ir, i32(j)));
+    u_out[k] = shape(vec2<f32>(u[k], vbar), c).x;
+}
+
+@compute @workgroup_size(8, 8)
+fn shape_v(@builtin(global_invocation_id) id: vec3<u32>) {
+    let i = id.x;
+    let j = id.y;
+    if (i >= P.nx || j > P.ny) {
+        return;
+    }
+    let k = j * P.nx + i;
+    let jb = i32(j) - 1;
+    let jt = i32(j);
+    let ubar = 0.25 * (uf(i, jb) + uf(i + 1u, jb) + uf(i, jt) + uf(i + 1u, jt));
+    let c = mean(cell(i32(i), jb), cell(i32(i), jt));
+    v_out[k] = shape(vec2<f32>(ubar, v[k]), c).y;
+}

@@ -1,0 +1,271 @@
+//! How the level's ground shapes the wind: a correction of the 2D solve's field by the
+//! terrain's slope and curvature, after MicroMet (Liston & Elder 2006), with the valley
+//! channelling taken from the heights' Hessian. `docs/SOLVER.md` ("Terrain") gives the model
+//! and why it was chosen; this file is the CPU reference, `shaders/terrain.wgsl` its GPU twin.
+//!
+//! The solver runs the 2D wind as over flat ground; what leaves it (the map, the grass, the
+//! bakes) is the shaped field. Each face's velocity `U` becomes
+//! `W · |U| · dir(U − κ (U·n) n)`, with the speed factor
+//! `W = max(0, base + ws · clamp(g·Û, −1, 1))`, where per cell `base = 1 + strength·γc·Ωc`
+//! (curvature: crests faster, hollows slower), `g` the slope over [`SLOPE_REF`] (windward
+//! faster, lee slower) and `κ (U·n) n` the share of the wind across a valley's axis that the
+//! valley turns along it.
+
+use crate::doc::Layout;
+use bytemuck::{Pod, Zeroable};
+
+/// Weight of the slope term (MicroMet's `γs`).
+pub const GAMMA_SLOPE: f32 = 0.5;
+/// Weight of the curvature term (MicroMet's `γc`).
+pub const GAMMA_CURVATURE: f32 = 0.5;
+/// The slope along the wind (rise over run) at which the slope term is full: 15°.
+pub const SLOPE_REF: f32 = 0.268;
+/// The curvature (MicroMet's, a height difference over a distance) at which the curvature
+/// term is full.
+pub const CURVATURE_REF: f32 = 0.05;
+/// The valley curvature (across the valley, times the feature length) at which the
+/// channelling is full.
+pub const CHANNEL_REF: f32 = 0.2;
+/// The most of the wind across a valley its channelling removes (strength 1).
+pub const CHANNEL_MAX: f32 = 0.8;
+/// The most at any strength: the wind across a valley never reverses.
+pub const CHANNEL_LIMIT: f32 = 0.95;
+
+/// One cell's terrain coefficients; mirrors `struct Cell` in `shaders/terrain.wgsl`.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct Cell {
+    /// The ground's gradient over [`SLOPE_REF`] (x, z).
+    pub slope: [f32; 2],
+    /// `1 + strength · γc · Ωc`: the speed factor of the curvature.
+    pub base: f32,
+    /// `strength · γs · 0.5`: the slope term's weight.
+    pub ws: f32,
+    /// The unit direction across the valley (the Hessian's steepest-up direction).
+    pub across: [f32; 2],
+    /// The share of the wind across the valley that turns along it, 0 to [`CHANNEL_LIMIT`].
+    pub kappa: f32,
+    pub _pad: f32,
+}
+
+impl Cell {
+    /// Flat ground: the wind passes unchanged.
+    pub const FLAT: Cell = Cell {
+        slope: [0.0, 0.0],
+        base: 1.0,
+        ws: 0.0,
+        across: [1.0, 0.0],
+        kappa: 0.0,
+        _pad: 0.0,
+    };
+
+    /// The mean of two cells' coefficients: a face's, from the cells either side.
+    pub fn mean(a: &Cell, b: &Cell) -> Cell {
+        let m = |x: f32, y: f32| 0.5 * (x + y);
+        // The axis is a line, not an arrow: align b's with a's before averaging.
+        let flip = if a.across[0] * b.across[0] + a.across[1] * b.across[1] < 0.0 {
+            -1.0
+        } else {
+            1.0
+        };
+        let (ax, az) = (
+            m(a.across[0], flip * b.across[0]),
+            m(a.across[1], flip * b.across[1]),
+        );
+        let len = (ax * ax + az * az).sqrt();
+        let across = if len > 1e-6 {
+            [ax / len, az / len]
+        } else {
+            a.across
+        };
+        Cell {
+            slope: [m(a.slope[0], b.slope[0]), m(a.slope[1], b.slope[1])],
+            base: m(a.base, b.base),
+            ws: m(a.ws, b.ws),
+            across,
+            kappa: m(a.kappa, b.kappa),
+            _pad: 0.0,
+        }
+    }
+}
+
+/// The terrain's hand on velocity `u` (m/s) where the coefficients are `c`.
+#[inline]
+pub fn shape(u: [f32; 2], c: &Cell) -> [f32; 2] {
+    let s2 = u[0] * u[0] + u[1] * u[1];
+    if s2 == 0.0 {
+        return u;
+    }
+    let speed = s2.sqrt();
+    let along = ((c.slope[0] * u[0] + c.slope[1] * u[1]) / speed).clamp(-1.0, 1.0);
+    let w = (c.base + c.ws * along).max(0.0);
+    if c.kappa == 0.0 {
+        return [u[0] * w, u[1] * w];
+    }
+    let d = c.kappa * (u[0] * c.across[0] + u[1] * c.across[1]);
+    let t = [u[0] - d * c.across[0], u[1] - d * c.across[1]];
+    let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
+    if len == 0.0 {
+        return [0.0, 0.0];
+    }
+    let k = w * speed / len;
+    [t[0] * k, t[1] * k]
+}
+
+/// The terrain of a layout laid over its grid: the ground's height at every cell centre and
+/// each cell's coefficients. `None` for a layout without terrain (the wind is the 2D solve's).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TerrainField {
+    pub nx: usize,
+    pub ny: usize,
+    /// Metres above the datum, at each cell centre, row-major.
+    pub heights: Vec<f32>,
+    pub cells: Vec<Cell>,
+}
+
+impl TerrainField {
+    /// The terrain of `layout` over its grid, or `None` when it has none. Slope and curvature
+    /// are measured over the terrain's feature length from the heightmap itself (bilinear),
+    /// so they do not change with the grid.
+    pub fn new(layout: &Layout) -> Option<Self> {
+        let t = layout.world.terrain.as_ref()?;
+        let w = &layout.world;
+        let [nx, ny] = [w.grid[0] as usize, w.grid[1] as usize];
+        let (hx, hz) = (w.size[0] / nx as f32, w.size[1] / ny as f32);
+        let bounds = layout.bounds();
+        let l = t.feature_length_for(w.size);
+        let d = l * std::f32::consts::FRAC_1_SQRT_2;
+        let at = |x: f32, z: f32| t.height_at([x, z], bounds);
+        let strength = t.strength;
+        let mut heights = Vec::with_capacity(nx * ny);
+        let mut cells = Vec::with_capacity(nx * ny);
+        for j in 0..ny {
+            let z = w.origin[1] + (j as f32 + 0.5) * hz;
+            for i in 0..nx {
+                let x = w.origin[0] + (i as f32 + 0.5) * hx;
+                let h = at(x, z);
+                let (e, wst) = (at(x + l, z), at(x - l, z));
+                let (n, s) = (at(x, z + l), at(x, z - l));
+                let (ne, sw) = (at(x + d, z + d), at(x - d, z - d));
+                let (nw, se) = (at(x - d, z + d), at(x + d, z - d));
+                heights.push(h);
+                cells.push(coefficients(
+                    h,
+                    [e, wst, n, s],
+                    [ne, sw, nw, se],
+                    l,
+                    strength,
+                ));
+            }
+        }
+        Some(Self {
+            nx,
+            ny,
+            heights,
+            cells,
+        })
+    }
+
+    /// Cell `(i, j)`'s coefficients, the indices clamped to the grid.
+    fn cell(&self, i: isize, j: isize) -> &Cell {
+        let i = i.clamp(0, self.nx as isize - 1) as usize;
+        let j = j.clamp(0, self.ny as isize - 1) as usize;
+        &self.cells[j * self.nx + i]
+    }
+
+    /// The shaped faces of the solver's faces `u` (`(nx + 1) × ny`) and `v` (`nx × (ny + 1)`):
+    /// each face's velocity (its own component and the mean of the four nearest faces of the
+    /// other, the grid's edges clamped) shaped with the mean coefficients of the cells either
+    /// side of it.
+    pub fn shape_faces(&self, u: &[f32], v: &[f32]) -> (Vec<f32>, Vec<f32>) {
+        let (nx, ny) = (self.nx, self.ny);
+        let vf = |i: isize, j: usize| v[j * nx + i.clamp(0, nx as isize - 1) as usize];
+        let uf = |i: usize, j: isize| u[j.clamp(0, ny as isize - 1) as usize * (nx + 1) + i];
+        let mut su = vec![0.0; u.len()];
+        for j in 0..ny {
+            for i in 0..=nx {
+                let k = j * (nx + 1) + i;
+                let (il, ir) = (i as isize - 1, i as isize);
+                let vbar = 0.25 * (vf(il, j) + vf(ir, j) + vf(il, j + 1) + vf(ir, j + 1));
+                let c = Cell::mean(self.cell(il, j as isize), self.cell(ir, j as isize));
+                su[k] = shape([u[k], vbar], &c)[0];
+            }
+        }
+        let mut sv = vec![0.0; v.len()];
+        for j in 0..=ny {
+            for i in 0..nx {
+                let k = j * nx + i;
+                let (jb, jt) = (j as isize - 1, j as isize);
+                let ubar = 0.25 * (uf(i, jb) + uf(i + 1, jb) + uf(i, jt) + uf(i + 1, jt));
+                let c = Cell::mean(self.cell(i as isize, jb), self.cell(i as isize, jt));
+                sv[k] = shape([ubar, v[k]], &c)[1];
+            }
+        }
+        (su, sv)
+    }
+}
+
+/// A cell's coefficients from the height `h` there and the heights a feature length `l` away:
+/// `[east, west, north, south]` along the axes and `[ne, sw, nw, se]` along the diagonals.
+fn coefficients(h: f32, axes: [f32; 4], diag: [f32; 4], l: f32, strength: f32) -> Cell {
+    let [e, w, n, s] = axes;
+    let [ne, sw, nw, se] = diag;
+    if axes.iter().chain(&diag).all(|&x| x == h) {
+        // Flat here: exactly today's wind.
+        return Cell {
+            ws: 0.0,
+            ..Cell::FLAT
+        };
+    }
+    let g = [(e - w) / (2.0 * l), (n - s) / (2.0 * l)];
+    // MicroMet's curvature: the height over the mean of each opposite pair, over twice the
+    // distance, averaged over the four directions. Positive on crests.
+    let pair = |a: f32, b: f32| (h - 0.5 * (a + b)) / (2.0 * l);
+    let curvature = 0.25 * (pair(e, w) + pair(n, s) + pair(ne, sw) + pair(nw, se));
+    let omega_c = 0.5 * (curvature / CURVATURE_REF).clamp(-1.0, 1.0);
+    // The Hessian: its largest eigenvalue's direction is across a valley, and a valley is
+    // where it is positive and the other is not (a bowl has no axis to follow).
+    let hxx = (e - 2.0 * h + w) / (l * l);
+    let hzz = (n - 2.0 * h + s) / (l * l);
+    let hxz = (ne - nw - se + sw) / (2.0 * l * l);
+    let mean = 0.5 * (hxx + hzz);
+    let r = (0.25 * (hxx - hzz) * (hxx - hzz) + hxz * hxz).sqrt();
+    let (l1, l2) = (mean + r, mean - r);
+    let theta = 0.5 * (2.0 * hxz).atan2(hxx - hzz);
+    let valley = ((l1 - l2.max(0.0)).max(0.0) * l / CHANNEL_REF).min(1.0);
+    Cell {
+        slope: [g[0] / SLOPE_REF, g[1] / SLOPE_REF],
+        base: 1.0 + strength * GAMMA_CURVATURE * omega_c,
+        ws: strength * GAMMA_SLOPE * 0.5,
+        across: [theta.cos(), theta.sin()],
+        kappa: (strength * CHANNEL_MAX * valley).min(CHANNEL_LIMIT),
+        _pad: 0.0,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn flat_cells_pass_the_wind_bit_for_bit() {
+        let c = coefficients(3.0, [3.0; 4], [3.0; 4], 10.0, 1.0);
+        for u in [[1.3f32, -0.7], [1e-7, 3.0], [-12.5, 0.0]] {
+            let s = shape(u, &c);
+            assert_eq!(s.map(f32::to_bits), u.map(f32::to_bits));
+        }
+    }
+
+    #[test]
+    fn a_valley_removes_the_wind_across_it_and_keeps_the_speed() {
+        // A valley along z: heights rise with |x|.
+        let c = coefficients(0.0, [4.0, 4.0, 0.0, 0.0], [2.0, 2.0, 2.0, 2.0], 10.0, 1.0);
+        assert!(c.kappa > 0.5, "{c:?}");
+        assert!(c.across[0].abs() > 0.99, "{c:?}");
+        let s = shape([1.0, 1.0], &c);
+        let angle = s[0].abs().atan2(s[1].abs()).to_degrees();
+        assert!(angle < 15.0, "{angle}° from the valley's axis");
+        let speed = (s[0] * s[0] + s[1] * s[1]).sqrt();
+        assert!((speed / 2f32.sqrt() - c.base).abs() < 1e-5);
+    }
+}
