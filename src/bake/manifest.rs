@@ -235,6 +235,33 @@ pub struct Manifest {
     pub profile: Option<ProfileInfo>,
     /// The settings each engine's guide and script import these files with.
     pub engines: super::engines::Engines,
+    /// The ground the wind was shaped by (`heights.png`), where the layout has terrain.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub terrain: Option<TerrainInfo>,
+}
+
+/// The terrain's heights file: `height (m) = stored × scale + offset` at each baked cell's
+/// centre, `stored` sampled as `sample` says (for `unorm16`, `n / 65535`).
+#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
+#[schemars(deny_unknown_fields)]
+pub struct TerrainInfo {
+    /// Always `heights.png`: a 16-bit grey PNG.
+    pub file: &'static str,
+    pub sample: Sample,
+    /// Always `m`.
+    pub units: &'static str,
+    pub scale: f32,
+    pub offset: f32,
+    /// The image's axes: `pixel_x` along `+x`, `pixel_y` (down the image) along `+z`, one
+    /// pixel a baked cell.
+    pub axes: Vec<IndexAxis>,
+    /// The layout's heightmap the heights were sampled from.
+    pub heightmap: String,
+    /// How strongly the terrain shaped the wind (the layout's `world.terrain.strength`).
+    pub strength: f32,
+    /// The feature length, metres, slope and curvature were measured over.
+    pub feature_length: f32,
+    pub bytes: u64,
 }
 
 /// The volume's vertical profile: layer `k` holds the simulated wind times `factors[k]`.

@@ -13,6 +13,7 @@ mod fga;
 mod folder;
 mod format;
 mod frames;
+mod heights;
 mod manifest;
 mod options;
 mod png;
@@ -25,8 +26,8 @@ pub use engines::Engines;
 pub use format::Format;
 pub use manifest::{
     Axes, Channel, Encoding, FileEntry, FramesInfo, IndexAxis, LayoutInfo, MANIFEST,
-    MANIFEST_VERSION, Manifest, ProfileInfo, Quantity, Sample, SubImages, WorldAxis, WorldInfo,
-    layout_hash, schema as manifest_schema,
+    MANIFEST_VERSION, Manifest, ProfileInfo, Quantity, Sample, SubImages, TerrainInfo, WorldAxis,
+    WorldInfo, layout_hash, schema as manifest_schema,
 };
 pub use options::{
     BakeOptions, DEFAULT_MAX_BYTES, FRAMES_MAX, SECONDS_MAX, SettingsError, atlas_message,
@@ -376,7 +377,7 @@ pub(crate) struct Output {
 }
 
 /// Writes a file and flushes it to disk before the folder swap can make it visible.
-fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> Result<u64, BakeError> {
+pub(crate) fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> Result<u64, BakeError> {
     use std::io::Write;
     let path = dir.join(name);
     let err = |source| BakeError::Write {
@@ -429,7 +430,7 @@ fn bake_staged(
     }
     if let Some(p) = doc::mask_problems(&layout).first() {
         return Err(BakeError::Layout(format!(
-            "{p}; a bake without the mask's obstacles would ship wrong wind"
+            "{p}; a bake without it would ship wrong wind"
         )));
     }
     let timing = FrameTiming::new(opts.fps, layout.sim.dt, opts.warmup);
@@ -442,7 +443,12 @@ fn bake_staged(
         options::check_atlas(n, nx, ny)?;
     }
     let layers = layout.world.profile.layers as usize;
-    let need = disk_need(nx, ny, layers, &formats, n, opts.looped, opts.half);
+    let heights_need = if layout.world.terrain.is_some() {
+        (nx * ny * 2) as u64 + 65536
+    } else {
+        0
+    };
+    let need = disk_need(nx, ny, layers, &formats, n, opts.looped, opts.half) + heights_need;
     if need > opts.max_bytes {
         return Err(BakeError::Disk {
             need,
@@ -460,7 +466,10 @@ fn bake_staged(
             budget: false,
         });
     }
-    let names = output_names(&formats, n);
+    let mut names = output_names(&formats, n);
+    if layout.world.terrain.is_some() {
+        names.push(heights::NAME.to_string());
+    }
     staging.check_names(names.iter().map(String::as_str))?;
     let dir = staging.path().to_path_buf();
 
@@ -587,6 +596,7 @@ fn bake_staged(
         })?;
     }
 
+    let terrain = heights::write(&dir, &layout)?;
     let files: Vec<FileEntry> = files.into_values().flatten().collect();
     let manifest = Manifest {
         format: "windloom-bake",
@@ -632,6 +642,7 @@ fn bake_staged(
             .then(|| manifest::ProfileInfo::new(&layout.world.profile)),
         engines: engines::engines(&ctx, &files),
         files,
+        terrain,
     };
     let json = serde_json::to_string_pretty(&manifest).expect("a manifest serialises") + "\n";
     write_file(&dir, MANIFEST, json.as_bytes())?;
