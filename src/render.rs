@@ -176,6 +176,8 @@ pub fn render_scaled(
         };
         pix.draw_pixmap(0, 0, under.as_ref(), &pp, t, None);
     }
+    // The ground's shape over the speed colours, under the lines.
+    draw_relief(&mut pix, layout, &view);
 
     // A metre grid.
     let step = nice_step(80.0 * ui / scale);
@@ -323,6 +325,31 @@ fn draw_backdrop(pix: &mut Pixmap, layout: &Layout, base: &Path, view: &View) {
     );
     let pp = PixmapPaint {
         opacity: map.opacity,
+        quality: FilterQuality::Bilinear,
+        ..Default::default()
+    };
+    pix.draw_pixmap(0, 0, p.as_ref(), &pp, t, None);
+}
+
+/// The terrain's hill shade and contour lines (`sim::terrain::relief`) over the world.
+fn draw_relief(pix: &mut Pixmap, layout: &Layout, view: &View) {
+    let (min, max) = layout.bounds();
+    let ((x0, y0), (x1, y1)) = (view.px(min), view.px(max));
+    let (w, h) = (
+        ((x1 - x0) as usize).clamp(16, 2048),
+        ((y1 - y0) as usize).clamp(16, 2048),
+    );
+    let Some(rgba) = crate::sim::terrain::relief(layout, (w, h), true, true) else {
+        return;
+    };
+    let Some(mut p) = Pixmap::new(w as u32, h as u32) else {
+        return;
+    };
+    for (dst, src) in p.pixels_mut().iter_mut().zip(rgba.chunks_exact(4)) {
+        *dst = tiny_skia::ColorU8::from_rgba(src[0], src[1], src[2], src[3]).premultiply();
+    }
+    let t = Transform::from_row((x1 - x0) / w as f32, 0.0, 0.0, (y1 - y0) / h as f32, x0, y0);
+    let pp = PixmapPaint {
         quality: FilterQuality::Bilinear,
         ..Default::default()
     };

@@ -33,6 +33,9 @@ pub struct MapState {
     pub(super) field_texture: Option<(super::ScaleKey, egui::TextureHandle, f32)>,
     /// The backdrop's file and its texture (`None`: it could not be read).
     pub(super) backdrop: Option<(std::path::PathBuf, Option<egui::TextureHandle>)>,
+    /// The terrain's relief ([`crate::sim::terrain::relief`]) for the terrain and the
+    /// contours switch it was drawn for.
+    pub(super) relief: Option<(Option<crate::doc::Terrain>, [bool; 2], egui::TextureHandle)>,
     /// The world point under the pointer.
     pub cursor_world: Option<doc::Vec2>,
     /// The top of the map's colour scale as its legend last read (0: no legend).
@@ -49,6 +52,7 @@ impl Default for MapState {
             streaks: view::Streaks::new(),
             field_texture: None,
             backdrop: None,
+            relief: None,
             cursor_world: None,
             legend_scale: 0.0,
         }
@@ -87,6 +91,8 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     draw_backdrop(app, &ctx, &painter, &cam, rect);
     let snap = app.live.snapshot();
     let max_speed = draw_wind(app, &ctx, &painter, &cam, rect, world, &snap);
+    // Over the wind's colours, so the ground reads through them; a little hides the streaks.
+    draw_relief(app, &ctx, &painter, &cam, rect);
     app.map.legend_scale = max_speed;
     if app.settings.show_grid {
         draw_grid(&painter, &cam, rect, min, max);
@@ -196,6 +202,54 @@ fn draw_backdrop(
             Rect::from_two_pos(cam.to_screen(rect, a), cam.to_screen(rect, b)),
             Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
             Color32::from_white_alpha((map.opacity * 255.0) as u8),
+        );
+    }
+}
+
+/// The terrain's hill shade and contour lines over the world rectangle, under the wind.
+fn draw_relief(
+    app: &mut EditorApp,
+    ctx: &egui::Context,
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+) {
+    let terrain = app.doc.world.terrain.clone();
+    let on = app.settings.hill_shade || app.settings.contours;
+    if terrain.is_none() || !on {
+        app.map.relief = None;
+        return;
+    }
+    let flags = [app.settings.hill_shade, app.settings.contours];
+    let stale = app.map.relief.as_ref().is_none_or(|(t, f, _)| {
+        *t != terrain
+            || *f != flags
+            // A heightmap read since (equal layouts compare their pixels as equal).
+            || t.as_ref().map(|t| t.pixels.image().is_some())
+                != terrain.as_ref().map(|t| t.pixels.image().is_some())
+    });
+    if stale {
+        // About 2 px a metre at most, 1024 px a side at most.
+        let size = app.doc.world.size;
+        let k = (1024.0 / size[0].max(size[1])).min(2.0);
+        let (w, h) = (
+            ((size[0] * k) as usize).clamp(16, 1024),
+            ((size[1] * k) as usize).clamp(16, 1024),
+        );
+        let Some(rgba) = crate::sim::terrain::relief(&app.doc, (w, h), flags[0], flags[1]) else {
+            return;
+        };
+        let img = egui::ColorImage::from_rgba_unmultiplied([w, h], &rgba);
+        let tex = ctx.load_texture("terrain relief", img, egui::TextureOptions::LINEAR);
+        app.map.relief = Some((terrain, flags, tex));
+    }
+    if let Some((_, _, tex)) = &app.map.relief {
+        let (min, max) = app.doc.bounds();
+        painter.image(
+            tex.id(),
+            Rect::from_two_pos(cam.to_screen(rect, min), cam.to_screen(rect, max)),
+            Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
+            Color32::WHITE,
         );
     }
 }

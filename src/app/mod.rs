@@ -129,6 +129,9 @@ pub struct Settings {
     pub snap_step: f32,
     pub streak_count: usize,
     pub show_grid: bool,
+    /// The terrain on the map: its hill shade, and contour lines (View menu).
+    pub hill_shade: bool,
+    pub contours: bool,
     /// Where the live wind runs (View menu).
     pub backend: Backend,
     /// Map, 3D grass, or both (View menu, toolbar).
@@ -155,6 +158,8 @@ impl Default for Settings {
             snap_step: 1.0,
             streak_count: 1500,
             show_grid: true,
+            hill_shade: true,
+            contours: false,
             backend: Backend::Auto,
             central: Central::Map,
             wind_colours: false,

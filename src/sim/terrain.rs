@@ -205,6 +205,76 @@ impl TerrainField {
     }
 }
 
+/// The map's picture of the terrain over the world rectangle, `w × h` pixels, row 0 at the
+/// world's smallest z, straight-alpha RGBA: with `shade` a hill shade (lit from the
+/// north-west, the map's top left, 45° up: slopes facing it lighter, slopes away darker, flat
+/// ground clear) and with `contours` lines every [`contour_interval`] metres. `None` for a
+/// layout without terrain.
+pub fn relief(
+    layout: &Layout,
+    (w, h): (usize, usize),
+    shade: bool,
+    contours: bool,
+) -> Option<Vec<u8>> {
+    let t = layout.world.terrain.as_ref()?;
+    let (min, max) = layout.bounds();
+    let (dx, dz) = ((max[0] - min[0]) / w as f32, (max[1] - min[1]) / h as f32);
+    let heights: Vec<f32> = (0..h)
+        .flat_map(|j| (0..w).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let p = [
+                min[0] + (i as f32 + 0.5) * dx,
+                min[1] + (j as f32 + 0.5) * dz,
+            ];
+            t.height_at(p, (min, max))
+        })
+        .collect();
+    let at = |i: usize, j: usize| heights[j.min(h - 1) * w + i.min(w - 1)];
+    let interval = contour_interval(t.heights[1] - t.heights[0]);
+    // Toward the sun: north-west (−x, −z on the map, its top left), 45° up.
+    let sun = [-0.5f32, 0.5_f32.sqrt(), -0.5];
+    let mut out = vec![0u8; w * h * 4];
+    for j in 0..h {
+        for i in 0..w {
+            let gx = (at(i + 1, j) - at(i.saturating_sub(1), j)) / (2.0 * dx);
+            let gz = (at(i, j + 1) - at(i, j.saturating_sub(1))) / (2.0 * dz);
+            let n = [-gx, 1.0, -gz];
+            let len = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+            let lit = (n[0] * sun[0] + n[1] * sun[1] + n[2] * sun[2]) / len;
+            let d = lit - sun[1];
+            let px = &mut out[(j * w + i) * 4..][..4];
+            if shade {
+                let a = (d.abs() * 1.6).min(0.6);
+                let v = if d > 0.0 { 255 } else { 0 };
+                px.copy_from_slice(&[v, v, v, (a * 255.0) as u8]);
+            }
+            if contours && interval > 0.0 {
+                let band = |x: f32| (x / interval).floor();
+                let here = band(at(i, j));
+                if band(at(i + 1, j)) != here || band(at(i, j + 1)) != here {
+                    px.copy_from_slice(&[40, 25, 10, 190]);
+                }
+            }
+        }
+    }
+    Some(out)
+}
+
+/// The contour interval for heights spanning `range` metres: 1, 2 or 5 times a power of ten,
+/// about ten lines over the range.
+pub fn contour_interval(range: f32) -> f32 {
+    if range <= 0.0 || !range.is_finite() {
+        return 0.0;
+    }
+    let raw = range / 10.0;
+    let p = 10f32.powf(raw.log10().floor());
+    [1.0, 2.0, 5.0, 10.0]
+        .into_iter()
+        .map(|m| m * p)
+        .find(|&x| x >= raw)
+        .unwrap_or(10.0 * p)
+}
+
 /// A cell's coefficients from the height `h` there and the heights a feature length `l` away:
 /// `[east, west, north, south]` along the axes and `[ne, sw, nw, se]` along the diagonals.
 fn coefficients(h: f32, axes: [f32; 4], diag: [f32; 4], l: f32, strength: f32) -> Cell {
@@ -246,6 +316,14 @@ fn coefficients(h: f32, axes: [f32; 4], diag: [f32; 4], l: f32, strength: f32) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn contours_fall_on_round_numbers() {
+        assert_eq!(contour_interval(20.0), 2.0);
+        assert_eq!(contour_interval(100.0), 10.0);
+        assert_eq!(contour_interval(35.0), 5.0);
+        assert_eq!(contour_interval(0.0), 0.0);
+    }
 
     #[test]
     fn flat_cells_pass_the_wind_bit_for_bit() {
