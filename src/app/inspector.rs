@@ -699,6 +699,87 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             }
         }
     });
+    // The level's ground: its heightmap and how the wind feels it.
+    egui::CollapsingHeader::new("Terrain")
+        .id_salt("terrain")
+        .default_open(w.terrain.is_some())
+        .show(ui, |ui| {
+            egui::Grid::new("terrain").num_columns(2).show(ui, |ui| {
+                let mut path = w
+                    .terrain
+                    .as_ref()
+                    .map_or(String::new(), |t| t.heightmap.clone());
+                if row(ui, "Heightmap", |ui| {
+                    ui.add(
+                        egui::TextEdit::singleline(&mut path)
+                            .hint_text("none: flat")
+                            .desired_width(140.0),
+                    )
+                    .on_hover_text(
+                        "A grey image over the world (16-bit PNG for smooth slopes, or EXR), \
+                         relative to the layout's folder: black the lowest height, white the \
+                         highest",
+                    )
+                }) {
+                    changed = true;
+                    let old = w.terrain.take();
+                    w.terrain = (!path.trim().is_empty()).then(|| {
+                        let base = crate::io::layout_base(app.doc.path());
+                        let pixels = crate::io::grey_pixels(&base, path.trim(), "heightmap");
+                        match old {
+                            Some(t) => doc::Terrain {
+                                heightmap: path.trim().to_owned(),
+                                pixels,
+                                ..t
+                            },
+                            None => doc::Terrain {
+                                heightmap: path.trim().to_owned(),
+                                heights: [0.0, 10.0],
+                                rect: None,
+                                strength: 1.0,
+                                feature_length: None,
+                                pixels,
+                            },
+                        }
+                    });
+                }
+                if let Some(t) = &mut w.terrain {
+                    if let doc::MaskPixels::Failed(why) = &t.pixels {
+                        ui.label("");
+                        ui.colored_label(ui.visuals().warn_fg_color, format!("Not read: {why}"));
+                        ui.end_row();
+                    }
+                    let mut h = t.heights;
+                    if min_max(ui, "Heights", &mut h, bounds::TERRAIN_HEIGHT, 0.1, " m")
+                        && h[0] <= h[1]
+                    {
+                        t.heights = h;
+                        changed = true;
+                    }
+                    changed |= row(ui, "Strength", |ui| {
+                        ui.add(egui::Slider::new(
+                            &mut t.strength,
+                            bounds::TERRAIN_STRENGTH.range(),
+                        ))
+                        .on_hover_text(
+                            "How strongly the ground shapes the wind: 0 not at all, 1 as \
+                             documented (docs/SOLVER.md, Terrain)",
+                        )
+                    });
+                    let mut l = t.feature_length_for(w.size);
+                    if num(ui, "Hill size", &mut l, bounds::FEATURE_LENGTH, 0.1, " m") {
+                        t.feature_length = Some(l);
+                        changed = true;
+                    }
+                }
+            });
+            if w.terrain.is_some() {
+                ui.weak(
+                    "Crests speed the wind up, lee slopes and hollows slow it, valleys turn it \
+                     along them.",
+                );
+            }
+        });
     // The vertical profile of the baked volume (Export: dds).
     egui::CollapsingHeader::new("Wind above the ground")
         .id_salt("profile")
