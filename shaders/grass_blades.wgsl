@@ -39,7 +39,8 @@ fn blade_vertex(vi: u32, i: u32) -> BladeOut {
     let side = vec3<f32>(fr[1].x, 0.0, fr[1].y);
     // Tip pinch: full width low down, narrowing to a point, shape varying per blade.
     let pinch = 1.0 - pow(t, 1.4 + 0.6 * b.variation);
-    let root = vec3<f32>(b.pos.x, 0.0, b.pos.y);
+    let lift = ground(b.pos);
+    let root = vec3<f32>(b.pos.x, lift, b.pos.y);
     let half = 0.5 * b.width * pinch * distance_width(C, k, distance(root, S.eye.xyz));
     let pos = p + side * (across * half);
     var out: BladeOut;
@@ -50,7 +51,7 @@ fn blade_vertex(vi: u32, i: u32) -> BladeOut {
     // Per-blade brightness and a slight hue shift toward yellow or blue-green.
     let v = b.variation;
     let tint = vec3<f32>(1.0 + 0.08 * v, 1.0 + 0.04 * v, 1.0 - 0.10 * v) * (1.0 + 0.12 * v);
-    out.colour = mix(base, tip, t) * tint * curve_shade(k, b, p.y);
+    out.colour = mix(base, tip, t) * tint * curve_shade(k, b, p.y - lift);
     return out;
 }
 

@@ -60,6 +60,13 @@ struct Scene {
     wind_scale: f32,
     // Where the map backdrop lies: x0, z0, x1, z1 in metres (`MapBackdrop::placed`).
     backdrop_rect: vec4<f32>,
+    // The terrain's heights (`ground`): a grid of cells from `ground_origin`, and the ground
+    // mesh's quads along x and z (0: flat ground at y = 0).
+    ground_origin: vec2<f32>,
+    ground_cell: vec2<f32>,
+    ground_nx: u32,
+    ground_ny: u32,
+    ground_quads: vec2<u32>,
 }
 
 // The far field (`gpu::grass::FarUniform`; `grass::far`): a grid of texels over the world
@@ -126,6 +133,27 @@ const TAU: f32 = 6.283185307179586;
 @group(0) @binding(3) var<storage, read> palettes: array<vec4<f32>>;
 // The trail's remaining life per texel (r32float, `grass::trail`).
 @group(0) @binding(4) var trail: texture_2d<f32>;
+
+// The terrain's height at each cell centre of its grid (one 0 for flat ground).
+@group(0) @binding(5) var<storage, read> ground_heights: array<f32>;
+
+// The ground's height at world `p`, bilinear between the terrain's cell centres and clamped
+// at its edges (0 on flat ground): `sim::terrain::TerrainField::ground_at`.
+fn ground(p: vec2<f32>) -> f32 {
+    if (S.ground_quads.x == 0u) {
+        return 0.0;
+    }
+    let g = (p - S.ground_origin) / S.ground_cell - vec2<f32>(0.5);
+    let hi = vec2<f32>(f32(S.ground_nx - 1u), f32(S.ground_ny - 1u));
+    let c = clamp(g, vec2<f32>(0.0), hi);
+    let i0 = vec2<u32>(floor(c));
+    let i1 = min(i0 + vec2<u32>(1u), vec2<u32>(S.ground_nx - 1u, S.ground_ny - 1u));
+    let f = c - floor(c);
+    let n = S.ground_nx;
+    let a = mix(ground_heights[i0.y * n + i0.x], ground_heights[i0.y * n + i1.x], f.x);
+    let b = mix(ground_heights[i1.y * n + i0.x], ground_heights[i1.y * n + i1.x], f.x);
+    return mix(a, b, f.y);
+}
 
 // Blade `k` of a dispatch of 64-wide workgroups laid out in two dimensions (a dimension holds
 // at most 65,535 workgroups: 4.2 M blades).

@@ -124,5 +124,5 @@ fn tips_main(
     }
     let b = blades[k];
     let p = curve_point(k, b, 1.0);
-    tips[k] = vec4<f32>(p, curve_shade(k, b, p.y));
+    tips[k] = vec4<f32>(p, curve_shade(k, b, p.y - ground(b.pos)));
 }

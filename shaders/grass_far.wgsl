@@ -100,7 +100,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let pos = F.origin + (vec2<f32>(id.xy) + vec2<f32>(0.5)) * F.cell;
-    let d = distance(vec3<f32>(pos.x, 0.0, pos.y), S.eye.xyz);
+    let d = distance(vec3<f32>(pos.x, ground(pos), pos.y), S.eye.xyz);
     // The pass runs only while the ground shows the far field (`flags & 1`).
     let look = far_texel(pos);
     textureStore(far, vec2<i32>(id.xy), vec4<f32>(look.rgb, look.a * (1.0 - far_cover(d))));

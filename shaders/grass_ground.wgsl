@@ -1,4 +1,5 @@
-// Grass, render: the ground under the blades — the world rectangle at y = 0, a soil colour
+// Grass, render: the ground under the blades — the world rectangle at y = 0 (or the terrain, a
+// mesh of `S.ground_quads` quads at its heights), a soil colour
 // darkened under the grass or, where the layout has a map backdrop, the backdrop image laid
 // over it at its opacity; lit by the same sun and sky as the blades. Where the renderer draws
 // fewer blades than the field holds (distance culling, a blade budget), the ground takes the
@@ -20,12 +21,17 @@ struct GroundOut {
 
 @vertex
 fn vs_main(@builtin(vertex_index) k: u32) -> GroundOut {
-    let c = array<vec2<f32>, 6>(
+    let corner = array<vec2<f32>, 6>(
         vec2<f32>(0.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 0.0),
         vec2<f32>(1.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 1.0),
-    )[k];
+    )[k % 6u];
+    // Quad q of a qx × qz mesh (one quad over flat ground).
+    let qx = max(S.ground_quads.x, 1u);
+    let qz = max(S.ground_quads.y, 1u);
+    let q = k / 6u;
+    let c = (vec2<f32>(f32(q % qx), f32(q / qx)) + corner) / vec2<f32>(f32(qx), f32(qz));
     let w = mix(S.world_min, S.world_max, c);
-    return GroundOut(S.view_proj * vec4<f32>(w.x, 0.0, w.y, 1.0), c, w);
+    return GroundOut(S.view_proj * vec4<f32>(w.x, ground(w), w.y, 1.0), c, w);
 }
 
 // The ground's lit colour, the far field blended in.
@@ -37,13 +43,21 @@ fn ground_colour(in: GroundOut) -> vec3<f32> {
     let buv = (in.world - r.xy) / (r.zw - r.xy);
     let map = textureSample(backdrop_image, backdrop_sampler, buv).rgb;
     let inside = all(buv >= vec2<f32>(0.0)) && all(buv <= vec2<f32>(1.0));
-    let ground = mix(soil, map, select(0.0, clamp(S.backdrop, 0.0, 1.0), inside));
+    let surface = mix(soil, map, select(0.0, clamp(S.backdrop, 0.0, 1.0), inside));
     // The far field, bilinear between texel centres and clamped at the edges (the sampler's).
     let far_uv = (in.world - F.origin) / (F.cell * vec2<f32>(f32(F.nx), f32(F.ny)));
     let far = textureSample(far_image, far_sampler, far_uv);
     let l = normalize(S.sun.xyz);
-    let light = S.sun.w + (1.0 - S.sun.w) * max(l.y, 0.0);
-    var colour = ground * light;
+    // The terrain's normal from its heights a cell apart (straight up over flat ground).
+    var n = vec3<f32>(0.0, 1.0, 0.0);
+    if (S.ground_quads.x != 0u) {
+        let e = S.ground_cell;
+        let dx = (ground(in.world + vec2<f32>(e.x, 0.0)) - ground(in.world - vec2<f32>(e.x, 0.0))) / (2.0 * e.x);
+        let dz = (ground(in.world + vec2<f32>(0.0, e.y)) - ground(in.world - vec2<f32>(0.0, e.y))) / (2.0 * e.y);
+        n = normalize(vec3<f32>(-dx, 1.0, -dz));
+    }
+    let light = S.sun.w + (1.0 - S.sun.w) * max(dot(n, l), 0.0);
+    var colour = surface * light;
     if ((F.flags & 1u) != 0u) {
         // rgb: the blades from afar, lit; a: how much of the ground they take here.
         colour = mix(colour, far.rgb, clamp(far.a, 0.0, 1.0));

@@ -9,7 +9,10 @@ struct SceneOut {
 }
 
 @vertex
-fn vs_main(@location(0) pos: vec3<f32>, @location(1) colour: vec4<f32>) -> SceneOut {
+fn vs_main(@location(0) at: vec3<f32>, @location(1) colour: vec4<f32>) -> SceneOut {
+    // Obstacles, arrows and the footprint stand on the terrain, each vertex on the ground
+    // under it.
+    let pos = at + vec3<f32>(0.0, ground(at.xz), 0.0);
     return SceneOut(S.view_proj * vec4<f32>(pos, 1.0), colour, pos);
 }
 

@@ -7,11 +7,13 @@
 
 // Blade `k`'s deformed centreline at `t` (0 root, 1 tip), world metres.
 fn curve_point(k: u32, b: Blade, t: f32) -> vec3<f32> {
+    // Both models bend the blade over flat ground; the terrain lifts it where it stands.
+    let lift = vec3<f32>(0.0, ground(b.pos), 0.0);
     if (S.model == 1u) {
         let s = states[k];
-        return bezier_point(s.v0.xyz, s.v1.xyz, s.v2.xyz, t);
+        return bezier_point(s.v0.xyz, s.v1.xyz, s.v2.xyz, t) + lift;
     }
-    return blade_point(b, poses[k], t);
+    return blade_point(b, poses[k], t) + lift;
 }
 
 // Eq. 14 at height `y` of blade `k` (the Bezier blades dim by their wind as the CWD ones do).

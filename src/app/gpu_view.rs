@@ -242,6 +242,8 @@ pub struct MapBeside {
 /// the wind grid is rewritten when a new snapshot arrives.
 pub struct GrassView {
     grass: Option<crate::gpu::grass::GrassRenderer>,
+    /// The terrain the view stands on, for finding the ground under the pointer.
+    terrain: Option<std::sync::Arc<crate::sim::terrain::TerrainField>>,
     built_for: Option<(
         crate::doc::GrassParams,
         crate::doc::World,
@@ -290,6 +292,7 @@ impl Default for GrassView {
         Self {
             grass: None,
             built_for: None,
+            terrain: None,
             target: None,
             scene_for: None,
             footprint_for: None,
@@ -352,7 +355,10 @@ impl GrassView {
                 (p.x - rect.left()) / rect.width() * 2.0 - 1.0,
                 1.0 - (p.y - rect.top()) / rect.height() * 2.0,
             ];
-            camera.ground_point(aspect, ndc)
+            match &self.terrain {
+                Some(t) => camera.terrain_point(aspect, ndc, &|p| t.ground_at(p)),
+                None => camera.ground_point(aspect, ndc),
+            }
         };
         // The status bar's readout: the ground under the pointer.
         self.hover_ground = response.hover_pos().and_then(ground_at).map(|g| [g.x, g.z]);
@@ -496,6 +502,7 @@ impl GrassView {
             self.sample = Some(sample);
         }
         let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
+        self.terrain = crate::sim::terrain::TerrainField::new(doc).map(std::sync::Arc::new);
         if let Some(sample) = &self.sample {
             grass.set_sample_reach(sample.threshold);
         }

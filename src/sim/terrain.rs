@@ -118,6 +118,9 @@ pub fn shape(u: [f32; 2], c: &Cell) -> [f32; 2] {
 pub struct TerrainField {
     pub nx: usize,
     pub ny: usize,
+    /// The grid's minimum corner and cell size, metres.
+    pub origin: [f32; 2],
+    pub cell: [f32; 2],
     /// Metres above the datum, at each cell centre, row-major.
     pub heights: Vec<f32>,
     pub cells: Vec<Cell>,
@@ -161,9 +164,26 @@ impl TerrainField {
         Some(Self {
             nx,
             ny,
+            origin: w.origin,
+            cell: [hx, hz],
             heights,
             cells,
         })
+    }
+
+    /// The ground's height at world `p`, bilinear between the cell centres and clamped at the
+    /// grid's edges: what the 3D view stands the grass, the ground and the obstacles on (the
+    /// CPU twin of `ground` in `shaders/grass_common.wgsl`).
+    pub fn ground_at(&self, p: [f32; 2]) -> f32 {
+        let gx = ((p[0] - self.origin[0]) / self.cell[0] - 0.5).clamp(0.0, (self.nx - 1) as f32);
+        let gz = ((p[1] - self.origin[1]) / self.cell[1] - 0.5).clamp(0.0, (self.ny - 1) as f32);
+        let (i0, j0) = (gx as usize, gz as usize);
+        let (i1, j1) = ((i0 + 1).min(self.nx - 1), (j0 + 1).min(self.ny - 1));
+        let (fx, fz) = (gx - i0 as f32, gz - j0 as f32);
+        let h = |i: usize, j: usize| self.heights[j * self.nx + i];
+        let a = h(i0, j0) + (h(i1, j0) - h(i0, j0)) * fx;
+        let b = h(i0, j1) + (h(i1, j1) - h(i0, j1)) * fx;
+        a + (b - a) * fz
     }
 
     /// Cell `(i, j)`'s coefficients, the indices clamped to the grid.

@@ -54,6 +54,47 @@ impl Camera {
         (t > 0.0).then(|| near + d * t)
     }
 
+    /// Where the ray through `ndc` first meets the ground of heights `height(x, z)` (metres),
+    /// if it does in front of the camera within its far plane: marched in 512 steps, then
+    /// bisected.
+    pub fn terrain_point(
+        &self,
+        aspect: f32,
+        ndc: [f32; 2],
+        height: &dyn Fn([f32; 2]) -> f32,
+    ) -> Option<Vec3> {
+        let inv = self.view_proj(aspect).inverse();
+        let near = inv.project_point3(Vec3::new(ndc[0], ndc[1], 0.0));
+        let far = inv.project_point3(Vec3::new(ndc[0], ndc[1], 1.0));
+        let at = |t: f32| near + (far - near) * t;
+        let above = |t: f32| {
+            let p = at(t);
+            p.y - height([p.x, p.z])
+        };
+        const STEPS: usize = 512;
+        let mut prev = 0.0;
+        if above(prev) <= 0.0 {
+            return None;
+        }
+        for k in 1..=STEPS {
+            let t = k as f32 / STEPS as f32;
+            if above(t) <= 0.0 {
+                let (mut lo, mut hi) = (prev, t);
+                for _ in 0..24 {
+                    let mid = 0.5 * (lo + hi);
+                    if above(mid) > 0.0 {
+                        lo = mid;
+                    } else {
+                        hi = mid;
+                    }
+                }
+                return Some(at(hi));
+            }
+            prev = t;
+        }
+        None
+    }
+
     /// World → clip space for a picture of `aspect` (width / height).
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         let dist = (self.eye - self.target).length().max(0.01);

@@ -164,6 +164,35 @@ pub struct Scene {
     pub wind_scale: f32,
     /// Where the map backdrop lies: `[x0, z0, x1, z1]` in metres.
     pub backdrop_rect: [f32; 4],
+    /// The terrain's heights (binding 5, `ground` in grass_common.wgsl): one per cell centre
+    /// of a grid of `ground_nx × ground_ny` cells of `ground_cell` metres from
+    /// `ground_origin`; the ground mesh has `ground_quads` quads (`[0, 0]`: flat, y = 0).
+    pub ground_origin: [f32; 2],
+    pub ground_cell: [f32; 2],
+    pub ground_nx: u32,
+    pub ground_ny: u32,
+    pub ground_quads: [u32; 2],
+}
+
+/// Quads along each side of the ground mesh over terrain, at most (one a height cell below
+/// that).
+pub const GROUND_QUADS_MAX: u32 = 256;
+
+/// The ground's heights for `layout` (`sim::terrain::TerrainField`'s, one a cell centre of
+/// its grid) and the scene fields that place them; a single 0 and a flat ground without
+/// terrain.
+fn ground_of(layout: &Layout) -> (Vec<f32>, [f32; 2], [f32; 2], [u32; 2], [u32; 2]) {
+    let (min, _) = layout.bounds();
+    match crate::sim::terrain::TerrainField::new(layout) {
+        Some(t) => {
+            let w = &layout.world;
+            let cell = [w.size[0] / t.nx as f32, w.size[1] / t.ny as f32];
+            let grid = [t.nx as u32, t.ny as u32];
+            let quads = grid.map(|n| n.min(GROUND_QUADS_MAX));
+            (t.heights, min, cell, grid, quads)
+        }
+        None => (vec![0.0], min, [1.0, 1.0], [1, 1], [0, 0]),
+    }
 }
 
 /// A blade's pose this frame; mirrors `struct Pose` in `shaders/grass_common.wgsl`.
@@ -193,6 +222,8 @@ pub struct GrassRenderer {
     blades: wgpu::Buffer,
     wind: wgpu::Buffer,
     palettes: wgpu::Buffer,
+    /// The terrain's heights (`Scene::ground_*`).
+    ground: wgpu::Buffer,
     /// Per-blade poses, written by the deform pass each frame (bound in the groups below).
     poses: wgpu::Buffer,
     layout0: wgpu::BindGroupLayout,
@@ -233,12 +264,17 @@ fn scene_group(
     layout: &wgpu::BindGroupLayout,
     buffers: [&wgpu::Buffer; 4],
     trail: &wgpu::Texture,
+    ground: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     let view = trail.create_view(&Default::default());
     let mut entries = super::buffer_entries(&buffers);
     entries.push(wgpu::BindGroupEntry {
         binding: 4,
         resource: wgpu::BindingResource::TextureView(&view),
+    });
+    entries.push(wgpu::BindGroupEntry {
+        binding: 5,
+        resource: ground.as_entire_binding(),
     });
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("grass scene"),
@@ -291,6 +327,8 @@ impl GrassRenderer {
         let g = &layout.grass;
         let (min, max) = layout.bounds();
         let (trail_nx, trail_ny) = crate::grass::trail::grid(min, max);
+        let (heights, ground_origin, ground_cell, [ground_nx, ground_ny], ground_quads) =
+            ground_of(layout);
         let scene = Scene {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             eye: [0.0; 4],
@@ -341,6 +379,11 @@ impl GrassRenderer {
                     .map_or([min, max], |m| m.placed((min, max)));
                 [a[0], a[1], b[0], b[1]]
             },
+            ground_origin,
+            ground_cell,
+            ground_nx,
+            ground_ny,
+            ground_quads,
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -402,6 +445,7 @@ impl GrassRenderer {
                     },
                     count: None,
                 },
+                entry(5, all, ro),
             ],
         });
         let layout_deform = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -427,11 +471,13 @@ impl GrassRenderer {
             &module("grass_trail"),
             (trail_nx, trail_ny),
         );
+        let ground = storage(device, "grass ground", bytemuck::cast_slice(&heights));
         let group0 = scene_group(
             device,
             &layout0,
             [&scene_buf, &blades_buf, &wind, &palettes],
             &trail.texture,
+            &ground,
         );
         let group_deform = buffers_group(device, "grass poses", &layout_deform, &[&poses]);
         // No Bezier states until that model is chosen: a placeholder.
@@ -485,6 +531,7 @@ impl GrassRenderer {
             blades: blades_buf,
             wind,
             palettes,
+            ground,
             poses,
             layout0,
             group0,
@@ -656,6 +703,7 @@ impl GrassRenderer {
                 &self.layout0,
                 [&self.scene_buf, &self.blades, &self.wind, &self.palettes],
                 &self.trail.texture,
+                &self.ground,
             );
         }
         self.far.resize(device, (nx, ny));
@@ -902,7 +950,8 @@ impl GrassRenderer {
         pass.set_pipeline(self.draw.ground(coloured));
         pass.set_bind_group(1, &self.far.ground_group, &[]);
         pass.set_bind_group(2, &self.backdrop_group, &[]);
-        pass.draw(0..6, 0..1);
+        let [qx, qz] = self.scene.ground_quads;
+        pass.draw(0..6 * (qx * qz).max(1), 0..1);
         if let Some((b, n)) = &self.solids {
             pass.set_pipeline(&self.draw.solids);
             pass.set_vertex_buffer(0, b.slice(..));

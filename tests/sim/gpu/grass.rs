@@ -881,3 +881,64 @@ fn a_grass_picture_can_leave_out_the_arrows() {
         "only the arrows' pixels change: {changed}"
     );
 }
+
+/// Over terrain every blade stands on the ground the CPU twin computes
+/// (`TerrainField::ground_at`): its tip is the flat-ground blade's, lifted by the ground's
+/// height at its root, its shade unchanged.
+#[test]
+fn blades_stand_on_the_terrain() {
+    let Some(ctx) = context() else { return };
+    let dir = tempfile::tempdir().unwrap();
+    let mut l = layout(20.0);
+    // A 3 m mound in the middle of the 12 × 8 m field.
+    let img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(48, 32, |x, y| {
+        let (dx, dz) = (x as f32 / 48.0 - 0.5, y as f32 / 32.0 - 0.5);
+        image::Luma([((-(dx * dx + dz * dz) * 12.0).exp() * 65535.0) as u16])
+    });
+    img.save(dir.path().join("mound.png")).unwrap();
+    l.world.terrain = Some(windloom::doc::Terrain {
+        heightmap: "mound.png".into(),
+        heights: [0.0, 3.0],
+        rect: None,
+        strength: 1.0,
+        feature_length: None,
+        pixels: windloom::io::grey_pixels(dir.path(), "mound.png", "heightmap"),
+    });
+    let ground = windloom::sim::terrain::TerrainField::new(&l).unwrap();
+    let blades = scatter(&l);
+    let mut r = GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+    let wind = vec![[3.0, 1.0]; 24 * 16];
+    r.set_wind(
+        &ctx.device,
+        &ctx.queue,
+        (24, 16),
+        [0.0, 0.0],
+        [0.5, 0.5],
+        &wind,
+    );
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    r.prepare(&ctx.queue, &mut enc, &Camera::overview(&l), 1.5, 2.0, 0.25);
+    ctx.queue.submit([enc.finish()]);
+    let tips = r.read_tips(&ctx.device, &ctx.queue).unwrap();
+    let (mut worst, mut lifted) = (0.0f32, 0);
+    for (b, gpu) in blades.iter().zip(&tips) {
+        let cpu = cwd::centreline_crushed(
+            b,
+            [3.0, 1.0],
+            &l.grass,
+            2.0,
+            SEGMENTS as usize,
+            (0.0, [0.0, 0.0]),
+        )[SEGMENTS as usize];
+        let lift = ground.ground_at(b.pos);
+        lifted += usize::from(lift > 1.0);
+        let want = [cpu.pos[0], cpu.pos[1] + lift, cpu.pos[2]];
+        let d = (0..3).fold(0.0f32, |m, c| m.max((gpu[c] - want[c]).abs()));
+        worst = worst.max(d).max((gpu[3] - cpu.shade).abs());
+    }
+    assert!(
+        lifted > blades.len() / 10,
+        "the mound lifts many blades: {lifted}"
+    );
+    assert!(worst <= 2e-3, "tips differ from the ground's by {worst} m");
+}
