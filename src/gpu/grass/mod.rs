@@ -178,20 +178,39 @@ pub struct Scene {
 /// that).
 pub const GROUND_QUADS_MAX: u32 = 256;
 
-/// The ground's heights for `layout` (`sim::terrain::TerrainField`'s, one a cell centre of
-/// its grid) and the scene fields that place them; a single 0 and a flat ground without
+/// The ground the 3D view stands on: the terrain's heights (`sim::terrain::TerrainField`'s,
+/// one a cell centre of its grid) and where they lie; a single 0 and a flat ground without
 /// terrain.
-fn ground_of(layout: &Layout) -> (Vec<f32>, [f32; 2], [f32; 2], [u32; 2], [u32; 2]) {
-    let (min, _) = layout.bounds();
-    match crate::sim::terrain::TerrainField::new(layout) {
-        Some(t) => {
-            let w = &layout.world;
-            let cell = [w.size[0] / t.nx as f32, w.size[1] / t.ny as f32];
-            let grid = [t.nx as u32, t.ny as u32];
-            let quads = grid.map(|n| n.min(GROUND_QUADS_MAX));
-            (t.heights, min, cell, grid, quads)
+struct Ground {
+    heights: Vec<f32>,
+    origin: [f32; 2],
+    cell: [f32; 2],
+    grid: [u32; 2],
+    quads: [u32; 2],
+}
+
+impl Ground {
+    fn of(layout: &Layout) -> Self {
+        let (min, _) = layout.bounds();
+        match crate::sim::terrain::TerrainField::new(layout) {
+            Some(t) => {
+                let grid = [t.nx as u32, t.ny as u32];
+                Self {
+                    origin: t.origin,
+                    cell: t.cell,
+                    quads: grid.map(|n| n.min(GROUND_QUADS_MAX)),
+                    grid,
+                    heights: t.heights,
+                }
+            }
+            None => Self {
+                heights: vec![0.0],
+                origin: min,
+                cell: [1.0, 1.0],
+                grid: [1, 1],
+                quads: [0, 0],
+            },
         }
-        None => (vec![0.0], min, [1.0, 1.0], [1, 1], [0, 0]),
     }
 }
 
@@ -327,8 +346,7 @@ impl GrassRenderer {
         let g = &layout.grass;
         let (min, max) = layout.bounds();
         let (trail_nx, trail_ny) = crate::grass::trail::grid(min, max);
-        let (heights, ground_origin, ground_cell, [ground_nx, ground_ny], ground_quads) =
-            ground_of(layout);
+        let ground = Ground::of(layout);
         let scene = Scene {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             eye: [0.0; 4],
@@ -379,11 +397,11 @@ impl GrassRenderer {
                     .map_or([min, max], |m| m.placed((min, max)));
                 [a[0], a[1], b[0], b[1]]
             },
-            ground_origin,
-            ground_cell,
-            ground_nx,
-            ground_ny,
-            ground_quads,
+            ground_origin: ground.origin,
+            ground_cell: ground.cell,
+            ground_nx: ground.grid[0],
+            ground_ny: ground.grid[1],
+            ground_quads: ground.quads,
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -471,7 +489,7 @@ impl GrassRenderer {
             &module("grass_trail"),
             (trail_nx, trail_ny),
         );
-        let ground = storage(device, "grass ground", bytemuck::cast_slice(&heights));
+        let ground = storage(device, "grass ground", bytemuck::cast_slice(&ground.heights));
         let group0 = scene_group(
             device,
             &layout0,
