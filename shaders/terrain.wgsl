@@ -15,31 +15,10 @@ struct Cell {
 
 @group(0) @binding(1) var<storage, read> u: array<f32>;
 @group(0) @binding(2) var<storage, read> v: array<f32>;
-@group(0) @binding(3) var<storage, read> cells: array<Cell>;
+// Each face's coefficients (`TerrainField::faces`): the u faces, then the v faces.
+@group(0) @binding(3) var<storage, read> faces: array<Cell>;
 @group(0) @binding(4) var<storage, read_write> u_out: array<f32>;
 @group(0) @binding(5) var<storage, read_write> v_out: array<f32>;
-
-fn cell(i: i32, j: i32) -> Cell {
-    let ci = u32(clamp(i, 0, i32(P.nx) - 1));
-    let cj = u32(clamp(j, 0, i32(P.ny) - 1));
-    return cells[cj * P.nx + ci];
-}
-
-// `Cell::mean`: the axis is a line, so b's is turned to face a's before averaging.
-fn mean(a: Cell, b: Cell) -> Cell {
-    var r: Cell;
-    let flip = select(1.0, -1.0, dot(a.across, b.across) < 0.0);
-    let ax = 0.5 * (a.across.x + flip * b.across.x);
-    let az = 0.5 * (a.across.y + flip * b.across.y);
-    let len = sqrt(ax * ax + az * az);
-    r.across = select(a.across, vec2<f32>(ax / len, az / len), len > 1e-6);
-    r.slope = vec2<f32>(0.5 * (a.slope.x + b.slope.x), 0.5 * (a.slope.y + b.slope.y));
-    r.base = 0.5 * (a.base + b.base);
-    r.ws = 0.5 * (a.ws + b.ws);
-    r.kappa = 0.5 * (a.kappa + b.kappa);
-    r.pad = 0.0;
-    return r;
-}
 
 // `sim::terrain::shape`.
 fn shape(w: vec2<f32>, c: Cell) -> vec2<f32> {
@@ -82,8 +61,7 @@ fn shape_u(@builtin(global_invocation_id) id: vec3<u32>) {
     let il = i32(i) - 1;
     let ir = i32(i);
     let vbar = 0.25 * (vf(il, j) + vf(ir, j) + vf(il, j + 1u) + vf(ir, j + 1u));
-    let c = mean(cell(il, i32(j)), cell(ir, i32(j)));
-    u_out[k] = shape(vec2<f32>(u[k], vbar), c).x;
+    u_out[k] = shape(vec2<f32>(u[k], vbar), faces[k]).x;
 }
 
 @compute @workgroup_size(8, 8)
@@ -97,6 +75,5 @@ fn shape_v(@builtin(global_invocation_id) id: vec3<u32>) {
     let jb = i32(j) - 1;
     let jt = i32(j);
     let ubar = 0.25 * (uf(i, jb) + uf(i + 1u, jb) + uf(i, jt) + uf(i + 1u, jt));
-    let c = mean(cell(i32(i), jb), cell(i32(i), jt));
-    v_out[k] = shape(vec2<f32>(ubar, v[k]), c).y;
+    v_out[k] = shape(vec2<f32>(ubar, v[k]), faces[(P.nx + 1u) * P.ny + k]).y;
 }

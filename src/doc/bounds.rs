@@ -286,9 +286,9 @@ pub const SOLVER_BYTES_PER_CELL: u64 = 56;
 /// level's links and diagonal (16) and the coarser levels' links and unknowns (at most 28 over
 /// all of them, when every level halves one axis only).
 pub const MULTIGRID_BYTES_PER_CELL: u64 = 44;
-/// Bytes a cell of terrain adds: its height and its coefficients (`sim::terrain::Cell`), and
-/// the shaped copy of its two faces.
-pub const TERRAIN_BYTES_PER_CELL: u64 = 4 + 32 + 8;
+/// Bytes a cell of terrain adds: its height, its two faces' coefficients
+/// (`sim::terrain::Cell`, 32 bytes each) and the shaped copy of its two faces.
+pub const TERRAIN_BYTES_PER_CELL: u64 = 4 + 64 + 8;
 /// Largest solver memory a layout may ask for: 2 GiB.
 pub const GRID_MEMORY_BUDGET: u64 = 2 << 30;
 /// Largest layout file windloom reads, in bytes. A layout at every count limit below stays

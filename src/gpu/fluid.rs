@@ -121,7 +121,8 @@ pub struct GpuFluid {
     terrain: Option<TerrainBuffers>,
 }
 
-/// The terrain pass's buffers: `sim::terrain::Cell` per cell, and the shaped u and v faces.
+/// The terrain pass's buffers: `sim::terrain::Cell` per face (`TerrainField::faces`), and the
+/// shaped u and v faces.
 struct TerrainBuffers {
     cells: wgpu::Buffer,
     u: wgpu::Buffer,
@@ -319,7 +320,7 @@ impl GpuFluid {
             mg_source: (solver.flags.clone(), [solver.hx, solver.hz], sp.boundary),
             multigrid: Default::default(),
             terrain: solver.terrain.as_ref().map(|t| TerrainBuffers {
-                cells: storage(device, "terrain cells", bytemuck::cast_slice(&t.cells)),
+                cells: storage(device, "terrain faces", bytemuck::cast_slice(&t.faces)),
                 u: floats(device, "wind u", &solver.u),
                 v: floats(device, "wind v", &solver.v),
             }),
@@ -329,7 +330,7 @@ impl GpuFluid {
     /// Replaces the terrain's coefficients (an edit of the terrain); `None`: flat ground.
     pub fn set_terrain(&mut self, device: &wgpu::Device, terrain: Option<&TerrainField>) {
         self.terrain = terrain.map(|t| TerrainBuffers {
-            cells: storage(device, "terrain cells", bytemuck::cast_slice(&t.cells)),
+            cells: storage(device, "terrain faces", bytemuck::cast_slice(&t.faces)),
             u: floats(device, "wind u", &vec![0.0; (self.nx + 1) * self.ny]),
             v: floats(device, "wind v", &vec![0.0; self.nx * (self.ny + 1)]),
         });

@@ -90,7 +90,7 @@ impl Cell {
 }
 
 /// The terrain's hand on velocity `u` (m/s) where the coefficients are `c`.
-#[inline]
+#[inline(always)]
 pub fn shape(u: [f32; 2], c: &Cell) -> [f32; 2] {
     let s2 = u[0] * u[0] + u[1] * u[1];
     if s2 == 0.0 {
@@ -123,7 +123,10 @@ pub struct TerrainField {
     pub cell: [f32; 2],
     /// Metres above the datum, at each cell centre, row-major.
     pub heights: Vec<f32>,
-    pub cells: Vec<Cell>,
+    /// Each face's coefficients, the mean of the cells either side ([`Cell::mean`], the
+    /// grid's edges clamped): the u faces (`(nx + 1) × ny`), then the v faces
+    /// (`nx × (ny + 1)`), as the GPU's terrain pass reads them.
+    pub faces: Vec<Cell>,
 }
 
 impl TerrainField {
@@ -161,13 +164,29 @@ impl TerrainField {
                 ));
             }
         }
+        let cell = |i: isize, j: isize| {
+            let i = i.clamp(0, nx as isize - 1) as usize;
+            let j = j.clamp(0, ny as isize - 1) as usize;
+            &cells[j * nx + i]
+        };
+        let mut faces = Vec::with_capacity((nx + 1) * ny + nx * (ny + 1));
+        for j in 0..ny as isize {
+            for i in 0..=nx as isize {
+                faces.push(Cell::mean(cell(i - 1, j), cell(i, j)));
+            }
+        }
+        for j in 0..=ny as isize {
+            for i in 0..nx as isize {
+                faces.push(Cell::mean(cell(i, j - 1), cell(i, j)));
+            }
+        }
         Some(Self {
             nx,
             ny,
             origin: w.origin,
             cell: [hx, hz],
             heights,
-            cells,
+            faces,
         })
     }
 
@@ -186,41 +205,38 @@ impl TerrainField {
         a + (b - a) * fz
     }
 
-    /// Cell `(i, j)`'s coefficients, the indices clamped to the grid.
-    fn cell(&self, i: isize, j: isize) -> &Cell {
-        let i = i.clamp(0, self.nx as isize - 1) as usize;
-        let j = j.clamp(0, self.ny as isize - 1) as usize;
-        &self.cells[j * self.nx + i]
-    }
-
     /// The shaped faces of the solver's faces `u` (`(nx + 1) × ny`) and `v` (`nx × (ny + 1)`):
     /// each face's velocity (its own component and the mean of the four nearest faces of the
-    /// other, the grid's edges clamped) shaped with the mean coefficients of the cells either
-    /// side of it.
+    /// other, the grid's edges clamped) shaped with its coefficients ([`Self::faces`]).
     pub fn shape_faces(&self, u: &[f32], v: &[f32]) -> (Vec<f32>, Vec<f32>) {
+        use rayon::prelude::*;
         let (nx, ny) = (self.nx, self.ny);
-        let vf = |i: isize, j: usize| v[j * nx + i.clamp(0, nx as isize - 1) as usize];
-        let uf = |i: usize, j: isize| u[j.clamp(0, ny as isize - 1) as usize * (nx + 1) + i];
+        let (cu, cv) = self.faces.split_at(u.len());
         let mut su = vec![0.0; u.len()];
-        for j in 0..ny {
-            for i in 0..=nx {
-                let k = j * (nx + 1) + i;
-                let (il, ir) = (i as isize - 1, i as isize);
-                let vbar = 0.25 * (vf(il, j) + vf(ir, j) + vf(il, j + 1) + vf(ir, j + 1));
-                let c = Cell::mean(self.cell(il, j as isize), self.cell(ir, j as isize));
-                su[k] = shape([u[k], vbar], &c)[0];
+        su.par_chunks_mut(nx + 1).enumerate().for_each(|(j, out)| {
+            let k0 = j * (nx + 1);
+            let (ur, cr) = (&u[k0..][..nx + 1], &cu[k0..][..nx + 1]);
+            // The v faces below and above row j.
+            let (b, t) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
+            let vbar = |l: usize, r: usize| 0.25 * (b[l] + b[r] + t[l] + t[r]);
+            out[0] = shape([ur[0], vbar(0, 0)], &cr[0])[0];
+            for i in 1..nx {
+                out[i] = shape([ur[i], vbar(i - 1, i)], &cr[i])[0];
             }
-        }
+            out[nx] = shape([ur[nx], vbar(nx - 1, nx - 1)], &cr[nx])[0];
+        });
         let mut sv = vec![0.0; v.len()];
-        for j in 0..=ny {
+        sv.par_chunks_mut(nx).enumerate().for_each(|(j, out)| {
+            let k0 = j * nx;
+            let (vr, cr) = (&v[k0..][..nx], &cv[k0..][..nx]);
+            // The u faces of the rows below and above face row j (the edge rows clamped).
+            let row = |r: usize| &u[r * (nx + 1)..][..nx + 1];
+            let (b, t) = (row(j.saturating_sub(1)), row(j.min(ny - 1)));
             for i in 0..nx {
-                let k = j * nx + i;
-                let (jb, jt) = (j as isize - 1, j as isize);
-                let ubar = 0.25 * (uf(i, jb) + uf(i + 1, jb) + uf(i, jt) + uf(i + 1, jt));
-                let c = Cell::mean(self.cell(i as isize, jb), self.cell(i as isize, jt));
-                sv[k] = shape([ubar, v[k]], &c)[1];
+                let ubar = 0.25 * (b[i] + b[i + 1] + t[i] + t[i + 1]);
+                out[i] = shape([ubar, vr[i]], &cr[i])[1];
             }
-        }
+        });
         (su, sv)
     }
 }
