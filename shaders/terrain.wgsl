@@ -20,25 +20,16 @@ struct Cell {
 @group(0) @binding(4) var<storage, read_write> u_out: array<f32>;
 @group(0) @binding(5) var<storage, read_write> v_out: array<f32>;
 
-// `sim::terrain::shape`.
+// `sim::terrain::shape`, branch-free as it is.
 fn shape(w: vec2<f32>, c: Cell) -> vec2<f32> {
-    let s2 = w.x * w.x + w.y * w.y;
-    if (s2 == 0.0) {
-        return w;
-    }
-    let speed = sqrt(s2);
-    let along = clamp((c.slope.x * w.x + c.slope.y * w.y) / speed, -1.0, 1.0);
+    let speed = sqrt(w.x * w.x + w.y * w.y);
+    let inv = select(0.0, 1.0 / speed, speed > 0.0);
+    let along = clamp((c.slope.x * w.x + c.slope.y * w.y) * inv, -1.0, 1.0);
     let k = max(c.base + c.ws * along, 0.0);
-    if (c.kappa == 0.0) {
-        return vec2<f32>(w.x * k, w.y * k);
-    }
     let d = c.kappa * (w.x * c.across.x + w.y * c.across.y);
     let t = vec2<f32>(w.x - d * c.across.x, w.y - d * c.across.y);
     let len = sqrt(t.x * t.x + t.y * t.y);
-    if (len == 0.0) {
-        return vec2<f32>(0.0, 0.0);
-    }
-    let f = k * speed / len;
+    let f = select(0.0, k * speed / len, len > 0.0);
     return vec2<f32>(t.x * f, t.y * f);
 }
 

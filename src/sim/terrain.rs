@@ -13,6 +13,7 @@
 
 use crate::doc::Layout;
 use bytemuck::{Pod, Zeroable};
+use windloom_simd_kernel::simd_kernel;
 
 /// Weight of the slope term (MicroMet's `γs`).
 pub const GAMMA_SLOPE: f32 = 0.5;
@@ -89,27 +90,45 @@ impl Cell {
     }
 }
 
-/// The terrain's hand on velocity `u` (m/s) where the coefficients are `c`.
+/// The terrain's hand on velocity `u` (m/s) where the coefficients are `c`. Branch-free, so
+/// the rows vectorise: over flat ground (`Cell::FLAT`) it returns `u`'s bits exactly.
 #[inline(always)]
 pub fn shape(u: [f32; 2], c: &Cell) -> [f32; 2] {
-    let s2 = u[0] * u[0] + u[1] * u[1];
-    if s2 == 0.0 {
-        return u;
-    }
-    let speed = s2.sqrt();
-    let along = ((c.slope[0] * u[0] + c.slope[1] * u[1]) / speed).clamp(-1.0, 1.0);
+    let speed = (u[0] * u[0] + u[1] * u[1]).sqrt();
+    let inv = if speed > 0.0 { 1.0 / speed } else { 0.0 };
+    let along = ((c.slope[0] * u[0] + c.slope[1] * u[1]) * inv).clamp(-1.0, 1.0);
     let w = (c.base + c.ws * along).max(0.0);
-    if c.kappa == 0.0 {
-        return [u[0] * w, u[1] * w];
-    }
     let d = c.kappa * (u[0] * c.across[0] + u[1] * c.across[1]);
     let t = [u[0] - d * c.across[0], u[1] - d * c.across[1]];
     let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
-    if len == 0.0 {
-        return [0.0, 0.0];
-    }
-    let k = w * speed / len;
+    let k = if len > 0.0 { w * speed / len } else { 0.0 };
     [t[0] * k, t[1] * k]
+}
+
+/// One row of shaped u faces: `out[i]` from `u[i]`, the v faces of the rows below (`b`) and
+/// above (`t`) and the coefficients `c` (`nx + 1` faces, `nx` v faces a row).
+#[simd_kernel]
+fn shape_u_row(u: &[f32], b: &[f32], t: &[f32], c: &[Cell], out: &mut [f32]) {
+    let nx = b.len();
+    let (u, c, out) = (&u[..nx + 1], &c[..nx + 1], &mut out[..nx + 1]);
+    let vbar = |l: usize, r: usize| 0.25 * (b[l] + b[r] + t[l] + t[r]);
+    out[0] = shape([u[0], vbar(0, 0)], &c[0])[0];
+    for i in 1..nx {
+        out[i] = shape([u[i], vbar(i - 1, i)], &c[i])[0];
+    }
+    out[nx] = shape([u[nx], vbar(nx - 1, nx - 1)], &c[nx])[0];
+}
+
+/// One row of shaped v faces: `out[i]` from `v[i]`, the u faces of the rows below (`b`) and
+/// above (`t`, `nx + 1` each) and the coefficients `c`.
+#[simd_kernel]
+fn shape_v_row(v: &[f32], b: &[f32], t: &[f32], c: &[Cell], out: &mut [f32]) {
+    let nx = v.len();
+    let (b, t, c, out) = (&b[..nx + 1], &t[..nx + 1], &c[..nx], &mut out[..nx]);
+    for i in 0..nx {
+        let ubar = 0.25 * (b[i] + b[i + 1] + t[i] + t[i + 1]);
+        out[i] = shape([ubar, v[i]], &c[i])[1];
+    }
 }
 
 /// The terrain of a layout laid over its grid: the ground's height at every cell centre and
@@ -209,35 +228,29 @@ impl TerrainField {
     /// each face's velocity (its own component and the mean of the four nearest faces of the
     /// other, the grid's edges clamped) shaped with its coefficients ([`Self::faces`]).
     pub fn shape_faces(&self, u: &[f32], v: &[f32]) -> (Vec<f32>, Vec<f32>) {
+        let (mut su, mut sv) = (vec![0.0; u.len()], vec![0.0; v.len()]);
+        self.shape_faces_into(u, v, &mut su, &mut sv);
+        (su, sv)
+    }
+
+    /// [`Self::shape_faces`] into `su` and `sv` (as long as `u` and `v`).
+    pub fn shape_faces_into(&self, u: &[f32], v: &[f32], su: &mut [f32], sv: &mut [f32]) {
         use rayon::prelude::*;
         let (nx, ny) = (self.nx, self.ny);
         let (cu, cv) = self.faces.split_at(u.len());
-        let mut su = vec![0.0; u.len()];
         su.par_chunks_mut(nx + 1).enumerate().for_each(|(j, out)| {
             let k0 = j * (nx + 1);
-            let (ur, cr) = (&u[k0..][..nx + 1], &cu[k0..][..nx + 1]);
             // The v faces below and above row j.
             let (b, t) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
-            let vbar = |l: usize, r: usize| 0.25 * (b[l] + b[r] + t[l] + t[r]);
-            out[0] = shape([ur[0], vbar(0, 0)], &cr[0])[0];
-            for i in 1..nx {
-                out[i] = shape([ur[i], vbar(i - 1, i)], &cr[i])[0];
-            }
-            out[nx] = shape([ur[nx], vbar(nx - 1, nx - 1)], &cr[nx])[0];
+            shape_u_row(&u[k0..][..nx + 1], b, t, &cu[k0..][..nx + 1], out);
         });
-        let mut sv = vec![0.0; v.len()];
         sv.par_chunks_mut(nx).enumerate().for_each(|(j, out)| {
             let k0 = j * nx;
-            let (vr, cr) = (&v[k0..][..nx], &cv[k0..][..nx]);
             // The u faces of the rows below and above face row j (the edge rows clamped).
             let row = |r: usize| &u[r * (nx + 1)..][..nx + 1];
             let (b, t) = (row(j.saturating_sub(1)), row(j.min(ny - 1)));
-            for i in 0..nx {
-                let ubar = 0.25 * (b[i] + b[i + 1] + t[i] + t[i + 1]);
-                out[i] = shape([ubar, vr[i]], &cr[i])[1];
-            }
+            shape_v_row(&v[k0..][..nx], b, t, &cv[k0..][..nx], out);
         });
-        (su, sv)
     }
 }
 

@@ -531,3 +531,43 @@ fn the_vertical_profile_is_edited_in_the_world_section() {
     h.run_steps(2);
     assert_eq!(h.state().doc.world.profile.roughness_length, 0.03);
 }
+
+/// A layout with terrain opens with its Terrain section showing; the hill size is typed and
+/// undone like any edit, and clearing the heightmap makes the ground flat.
+#[test]
+fn the_terrain_is_edited_in_the_world_section() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("walled-garden.json"));
+    h.run_steps(2);
+    assert_eq!(
+        h.get_by_label("Hill size").value().as_deref(),
+        Some("8.0 m")
+    );
+    h.get_by_label("Hill size").click();
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.run_steps(1);
+    h.get_by_label("Hill size").type_text("12");
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+    let t = h.state().doc.world.terrain.clone().unwrap();
+    assert_eq!(t.feature_length, Some(12.0));
+    assert!(t.pixels.image().is_some(), "the heightmap was read");
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(
+        h.state().doc.world.terrain.as_ref().unwrap().feature_length,
+        Some(8.0)
+    );
+    // The heightmap's path emptied: flat ground, the section's other rows gone.
+    h.get_by_label("Heightmap").click();
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.run_steps(1);
+    h.key_press(egui::Key::Backspace);
+    h.run_steps(2);
+    assert!(h.state().doc.world.terrain.is_none());
+    assert!(h.query_by_label("Hill size").is_none());
+}

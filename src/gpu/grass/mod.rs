@@ -489,7 +489,11 @@ impl GrassRenderer {
             &module("grass_trail"),
             (trail_nx, trail_ny),
         );
-        let ground = storage(device, "grass ground", bytemuck::cast_slice(&ground.heights));
+        let ground = storage(
+            device,
+            "grass ground",
+            bytemuck::cast_slice(&ground.heights),
+        );
         let group0 = scene_group(
             device,
             &layout0,
