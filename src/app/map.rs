@@ -229,9 +229,9 @@ fn draw_relief(
                 != terrain.as_ref().map(|t| t.pixels.image().is_some())
     });
     if stale {
-        // About 2 px a metre at most, 1024 px a side at most.
+        // 1024 px along the world's longer side: thin contour lines over a zoomed map.
         let size = app.doc.world.size;
-        let k = (1024.0 / size[0].max(size[1])).min(2.0);
+        let k = 1024.0 / size[0].max(size[1]);
         let (w, h) = (
             ((size[0] * k) as usize).clamp(16, 1024),
             ((size[1] * k) as usize).clamp(16, 1024),
@@ -444,6 +444,12 @@ fn interact(
 
     match app.tool {
         Tool::Select => select_tool(app, ctx, response, rect, cam, painter, shift),
+        Tool::Paint => {
+            if super::paint::target(app) == Some(super::paint::Target::Density) {
+                super::paint::draw_density(app, painter, cam, rect);
+            }
+            super::paint::tool(app, ctx, response, rect, cam, painter);
+        }
         Tool::AddRoot => {
             if response.clicked_by(egui::PointerButton::Primary)
                 && let Some(p) = pointer

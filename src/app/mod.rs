@@ -13,6 +13,7 @@ pub use gpu_view::SOFTWARE_BLADE_BUDGET;
 mod grass_controls;
 mod inspector;
 mod map;
+mod paint;
 mod panels;
 pub mod view;
 
@@ -37,15 +38,18 @@ pub enum Tool {
     Circle,
     /// Click points; click the first point (or press Enter) to close.
     Polygon,
+    /// Paint a mask obstacle's pixels or the grass density map.
+    Paint,
 }
 
 impl Tool {
-    pub const ALL: [Tool; 5] = [
+    pub const ALL: [Tool; 6] = [
         Tool::Select,
         Tool::AddRoot,
         Tool::AddArrow,
         Tool::Circle,
         Tool::Polygon,
+        Tool::Paint,
     ];
 
     pub fn label(self) -> &'static str {
@@ -55,6 +59,7 @@ impl Tool {
             Self::AddArrow => "Add arrow",
             Self::Circle => "Circle",
             Self::Polygon => "Polygon",
+            Self::Paint => "Paint",
         }
     }
 
@@ -65,6 +70,7 @@ impl Tool {
             Self::AddArrow => egui::Key::A,
             Self::Circle => egui::Key::C,
             Self::Polygon => egui::Key::P,
+            Self::Paint => egui::Key::B,
         }
     }
 
@@ -80,6 +86,10 @@ impl Tool {
             Self::Circle => "Drag from the centre outwards to place a round obstacle",
             Self::Polygon => {
                 "Click corners; click the first corner or press Enter to close, Esc to cancel"
+            }
+            Self::Paint => {
+                "Drag to paint the selected mask obstacle solid (or, with none selected, grass \
+                 on the density map); Shift-drag erases; [ and ] change the brush"
             }
         }
     }
@@ -227,6 +237,9 @@ pub struct EditorApp {
     pub doc: Document,
     pub selection: Vec<Sel>,
     pub tool: Tool,
+    /// The paint brush's radius, metres, and the stroke in progress.
+    pub brush_radius: f32,
+    pub paint: Option<paint::PaintStroke>,
     /// The map view's own state: its camera, rectangle, gesture, textures, readouts.
     pub map: map::MapState,
     /// The status bar's rectangle in the last frame (tests mask it: it shows timings).
@@ -281,6 +294,8 @@ impl EditorApp {
             doc: Document::new(doc, path, poller),
             selection: Vec::new(),
             tool: Tool::Select,
+            brush_radius: 2.0,
+            paint: None,
             map: map::MapState::default(),
             status_rect: Rect::NOTHING,
             toolbar_width: 0.0,
@@ -769,6 +784,16 @@ impl EditorApp {
             if pressed(KS::new(M::NONE, t.key())) {
                 self.tool = t;
                 self.map.polygon.clear();
+            }
+        }
+        if self.tool == Tool::Paint {
+            // The brush's size, by steps of a quarter.
+            let r = &mut self.brush_radius;
+            if pressed(KS::new(M::NONE, Key::OpenBracket)) {
+                *r = (*r / 1.25).clamp(*paint::RADIUS.start(), *paint::RADIUS.end());
+            }
+            if pressed(KS::new(M::NONE, Key::CloseBracket)) {
+                *r = (*r * 1.25).clamp(*paint::RADIUS.start(), *paint::RADIUS.end());
             }
         }
         let pan = 40.0;

@@ -191,6 +191,15 @@ fn toolbar(app: &mut EditorApp, ui: &mut egui::Ui) {
             app.tool = t;
         }
     }
+    if app.tool == Tool::Paint {
+        ui.add(
+            egui::DragValue::new(&mut app.brush_radius)
+                .range(super::paint::RADIUS)
+                .speed(0.05)
+                .suffix(" m"),
+        )
+        .on_hover_text("The brush's radius ([ and ])");
+    }
     ui.separator();
     let playing = app.live.playing;
     if ui
@@ -788,9 +797,10 @@ fn path_dialog(
 
 pub const SHORTCUTS: &[(&str, &str)] = &[
     (
-        "S / R / A / C / P",
-        "Select, Add root, Add arrow, Circle, Polygon tools",
+        "S / R / A / C / P / B",
+        "Select, Add root, Add arrow, Circle, Polygon, Paint tools",
     ),
+    ("[ / ]", "With Paint: a smaller / larger brush"),
     ("Ctrl+Z", "Undo"),
     ("Ctrl+Shift+Z, Ctrl+Y", "Redo"),
     (

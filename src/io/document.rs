@@ -10,6 +10,7 @@
 use super::{disk, recovery};
 use crate::doc::{self, Edit, EditError, History, Layout};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 /// Seconds between two autosaves of unsaved work.
 pub const AUTOSAVE_SECONDS: f64 = 20.0;
@@ -21,6 +22,9 @@ pub struct Document {
     path: Option<PathBuf>,
     /// The layout's JSON as the file last held it (empty: no file, or one to overwrite).
     saved_json: String,
+    /// The grey images (masks, the density map, the heightmap) as their files last held them
+    /// ([`painted_images`]): a painted one is unsaved work, written beside the layout on save.
+    saved_images: Vec<(String, Arc<doc::MaskImage>)>,
     dirty: bool,
     /// Changed since the editor last looked ([`Self::take_changed`]).
     changed: bool,
@@ -54,6 +58,7 @@ impl Document {
     pub fn new(layout: Layout, path: Option<PathBuf>, poller: disk::Poller) -> Self {
         Self {
             saved_json: doc::to_json(&layout),
+            saved_images: grey_images(&layout),
             disk: path.as_deref().map(disk::Watch::read),
             layout,
             history: History::new(),
@@ -133,6 +138,7 @@ impl Document {
     /// Replaces the whole layout (New, Open, Restore), from `path` if any; `saved`: as that
     /// file holds it (else it counts as unsaved). The history starts anew.
     pub fn replace(&mut self, layout: Layout, path: Option<PathBuf>, saved: bool) {
+        self.saved_images = grey_images(&layout);
         self.saved_json = if saved {
             doc::to_json(&layout)
         } else {
@@ -152,12 +158,24 @@ impl Document {
         if !std::mem::take(&mut self.changed) {
             return false;
         }
-        self.dirty = doc::to_json(&self.layout) != self.saved_json;
+        self.dirty = doc::to_json(&self.layout) != self.saved_json
+            || !painted_images(&self.layout, &self.saved_images).is_empty();
         true
     }
 
     /// Writes the layout to `path` atomically; it is then the document's file, saved.
     pub fn write_to(&mut self, path: &Path) -> std::io::Result<()> {
+        // The painted images first, each replaced atomically beside the layout: a layout
+        // never names an image older than its strokes.
+        let base = crate::io::layout_base(Some(path));
+        for (name, image) in painted_images(&self.layout, &self.saved_images) {
+            let file = base.join(&name);
+            let bytes = encode_grey(&file, &image)
+                .map_err(|e| std::io::Error::other(format!("{}: {e}", file.display())))?;
+            crate::io::write_atomic(&file, &bytes)
+                .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", file.display())))?;
+        }
+        self.saved_images = grey_images(&self.layout);
         let json = doc::to_json(&self.layout);
         crate::io::write_atomic(path, json.as_bytes())?;
         self.disk = Some(disk::Watch::written(path, json.as_bytes()));
@@ -284,4 +302,73 @@ impl Document {
     pub fn next_autosave(&self) -> Option<f64> {
         self.dirty.then_some(self.last_autosave + AUTOSAVE_SECONDS)
     }
+}
+
+/// The layout's read grey images by the file each names: its mask obstacles', the terrain's
+/// heightmap and the grass's density map.
+fn grey_images(layout: &Layout) -> Vec<(String, Arc<doc::MaskImage>)> {
+    let mut out = Vec::new();
+    let mut add = |name: &str, p: &doc::MaskPixels| {
+        if let doc::MaskPixels::Loaded(i) = p {
+            out.push((name.to_owned(), i.clone()));
+        }
+    };
+    for o in &layout.obstacles {
+        if let doc::Shape::Mask { image, pixels, .. } = &o.shape {
+            add(image, pixels);
+        }
+    }
+    if let Some(t) = &layout.world.terrain {
+        add(&t.heightmap, &t.pixels);
+    }
+    if let Some(m) = &layout.grass.density_map {
+        add(&m.image, &m.pixels);
+    }
+    out
+}
+
+/// The images of `layout` painted since `saved` was taken: those whose pixels are not the
+/// ones their file held (a new path read from disk is not painted).
+pub fn painted_images(
+    layout: &Layout,
+    saved: &[(String, Arc<doc::MaskImage>)],
+) -> Vec<(String, Arc<doc::MaskImage>)> {
+    grey_images(layout)
+        .into_iter()
+        .filter(|(name, image)| {
+            saved
+                .iter()
+                .find(|(n, _)| n == name)
+                .is_some_and(|(_, s)| !Arc::ptr_eq(s, image))
+        })
+        .collect()
+}
+
+/// A grey image's bytes for `file`: an EXR (grey in R, G and B, half floats) where its name
+/// ends in `.exr`, else a 16-bit grey PNG.
+fn encode_grey(file: &Path, image: &doc::MaskImage) -> Result<Vec<u8>, String> {
+    let (w, h) = (image.width as usize, image.height as usize);
+    let exr = file
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
+    if exr {
+        use exr::prelude::*;
+        let l = |p: Vec2<usize>| f32::from(image.luminance[p.y() * w + p.x()]) / 65535.0;
+        let img = Image::from_channels((w, h), SpecificChannels::rgb(|p| (l(p), l(p), l(p))));
+        let mut out = std::io::Cursor::new(Vec::new());
+        img.write()
+            .to_buffered(&mut out)
+            .map_err(|e| e.to_string())?;
+        return Ok(out.into_inner());
+    }
+    let buf = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_raw(
+        image.width,
+        image.height,
+        image.luminance.clone(),
+    )
+    .ok_or("the image's pixels do not fill it")?;
+    let mut out = Vec::new();
+    buf.write_to(&mut std::io::Cursor::new(&mut out), image::ImageFormat::Png)
+        .map_err(|e| e.to_string())?;
+    Ok(out)
 }

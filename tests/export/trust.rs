@@ -939,6 +939,12 @@ fn a_bake_refuses_a_mask_it_cannot_read_and_honours_one_it_can() {
     let layouts = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
     let file = dir.path().join("garden.json");
     std::fs::copy(layouts.join("walled-garden.json"), &file).unwrap();
+    // Its heightmap beside it: only the mask is missing.
+    std::fs::copy(
+        layouts.join("walled-garden-heights.png"),
+        dir.path().join("walled-garden-heights.png"),
+    )
+    .unwrap();
     let out = dir.path().join("wind");
     let bin = env!("CARGO_BIN_EXE_windloom");
     let v = std::process::Command::new(bin)

@@ -571,3 +571,94 @@ fn the_terrain_is_edited_in_the_world_section() {
     assert!(h.state().doc.world.terrain.is_none());
     assert!(h.query_by_label("Hill size").is_none());
 }
+
+/// The paint tool: a stroke over the selected mask makes its pixels solid in one undo step; a
+/// stroke with no mask selected grows grass on the density map; both are unsaved work, and
+/// saving writes the painted images beside the layout, which read back as painted.
+#[test]
+fn painting_a_mask_and_the_density_map_saves_them_beside_the_layout() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let layouts = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
+    for f in [
+        "walled-garden.json",
+        "walled-garden-mask.png",
+        "walled-garden-grass.png",
+        "walled-garden-heights.png",
+    ] {
+        std::fs::copy(layouts.join(f), dir.path().join(f)).unwrap();
+    }
+    let path = dir.path().join("walled-garden.json");
+    let json_before = std::fs::read_to_string(&path).unwrap();
+    let mut h = harness_on(windloom::io::load(&path).unwrap(), Some(path.clone()));
+    let mask_id = h.state().doc.obstacles[0].id;
+    let bounds = h.state().doc.bounds();
+    let solid_at = |h: &Harness<'_, EditorApp>, p: [f32; 2]| {
+        h.state().doc.obstacles[0].shape.mask_contains(p, bounds)
+    };
+    assert!(!solid_at(&h, [30.0, 20.0]), "open ground before");
+
+    h.state_mut().selection = vec![Sel::Obstacle(mask_id)];
+    h.key_press(egui::Key::B);
+    h.run_steps(2);
+    assert_eq!(h.state().tool, Tool::Paint);
+    let (a, b) = (
+        h.state().screen_pos([25.0, 20.0]),
+        h.state().screen_pos([35.0, 20.0]),
+    );
+    drag(&mut h, a, b);
+    assert!(solid_at(&h, [30.0, 20.0]), "painted solid");
+    assert!(!solid_at(&h, [30.0, 30.0]), "only under the brush");
+    assert_eq!(
+        h.state().doc.history().undo_label(),
+        Some("Change obstacle"),
+        "one step for the stroke"
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert!(!solid_at(&h, [30.0, 20.0]), "undone");
+    h.key_press_modifiers(Modifiers::COMMAND | Modifiers::SHIFT, egui::Key::Z);
+    h.run_steps(2);
+    assert!(solid_at(&h, [30.0, 20.0]), "redone");
+
+    // No mask selected: the density map, over the pond (no grass) at (20, 20).
+    h.state_mut().selection.clear();
+    let density = |h: &Harness<'_, EditorApp>| {
+        h.state()
+            .doc
+            .grass
+            .density_map
+            .as_ref()
+            .unwrap()
+            .at([20.0, 20.0], bounds)
+    };
+    assert!(density(&h) < 0.1, "the pond grows no grass");
+    let (a, b) = (
+        h.state().screen_pos([18.0, 20.0]),
+        h.state().screen_pos([22.0, 20.0]),
+    );
+    drag(&mut h, a, b);
+    assert!(density(&h) > 0.99, "grass painted over the pond");
+    assert!(h.state_mut().doc.take_changed() || h.state().doc.is_dirty());
+    assert!(h.state().doc.is_dirty(), "painted images are unsaved work");
+
+    h.state_mut().doc.write_to(&path).unwrap();
+    assert!(!h.state().doc.is_dirty());
+    let mask = windloom::io::load_mask(dir.path(), "walled-garden-mask.png", "mask").unwrap();
+    assert!(
+        mask.solid_at(30.0 / 120.0, 20.0 / 80.0, 0.5, false),
+        "saved solid"
+    );
+    let grass = windloom::io::load_mask(dir.path(), "walled-garden-grass.png", "grass").unwrap();
+    assert!(
+        grass.luminance_at(20.0 / 120.0, 20.0 / 80.0) > 0.99,
+        "saved grass"
+    );
+    assert_eq!(
+        windloom::doc::parse(&std::fs::read_to_string(&path).unwrap()).unwrap(),
+        windloom::doc::parse(&json_before).unwrap(),
+        "the layout names the same images"
+    );
+}
