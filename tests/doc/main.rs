@@ -11,6 +11,7 @@ const EXAMPLES: &[&str] = &[
     "branching.json",
     "obstacles.json",
     "breeze-fft.json",
+    "walled-garden.json",
 ];
 
 fn example_path(name: &str) -> PathBuf {
