@@ -19,6 +19,9 @@ struct Cell {
 @group(0) @binding(3) var<storage, read> faces: array<Cell>;
 @group(0) @binding(4) var<storage, read_write> u_out: array<f32>;
 @group(0) @binding(5) var<storage, read_write> v_out: array<f32>;
+// A face that is not free (a wall, a solid's side) stays still.
+@group(0) @binding(6) var<storage, read> u_free: array<u32>;
+@group(0) @binding(7) var<storage, read> v_free: array<u32>;
 
 // `sim::terrain::shape`, branch-free as it is.
 fn shape(w: vec2<f32>, c: Cell) -> vec2<f32> {
@@ -52,7 +55,7 @@ fn shape_u(@builtin(global_invocation_id) id: vec3<u32>) {
     let il = i32(i) - 1;
     let ir = i32(i);
     let vbar = 0.25 * (vf(il, j) + vf(ir, j) + vf(il, j + 1u) + vf(ir, j + 1u));
-    u_out[k] = shape(vec2<f32>(u[k], vbar), faces[k]).x;
+    u_out[k] = select(0.0, shape(vec2<f32>(u[k], vbar), faces[k]).x, u_free[k] != 0u);
 }
 
 @compute @workgroup_size(8, 8)
@@ -66,5 +69,5 @@ fn shape_v(@builtin(global_invocation_id) id: vec3<u32>) {
     let jb = i32(j) - 1;
     let jt = i32(j);
     let ubar = 0.25 * (uf(i, jb) + uf(i + 1u, jb) + uf(i, jt) + uf(i + 1u, jt));
-    v_out[k] = shape(vec2<f32>(ubar, v[k]), faces[(P.nx + 1u) * P.ny + k]).y;
+    v_out[k] = select(0.0, shape(vec2<f32>(ubar, v[k]), faces[(P.nx + 1u) * P.ny + k]).y, v_free[k] != 0u);
 }

@@ -320,7 +320,11 @@ impl GpuFluid {
             mg_source: (solver.flags.clone(), [solver.hx, solver.hz], sp.boundary),
             multigrid: Default::default(),
             terrain: solver.terrain.as_ref().map(|t| TerrainBuffers {
-                cells: storage(device, "terrain faces", bytemuck::cast_slice(&t.faces)),
+                cells: storage(
+                    device,
+                    "terrain faces",
+                    bytemuck::cast_slice(&t.face_cells()),
+                ),
                 u: floats(device, "wind u", &solver.u),
                 v: floats(device, "wind v", &solver.v),
             }),
@@ -330,7 +334,11 @@ impl GpuFluid {
     /// Replaces the terrain's coefficients (an edit of the terrain); `None`: flat ground.
     pub fn set_terrain(&mut self, device: &wgpu::Device, terrain: Option<&TerrainField>) {
         self.terrain = terrain.map(|t| TerrainBuffers {
-            cells: storage(device, "terrain faces", bytemuck::cast_slice(&t.faces)),
+            cells: storage(
+                device,
+                "terrain faces",
+                bytemuck::cast_slice(&t.face_cells()),
+            ),
             u: floats(device, "wind u", &vec![0.0; (self.nx + 1) * self.ny]),
             v: floats(device, "wind v", &vec![0.0; self.nx * (self.ny + 1)]),
         });
@@ -357,10 +365,16 @@ impl GpuFluid {
             (2, &self.v),
             (3, &t.cells),
             (4, &t.u),
-            (5, &t.v),
+            (6, &self.u_free),
         ];
-        self.dispatch(device, enc, "shape_u", &b[..4], (nx + 1, ny));
-        let b = [(1, &self.u), (2, &self.v), (3, &t.cells), (5, &t.v)];
+        self.dispatch(device, enc, "shape_u", &b, (nx + 1, ny));
+        let b = [
+            (1, &self.u),
+            (2, &self.v),
+            (3, &t.cells),
+            (5, &t.v),
+            (7, &self.v_free),
+        ];
         self.dispatch(device, enc, "shape_v", &b, (nx, ny + 1));
     }
 

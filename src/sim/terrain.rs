@@ -94,40 +94,159 @@ impl Cell {
 /// the rows vectorise: over flat ground (`Cell::FLAT`) it returns `u`'s bits exactly.
 #[inline(always)]
 pub fn shape(u: [f32; 2], c: &Cell) -> [f32; 2] {
+    shape_parts(
+        u,
+        [c.slope[0], c.slope[1], c.base, c.ws],
+        [c.across[0], c.across[1], c.kappa],
+    )
+}
+
+/// [`shape`] with the coefficients as numbers: `[slope x, slope z, base, ws]` and
+/// `[across x, across z, kappa]`.
+#[inline(always)]
+fn shape_parts(u: [f32; 2], [sx, sz, base, ws]: [f32; 4], [ax, az, kappa]: [f32; 3]) -> [f32; 2] {
     let speed = (u[0] * u[0] + u[1] * u[1]).sqrt();
     let inv = if speed > 0.0 { 1.0 / speed } else { 0.0 };
-    let along = ((c.slope[0] * u[0] + c.slope[1] * u[1]) * inv).clamp(-1.0, 1.0);
-    let w = (c.base + c.ws * along).max(0.0);
-    let d = c.kappa * (u[0] * c.across[0] + u[1] * c.across[1]);
-    let t = [u[0] - d * c.across[0], u[1] - d * c.across[1]];
+    let along = ((sx * u[0] + sz * u[1]) * inv).clamp(-1.0, 1.0);
+    let w = (base + ws * along).max(0.0);
+    let d = kappa * (u[0] * ax + u[1] * az);
+    let t = [u[0] - d * ax, u[1] - d * az];
     let len = (t[0] * t[0] + t[1] * t[1]).sqrt();
     let k = if len > 0.0 { w * speed / len } else { 0.0 };
     [t[0] * k, t[1] * k]
 }
 
+/// Each face's coefficients as a struct of arrays (a [`Cell`]'s fields, one array each), so
+/// the CPU's rows read them as vectors; the GPU gets them as [`Cell`]s
+/// ([`TerrainField::face_cells`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FaceCoefficients {
+    sx: Vec<f32>,
+    sz: Vec<f32>,
+    base: Vec<f32>,
+    ws: Vec<f32>,
+    ax: Vec<f32>,
+    az: Vec<f32>,
+    kappa: Vec<f32>,
+}
+
+/// A run of [`FaceCoefficients`].
+#[derive(Clone, Copy)]
+struct Coef<'a> {
+    sx: &'a [f32],
+    sz: &'a [f32],
+    base: &'a [f32],
+    ws: &'a [f32],
+    ax: &'a [f32],
+    az: &'a [f32],
+    kappa: &'a [f32],
+}
+
+impl<'a> Coef<'a> {
+    /// Entries `k0 .. k0 + n`, each slice exactly that long (so a row's loop is checked once).
+    #[inline(always)]
+    fn sub(&self, k0: usize, n: usize) -> Coef<'a> {
+        Coef {
+            sx: &self.sx[k0..][..n],
+            sz: &self.sz[k0..][..n],
+            base: &self.base[k0..][..n],
+            ws: &self.ws[k0..][..n],
+            ax: &self.ax[k0..][..n],
+            az: &self.az[k0..][..n],
+            kappa: &self.kappa[k0..][..n],
+        }
+    }
+
+    #[inline(always)]
+    fn at(&self, i: usize) -> ([f32; 4], [f32; 3]) {
+        (
+            [self.sx[i], self.sz[i], self.base[i], self.ws[i]],
+            [self.ax[i], self.az[i], self.kappa[i]],
+        )
+    }
+}
+
+impl FaceCoefficients {
+    fn push(&mut self, c: Cell) {
+        self.sx.push(c.slope[0]);
+        self.sz.push(c.slope[1]);
+        self.base.push(c.base);
+        self.ws.push(c.ws);
+        self.ax.push(c.across[0]);
+        self.az.push(c.across[1]);
+        self.kappa.push(c.kappa);
+    }
+
+    fn len(&self) -> usize {
+        self.sx.len()
+    }
+
+    fn get(&self, k: usize) -> Cell {
+        Cell {
+            slope: [self.sx[k], self.sz[k]],
+            base: self.base[k],
+            ws: self.ws[k],
+            across: [self.ax[k], self.az[k]],
+            kappa: self.kappa[k],
+            _pad: 0.0,
+        }
+    }
+
+    /// Faces `k0 .. k0 + n`.
+    fn run(&self, k0: usize, n: usize) -> Coef<'_> {
+        Coef {
+            sx: &self.sx[k0..][..n],
+            sz: &self.sz[k0..][..n],
+            base: &self.base[k0..][..n],
+            ws: &self.ws[k0..][..n],
+            ax: &self.ax[k0..][..n],
+            az: &self.az[k0..][..n],
+            kappa: &self.kappa[k0..][..n],
+        }
+    }
+}
+
 /// One row of shaped u faces: `out[i]` from `u[i]`, the v faces of the rows below (`b`) and
 /// above (`t`) and the coefficients `c` (`nx + 1` faces, `nx` v faces a row).
 #[simd_kernel]
-fn shape_u_row(u: &[f32], b: &[f32], t: &[f32], c: &[Cell], out: &mut [f32]) {
+fn shape_u_row(u: &[f32], free: &[u8], b: &[f32], t: &[f32], c: Coef<'_>, out: &mut [f32]) {
     let nx = b.len();
-    let (u, c, out) = (&u[..nx + 1], &c[..nx + 1], &mut out[..nx + 1]);
+    let (u, free, out, c) = (
+        &u[..nx + 1],
+        &free[..nx + 1],
+        &mut out[..nx + 1],
+        c.sub(0, nx + 1),
+    );
     let vbar = |l: usize, r: usize| 0.25 * (b[l] + b[r] + t[l] + t[r]);
-    out[0] = shape([u[0], vbar(0, 0)], &c[0])[0];
+    // A face that is not free (a wall, a solid's side) stays still, whatever blows beside it.
+    let keep = |i: usize, x: f32| if free[i] != 0 { x } else { 0.0 };
+    let (p, q) = c.at(0);
+    out[0] = keep(0, shape_parts([u[0], vbar(0, 0)], p, q)[0]);
     for i in 1..nx {
-        out[i] = shape([u[i], vbar(i - 1, i)], &c[i])[0];
+        let (p, q) = c.at(i);
+        out[i] = keep(i, shape_parts([u[i], vbar(i - 1, i)], p, q)[0]);
     }
-    out[nx] = shape([u[nx], vbar(nx - 1, nx - 1)], &c[nx])[0];
+    let (p, q) = c.at(nx);
+    out[nx] = keep(nx, shape_parts([u[nx], vbar(nx - 1, nx - 1)], p, q)[0]);
 }
 
 /// One row of shaped v faces: `out[i]` from `v[i]`, the u faces of the rows below (`b`) and
 /// above (`t`, `nx + 1` each) and the coefficients `c`.
 #[simd_kernel]
-fn shape_v_row(v: &[f32], b: &[f32], t: &[f32], c: &[Cell], out: &mut [f32]) {
+fn shape_v_row(v: &[f32], free: &[u8], b: &[f32], t: &[f32], c: Coef<'_>, out: &mut [f32]) {
     let nx = v.len();
-    let (b, t, c, out) = (&b[..nx + 1], &t[..nx + 1], &c[..nx], &mut out[..nx]);
+    let (free, b, t, out, c) = (
+        &free[..nx],
+        &b[..nx + 1],
+        &t[..nx + 1],
+        &mut out[..nx],
+        c.sub(0, nx),
+    );
     for i in 0..nx {
         let ubar = 0.25 * (b[i] + b[i + 1] + t[i] + t[i + 1]);
-        out[i] = shape([ubar, v[i]], &c[i])[1];
+        let (p, q) = c.at(i);
+        let x = shape_parts([ubar, v[i]], p, q)[1];
+        out[i] = if free[i] != 0 { x } else { 0.0 };
     }
 }
 
@@ -144,8 +263,8 @@ pub struct TerrainField {
     pub heights: Vec<f32>,
     /// Each face's coefficients, the mean of the cells either side ([`Cell::mean`], the
     /// grid's edges clamped): the u faces (`(nx + 1) × ny`), then the v faces
-    /// (`nx × (ny + 1)`), as the GPU's terrain pass reads them.
-    pub faces: Vec<Cell>,
+    /// (`nx × (ny + 1)`).
+    faces: FaceCoefficients,
 }
 
 impl TerrainField {
@@ -188,7 +307,7 @@ impl TerrainField {
             let j = j.clamp(0, ny as isize - 1) as usize;
             &cells[j * nx + i]
         };
-        let mut faces = Vec::with_capacity((nx + 1) * ny + nx * (ny + 1));
+        let mut faces = FaceCoefficients::default();
         for j in 0..ny as isize {
             for i in 0..=nx as isize {
                 faces.push(Cell::mean(cell(i - 1, j), cell(i, j)));
@@ -209,6 +328,12 @@ impl TerrainField {
         })
     }
 
+    /// Each face's coefficients as the GPU's terrain pass reads them: the u faces, then the
+    /// v faces.
+    pub fn face_cells(&self) -> Vec<Cell> {
+        (0..self.faces.len()).map(|k| self.faces.get(k)).collect()
+    }
+
     /// The ground's height at world `p`, bilinear between the cell centres and clamped at the
     /// grid's edges: what the 3D view stands the grass, the ground and the obstacles on (the
     /// CPU twin of `ground` in `shaders/grass_common.wgsl`).
@@ -226,30 +351,42 @@ impl TerrainField {
 
     /// The shaped faces of the solver's faces `u` (`(nx + 1) × ny`) and `v` (`nx × (ny + 1)`):
     /// each face's velocity (its own component and the mean of the four nearest faces of the
-    /// other, the grid's edges clamped) shaped with its coefficients ([`Self::faces`]).
-    pub fn shape_faces(&self, u: &[f32], v: &[f32]) -> (Vec<f32>, Vec<f32>) {
+    /// other, the grid's edges clamped) shaped with its coefficients ([`Self::faces`]); a face
+    /// whose `free` flag is 0 (a wall, a solid's side: `u_free`, `v_free`) stays 0.
+    pub fn shape_faces(
+        &self,
+        (u, v): (&[f32], &[f32]),
+        (u_free, v_free): (&[u8], &[u8]),
+    ) -> (Vec<f32>, Vec<f32>) {
         let (mut su, mut sv) = (vec![0.0; u.len()], vec![0.0; v.len()]);
-        self.shape_faces_into(u, v, &mut su, &mut sv);
+        self.shape_faces_into((u, v), (u_free, v_free), (&mut su, &mut sv));
         (su, sv)
     }
 
     /// [`Self::shape_faces`] into `su` and `sv` (as long as `u` and `v`).
-    pub fn shape_faces_into(&self, u: &[f32], v: &[f32], su: &mut [f32], sv: &mut [f32]) {
+    pub fn shape_faces_into(
+        &self,
+        (u, v): (&[f32], &[f32]),
+        (u_free, v_free): (&[u8], &[u8]),
+        (su, sv): (&mut [f32], &mut [f32]),
+    ) {
         use rayon::prelude::*;
         let (nx, ny) = (self.nx, self.ny);
-        let (cu, cv) = self.faces.split_at(u.len());
+        let (cu, cv) = (self.faces.run(0, u.len()), self.faces.run(u.len(), v.len()));
         su.par_chunks_mut(nx + 1).enumerate().for_each(|(j, out)| {
             let k0 = j * (nx + 1);
             // The v faces below and above row j.
             let (b, t) = (&v[j * nx..][..nx], &v[(j + 1) * nx..][..nx]);
-            shape_u_row(&u[k0..][..nx + 1], b, t, &cu[k0..][..nx + 1], out);
+            let c = cu.sub(k0, nx + 1);
+            shape_u_row(&u[k0..][..nx + 1], &u_free[k0..][..nx + 1], b, t, c, out);
         });
         sv.par_chunks_mut(nx).enumerate().for_each(|(j, out)| {
             let k0 = j * nx;
             // The u faces of the rows below and above face row j (the edge rows clamped).
             let row = |r: usize| &u[r * (nx + 1)..][..nx + 1];
             let (b, t) = (row(j.saturating_sub(1)), row(j.min(ny - 1)));
-            shape_v_row(&v[k0..][..nx], b, t, &cv[k0..][..nx], out);
+            let c = cv.sub(k0, nx);
+            shape_v_row(&v[k0..][..nx], &v_free[k0..][..nx], b, t, c, out);
         });
     }
 }

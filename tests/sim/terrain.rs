@@ -164,6 +164,16 @@ fn the_gpu_terrain_pass_matches_the_cpu() {
         0.5 + 0.25 * (x * 9.0).sin() * (z * 7.0).cos() + 0.2 * (-((x - 0.6) * 8.0).powi(2)).exp()
     };
     with_terrain(&mut l, heightmap(dir.path(), 300, 200, hills), 25.0);
+    // A rock, and closed walls: faces that must stay still whatever the terrain does.
+    l.sim.boundary = Boundary::Closed;
+    l.obstacles.push(doc::Obstacle {
+        id: 7,
+        name: "rock".into(),
+        shape: Shape::Circle {
+            center: [150.0, 100.0],
+            radius: 30.0,
+        },
+    });
     let mut cpu = Solver::new(&l);
     let (u, v) = cpu.faces_mut();
     u.copy_from_slice(
@@ -193,4 +203,22 @@ fn the_gpu_terrain_pass_matches_the_cpu() {
         shaped > cu.len() / 2,
         "the hills shape most faces: {shaped}"
     );
+    // Walls and the rock's sides stay still on both, and so do the rock's cells.
+    let (uf, vf) = cpu.free_faces();
+    for (k, f) in uf.iter().enumerate() {
+        if *f == 0 {
+            assert_eq!((cu[k], gu[k]), (0.0, 0.0), "u face {k}");
+        }
+    }
+    for (k, f) in vf.iter().enumerate() {
+        if *f == 0 {
+            assert_eq!((cv[k], gv[k]), (0.0, 0.0), "v face {k}");
+        }
+    }
+    let field = cpu.velocity_field();
+    let rock = (0..field.len()).filter(|&k| cpu.solid[k] == 1);
+    assert!(rock.clone().count() > 20);
+    for k in rock {
+        assert_eq!(field[k], [0.0, 0.0], "rock cell {k}");
+    }
 }

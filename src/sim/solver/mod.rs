@@ -472,13 +472,20 @@ impl Solver {
     }
 
     /// The wind's faces as they leave the solver: the solver's own over flat ground, shaped
-    /// by the terrain ([`TerrainField::shape_faces`]) where the layout has one.
+    /// by the terrain ([`TerrainField::shape_faces`], walls and solids kept still) where the
+    /// layout has one.
+    /// The faces' free flags `(u, v)`: 1 where a face may move (not a wall, not a solid's
+    /// side).
+    pub fn free_faces(&self) -> (&[u8], &[u8]) {
+        (&self.u_free, &self.v_free)
+    }
+
     pub fn wind_faces(&self) -> (std::borrow::Cow<'_, [f32]>, std::borrow::Cow<'_, [f32]>) {
         use std::borrow::Cow;
         match &self.terrain {
             None => (Cow::Borrowed(&self.u[..]), Cow::Borrowed(&self.v[..])),
             Some(t) => {
-                let (u, v) = t.shape_faces(&self.u, &self.v);
+                let (u, v) = t.shape_faces((&self.u, &self.v), (&self.u_free, &self.v_free));
                 (Cow::Owned(u), Cow::Owned(v))
             }
         }
