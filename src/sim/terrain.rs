@@ -351,7 +351,7 @@ impl TerrainField {
 
     /// The shaped faces of the solver's faces `u` (`(nx + 1) × ny`) and `v` (`nx × (ny + 1)`):
     /// each face's velocity (its own component and the mean of the four nearest faces of the
-    /// other, the grid's edges clamped) shaped with its coefficients ([`Self::faces`]); a face
+    /// other, the grid's edges clamped) shaped with its coefficients ([`Self::face_cells`]); a face
     /// whose `free` flag is 0 (a wall, a solid's side: `u_free`, `v_free`) stays 0.
     pub fn shape_faces(
         &self,
