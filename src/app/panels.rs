@@ -162,7 +162,9 @@ fn view_menu(app: &mut EditorApp, ui: &mut egui::Ui) {
     ui.checkbox(&mut app.settings.hill_shade, "Terrain hill shade")
         .on_hover_text("Shade the level's terrain on the map, lit from the north-west");
     ui.checkbox(&mut app.settings.contours, "Terrain contour lines")
-        .on_hover_text("Lines of equal height on the map, every 1, 2 or 5 × 10ⁿ metres");
+        .on_hover_text(
+            "Lines of equal height on the map, every 1, 2 or 5 metres times a power of ten",
+        );
     if ui.button("Frame all (F)").clicked() {
         app.map.camera = None;
     }

@@ -195,14 +195,15 @@ impl FaceCoefficients {
     /// Faces `k0 .. k0 + n`.
     fn run(&self, k0: usize, n: usize) -> Coef<'_> {
         Coef {
-            sx: &self.sx[k0..][..n],
-            sz: &self.sz[k0..][..n],
-            base: &self.base[k0..][..n],
-            ws: &self.ws[k0..][..n],
-            ax: &self.ax[k0..][..n],
-            az: &self.az[k0..][..n],
-            kappa: &self.kappa[k0..][..n],
+            sx: &self.sx,
+            sz: &self.sz,
+            base: &self.base,
+            ws: &self.ws,
+            ax: &self.ax,
+            az: &self.az,
+            kappa: &self.kappa,
         }
+        .sub(k0, n)
     }
 }
 
