@@ -53,6 +53,30 @@ fn num(
     })
 }
 
+/// [`num`] with `tip` shown on hover: what the setting does, and the paper's symbol for it.
+fn num_tip(
+    ui: &mut egui::Ui,
+    (label, tip): (&str, &str),
+    v: &mut f32,
+    bound: Bound,
+    speed: f64,
+    suffix: &str,
+) -> bool {
+    row(ui, label, |ui| {
+        ui.add(
+            egui::DragValue::new(v)
+                .range(bound.range())
+                .speed(speed)
+                .suffix(suffix),
+        )
+        .on_hover_text(tip)
+    })
+}
+
+/// The direction of an ambient layer's wind, as the layout stores it.
+const DIRECTION_TIP: &str = "The way the wind blows, in degrees from +x (east, the map's right) \
+     toward +z (south, down the map): 0 blows east, 90 south, 180 west, 270 north";
+
 /// A setting chosen from a few named values, shown by name (not by its Rust spelling) with
 /// what each does on hover.
 trait Choice: Copy + PartialEq + 'static {
@@ -422,7 +446,14 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 pulse_magnitude,
                 pulse_frequency,
             } => {
-                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num_tip(
+                    ui,
+                    ("Direction", DIRECTION_TIP),
+                    direction_deg,
+                    ONE_TURN,
+                    1.0,
+                    "°",
+                );
                 changed |= num(ui, "Main", main, bounds::AMBIENT_SPEED, 0.05, " m/s");
                 changed |= num(
                     ui,
@@ -455,7 +486,14 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 speed,
                 strength,
             } => {
-                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num_tip(
+                    ui,
+                    ("Direction", DIRECTION_TIP),
+                    direction_deg,
+                    ONE_TURN,
+                    1.0,
+                    "°",
+                );
                 changed |= num(ui, "Scale", scale, bounds::FEATURE_LENGTH, 0.1, " m");
                 changed |= num(
                     ui,
@@ -482,7 +520,14 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 tile_size,
                 seed,
             } => {
-                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num_tip(
+                    ui,
+                    ("Direction", DIRECTION_TIP),
+                    direction_deg,
+                    ONE_TURN,
+                    1.0,
+                    "°",
+                );
                 changed |= num(
                     ui,
                     "Wind speed",
@@ -526,7 +571,14 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
                 wavelength,
                 frequency,
             } => {
-                changed |= num(ui, "Direction", direction_deg, ONE_TURN, 1.0, "°");
+                changed |= num_tip(
+                    ui,
+                    ("Direction", DIRECTION_TIP),
+                    direction_deg,
+                    ONE_TURN,
+                    1.0,
+                    "°",
+                );
                 changed |= num(
                     ui,
                     "Amplitude",
@@ -973,9 +1025,9 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 ui.colored_label(ui.visuals().warn_fg_color, format!("Not read: {why}"));
                 ui.end_row();
             }
-            changed |= num(ui, "k1 (gravity)", &mut g.k1, bounds::BEND, 0.005, "");
-            changed |= num(ui, "k2 (forward)", &mut g.k2, bounds::BEND, 0.005, "");
-            changed |= num(ui, "λ (stiffness)", &mut g.lambda, bounds::LAMBDA, 0.01, "");
+            changed |= num_tip(ui, GRAVITY_BEND, &mut g.k1, bounds::BEND, 0.005, "");
+            changed |= num_tip(ui, FORWARD_LEAN, &mut g.k2, bounds::BEND, 0.005, "");
+            changed |= num_tip(ui, STIFFNESS, &mut g.lambda, bounds::LAMBDA, 0.01, "");
             changed |= min_max(
                 ui,
                 "Height",
@@ -987,23 +1039,23 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             changed |= min_max(ui, "Width", &mut g.width, bounds::BLADE_WIDTH, 0.001, " m");
             changed |= min_max(
                 ui,
-                "Stiffness",
+                "Blade stiffness",
                 &mut g.stiffness,
                 bounds::STIFFNESS,
                 0.01,
                 "",
             );
-            changed |= num(
+            changed |= num_tip(
                 ui,
-                "Shadow c1 (wind)",
+                SHADOW_FROM_WIND,
                 &mut g.shadow.c1,
                 bounds::SHADOW_TERM,
                 0.005,
                 "",
             );
-            changed |= num(
+            changed |= num_tip(
                 ui,
-                "Shadow c2 (lift)",
+                SHADOW_LIFT,
                 &mut g.shadow.c2,
                 bounds::SHADOW_TERM,
                 0.01,
@@ -1043,3 +1095,25 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         }
     });
 }
+
+/// The grass settings' names, for what they do, with the CWD-Sim paper's symbol on hover.
+const GRAVITY_BEND: (&str, &str) = (
+    "Gravity bend",
+    "How far a blade's own weight bends it over at rest (k1 in the paper's eq. 11)",
+);
+const FORWARD_LEAN: (&str, &str) = (
+    "Forward lean",
+    "How far a blade leans the way it faces at rest (k2 in eq. 11)",
+);
+const STIFFNESS: (&str, &str) = (
+    "Stiffness",
+    "The share of the wind's push every blade resists: 0 bends fully, 1 not at all (lambda in eq. 13)",
+);
+const SHADOW_FROM_WIND: (&str, &str) = (
+    "Shadow from wind",
+    "How much a bent blade darkens in the wind (c1 in eq. 14)",
+);
+const SHADOW_LIFT: (&str, &str) = (
+    "Shadow lift",
+    "Brightness added at every height of the blade (c2 in eq. 14)",
+);

@@ -662,3 +662,48 @@ fn painting_a_mask_and_the_density_map_saves_them_beside_the_layout() {
         "the layout names the same images"
     );
 }
+
+/// The grass settings read as what they do, the paper's symbol on hover; a typed gravity bend
+/// is the layout's k1, one undo step.
+#[test]
+fn grass_settings_are_named_for_what_they_do() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.run_steps(2);
+    h.get_by_label("Grass").click();
+    h.run_steps(2);
+    for label in [
+        "Gravity bend",
+        "Forward lean",
+        "Stiffness",
+        "Shadow from wind",
+        "Shadow lift",
+    ] {
+        assert!(h.query_by_label(label).is_some(), "{label}");
+    }
+    for old in ["k1 (gravity)", "λ (stiffness)", "Shadow c1 (wind)"] {
+        assert!(h.query_by_label(old).is_none(), "{old}");
+    }
+    h.get_by_label("Gravity bend").hover();
+    // Past egui's tooltip delay.
+    h.run_steps(60);
+    assert!(
+        h.query_by_label_contains("k1 in the paper's eq. 11")
+            .is_some(),
+        "the symbol on hover"
+    );
+    let k1 = h.state().doc.grass.k1;
+    h.get_by_label("Gravity bend").click();
+    h.run_steps(1);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.run_steps(1);
+    h.get_by_label("Gravity bend").type_text("0.125");
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.grass.k1, 0.125);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.grass.k1, k1);
+}
