@@ -126,6 +126,7 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
         );
     }
 
+    view::draw_ambient_gizmos(&painter, &cam, rect, &app.doc);
     interact(app, &ctx, &response, rect, &cam, &painter);
     view::draw_legend(&painter, rect, app.settings.wind_view, max_speed);
     // Beside the 3D view: where its pointer is on the ground (last frame's).

@@ -501,6 +501,87 @@ pub fn draw_pointer_mark(painter: &egui::Painter, at: Pos2) {
     painter.circle_filled(at, 2.0, Color32::WHITE);
 }
 
+/// What the map's gizmo shows of an ambient layer: its name, the unit direction its wind
+/// blows (world `[x, z]`, `doc::direction` of its `direction_deg`), and the spatial scale of
+/// its gusts in metres where it has one (noise: its feature size; FFT: its tile; sine: its
+/// wavelength; a directional layer's gusts are uniform in space).
+#[derive(Debug, Clone, PartialEq)]
+pub struct AmbientGizmo {
+    pub name: String,
+    pub direction: [f32; 2],
+    pub gust_scale: Option<f32>,
+}
+
+/// The gizmos of `layout`'s enabled ambient layers, in the layers' order.
+pub fn ambient_gizmos(layout: &Layout) -> Vec<AmbientGizmo> {
+    use crate::doc::AmbientKind as K;
+    layout
+        .ambient
+        .iter()
+        .filter(|a| a.enabled)
+        .map(|a| {
+            let (deg, gust_scale) = match &a.kind {
+                K::Directional { direction_deg, .. } => (*direction_deg, None),
+                K::Noise {
+                    direction_deg,
+                    scale,
+                    ..
+                } => (*direction_deg, Some(*scale)),
+                K::Fft {
+                    direction_deg,
+                    tile_size,
+                    ..
+                } => (*direction_deg, Some(*tile_size)),
+                K::Sine {
+                    direction_deg,
+                    wavelength,
+                    ..
+                } => (*direction_deg, Some(*wavelength)),
+            };
+            AmbientGizmo {
+                name: a.name.clone(),
+                direction: crate::doc::direction(deg),
+                gust_scale,
+            }
+        })
+        .collect()
+}
+
+/// The ambient layers' gizmos inside the world's top-left corner, one under the other: a
+/// dial with an arrow the way the layer's wind blows, its name, and a bar as long as its
+/// gusts' scale on the map (capped at 200 points, the length written beside it).
+pub fn draw_ambient_gizmos(painter: &egui::Painter, cam: &Camera, rect: Rect, doc: &Layout) {
+    let (min, _) = doc.bounds();
+    let corner = cam.to_screen(rect, min).max(rect.min) + Vec2::new(34.0, 34.0);
+    let ink = Color32::from_rgb(250, 220, 120);
+    for (k, g) in ambient_gizmos(doc).iter().enumerate() {
+        let c = corner + Vec2::new(0.0, 58.0 * k as f32);
+        painter.circle_filled(c, 22.0, Color32::from_black_alpha(140));
+        painter.circle_stroke(c, 22.0, Stroke::new(1.0, ink));
+        // World +x is the map's right, +z its down.
+        let d = Vec2::new(g.direction[0], g.direction[1]) * 17.0;
+        painter.arrow(c - d, d * 2.0, Stroke::new(2.0, ink));
+        let font = egui::FontId::proportional(12.0);
+        let at = c + Vec2::new(28.0, -14.0);
+        painter.text(at, egui::Align2::LEFT_TOP, &g.name, font.clone(), ink);
+        if let Some(m) = g.gust_scale {
+            let len = (m * cam.zoom).min(200.0);
+            let y = at.y + 18.0;
+            painter.line_segment(
+                [Pos2::new(at.x, y), Pos2::new(at.x + len, y)],
+                Stroke::new(2.0, ink),
+            );
+            painter.text(
+                Pos2::new(at.x + len + 6.0, y),
+                egui::Align2::LEFT_CENTER,
+                format!("gusts {m:.0} m"),
+                font,
+                ink,
+            );
+        }
+    }
+}
+
 /// The colour scale of view `mode` with its title and range (top right of `rect`): the map
 /// view's, and the 3D view's while it shows the wind colours.
 pub fn draw_legend(painter: &egui::Painter, rect: Rect, mode: WindView, scale: f32) {

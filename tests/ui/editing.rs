@@ -707,3 +707,34 @@ fn grass_settings_are_named_for_what_they_do() {
     h.run_steps(2);
     assert_eq!(h.state().doc.grass.k1, k1);
 }
+
+/// Each enabled ambient layer has a gizmo on the map: the way its wind blows by the stated
+/// convention (0° east, +x; 90° south, +z) and the scale of its gusts where it has one.
+#[test]
+fn ambient_gizmos_point_the_way_the_wind_blows() {
+    use windloom::app::view::ambient_gizmos;
+    let mut l = example("breeze-fft.json");
+    let g = ambient_gizmos(&l);
+    assert_eq!(g.len(), 1);
+    let windloom::doc::AmbientKind::Fft {
+        direction_deg,
+        tile_size,
+        ..
+    } = l.ambient[0].kind.clone()
+    else {
+        panic!("the example's layer is an FFT field");
+    };
+    assert_eq!(g[0].gust_scale, Some(tile_size));
+    let d = windloom::doc::direction(direction_deg);
+    assert!((g[0].direction[0] - d[0]).abs() < 1e-6 && (g[0].direction[1] - d[1]).abs() < 1e-6);
+    if let windloom::doc::AmbientKind::Fft { direction_deg, .. } = &mut l.ambient[0].kind {
+        *direction_deg = 90.0;
+    }
+    let south = ambient_gizmos(&l)[0].direction;
+    assert!(
+        south[0].abs() < 1e-6 && (south[1] - 1.0).abs() < 1e-6,
+        "{south:?}"
+    );
+    l.ambient[0].enabled = false;
+    assert!(ambient_gizmos(&l).is_empty(), "a disabled layer has none");
+}
