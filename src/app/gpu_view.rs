@@ -502,7 +502,7 @@ impl GrassView {
             self.sample = Some(sample);
         }
         let mut grass = GrassRenderer::new(&rs.device, Target::FORMAT, doc, &blades);
-        self.terrain = crate::sim::terrain::TerrainField::new(doc).map(std::sync::Arc::new);
+        self.terrain = grass.terrain().cloned();
         if let Some(sample) = &self.sample {
             grass.set_sample_reach(sample.threshold);
         }

@@ -43,14 +43,15 @@ fn num(
     speed: f64,
     suffix: &str,
 ) -> bool {
-    row(ui, label, |ui| {
-        ui.add(
-            egui::DragValue::new(v)
-                .range(bound.range())
-                .speed(speed)
-                .suffix(suffix),
-        )
-    })
+    row(ui, label, |ui| ui.add(number(v, bound, speed, suffix)))
+}
+
+/// The drag field [`num`] and [`num_tip`] show.
+fn number<'a>(v: &'a mut f32, bound: Bound, speed: f64, suffix: &str) -> egui::DragValue<'a> {
+    egui::DragValue::new(v)
+        .range(bound.range())
+        .speed(speed)
+        .suffix(suffix)
 }
 
 /// [`num`] with `tip` shown on hover: what the setting does, and the paper's symbol for it.
@@ -63,13 +64,7 @@ fn num_tip(
     suffix: &str,
 ) -> bool {
     row(ui, label, |ui| {
-        ui.add(
-            egui::DragValue::new(v)
-                .range(bound.range())
-                .speed(speed)
-                .suffix(suffix),
-        )
-        .on_hover_text(tip)
+        ui.add(number(v, bound, speed, suffix)).on_hover_text(tip)
     })
 }
 

@@ -507,6 +507,15 @@ impl Shape {
     /// Whether world point `p` lies on a mask obstacle's solid pixels (`false` for other
     /// shapes and for a mask whose image is not loaded). `bounds`: the layout's.
     pub fn mask_contains(&self, p: Vec2, bounds: (Vec2, Vec2)) -> bool {
+        let Some((image, r, threshold, invert)) = self.loaded_mask(bounds) else {
+            return false;
+        };
+        image_uv(r, p).is_some_and(|[u, v]| image.solid_at(u, v, threshold, invert))
+    }
+
+    /// A mask obstacle's loaded image, where it lies, its threshold and inversion (`None`
+    /// for other shapes and for a mask whose image is not loaded).
+    fn loaded_mask(&self, bounds: (Vec2, Vec2)) -> Option<(&MaskImage, [Vec2; 2], f32, bool)> {
         let Self::Mask {
             threshold,
             invert,
@@ -515,13 +524,9 @@ impl Shape {
             ..
         } = self
         else {
-            return false;
+            return None;
         };
-        let Some(image) = pixels.image() else {
-            return false;
-        };
-        image_uv(placed(rect, bounds), p)
-            .is_some_and(|[u, v]| image.solid_at(u, v, *threshold, *invert))
+        Some((pixels.image()?, placed(rect, bounds), *threshold, *invert))
     }
 
     /// A mask's solid area as world rectangles `[min, max]`: the runs of solid samples along
@@ -529,20 +534,9 @@ impl Shape {
     /// that spans the same columns as one on the row above merged into it (for drawing; the
     /// solvers sample every cell).
     pub fn mask_runs(&self, bounds: (Vec2, Vec2), max: u32) -> Vec<[Vec2; 2]> {
-        let Self::Mask {
-            threshold,
-            invert,
-            rect,
-            pixels,
-            ..
-        } = self
-        else {
+        let Some((image, r, threshold, invert)) = self.loaded_mask(bounds) else {
             return Vec::new();
         };
-        let Some(image) = pixels.image() else {
-            return Vec::new();
-        };
-        let r = placed(rect, bounds);
         let (cols, rows) = (image.width.min(max), image.height.min(max));
         let (dx, dz) = (
             (r[1][0] - r[0][0]) / cols as f32,
@@ -559,7 +553,7 @@ impl Shape {
             let mut start = None;
             for col in 0..=cols {
                 let solid = col < cols
-                    && image.solid_at((col as f32 + 0.5) / cols as f32, v, *threshold, *invert);
+                    && image.solid_at((col as f32 + 0.5) / cols as f32, v, threshold, invert);
                 match (solid, start) {
                     (true, None) => start = Some(col),
                     (false, Some(c0)) => {

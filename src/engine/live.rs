@@ -462,7 +462,7 @@ impl Engine {
     fn set_layout(&mut self, layout: &Layout) {
         self.cpu.set_layout(layout);
         if let (Some(g), Some(ctx)) = (&mut self.gpu, &self.ctx) {
-            g.set_layout_on(ctx, layout);
+            g.set_layout_on(ctx, layout, self.cpu.terrain.as_deref());
         }
     }
 

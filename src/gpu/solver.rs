@@ -75,11 +75,16 @@ impl GpuSolver {
     /// Replaces the layout the forces come from (an edit), keeping the running field; as
     /// [`Solver::set_layout`], grid, world, obstacle and boundary changes need a new solver.
     /// Replaces the layout the forces come from (an edit), keeping the running field; a
-    /// change of terrain needs `ctx` to upload its coefficients.
-    pub fn set_layout_on(&mut self, ctx: &GpuContext, layout: &Layout) {
+    /// change of terrain uploads `terrain`, the layout's over this grid (the CPU solver's,
+    /// made once for both), through `ctx`.
+    pub fn set_layout_on(
+        &mut self,
+        ctx: &GpuContext,
+        layout: &Layout,
+        terrain: Option<&crate::sim::terrain::TerrainField>,
+    ) {
         if layout.world.terrain != self.layout.world.terrain {
-            let t = crate::sim::terrain::TerrainField::new(layout);
-            self.fluid.set_terrain(&ctx.device, t.as_ref());
+            self.fluid.set_terrain(&ctx.device, terrain);
             self.reshape(ctx);
         }
         self.set_layout(layout);

@@ -190,9 +190,9 @@ struct Ground {
 }
 
 impl Ground {
-    fn of(layout: &Layout) -> Self {
+    fn of(layout: &Layout, terrain: Option<&crate::sim::terrain::TerrainField>) -> Self {
         let (min, _) = layout.bounds();
-        match crate::sim::terrain::TerrainField::new(layout) {
+        match terrain {
             Some(t) => {
                 let grid = [t.nx as u32, t.ny as u32];
                 Self {
@@ -200,7 +200,7 @@ impl Ground {
                     cell: t.cell,
                     quads: grid.map(|n| n.min(GROUND_QUADS_MAX)),
                     grid,
-                    heights: t.heights,
+                    heights: t.heights.clone(),
                 }
             }
             None => Self {
@@ -241,8 +241,9 @@ pub struct GrassRenderer {
     blades: wgpu::Buffer,
     wind: wgpu::Buffer,
     palettes: wgpu::Buffer,
-    /// The terrain's heights (`Scene::ground_*`).
+    /// The terrain's heights (`Scene::ground_*`), and the terrain they came from.
     ground: wgpu::Buffer,
+    terrain: Option<std::sync::Arc<crate::sim::terrain::TerrainField>>,
     /// Per-blade poses, written by the deform pass each frame (bound in the groups below).
     poses: wgpu::Buffer,
     layout0: wgpu::BindGroupLayout,
@@ -346,7 +347,8 @@ impl GrassRenderer {
         let g = &layout.grass;
         let (min, max) = layout.bounds();
         let (trail_nx, trail_ny) = crate::grass::trail::grid(min, max);
-        let ground = Ground::of(layout);
+        let terrain = crate::sim::terrain::TerrainField::new(layout).map(std::sync::Arc::new);
+        let ground = Ground::of(layout, terrain.as_deref());
         let scene = Scene {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             eye: [0.0; 4],
@@ -554,6 +556,7 @@ impl GrassRenderer {
             wind,
             palettes,
             ground,
+            terrain,
             poses,
             layout0,
             group0,
@@ -598,6 +601,11 @@ impl GrassRenderer {
     /// with the raw speed — to show the problem our reading solves (`docs/GRASS.md`).
     pub fn set_paper_literal(&mut self, literal: bool) {
         self.scene.literal = u32::from(literal);
+    }
+
+    /// The terrain the grass and the ground stand on (`None`: flat ground at y = 0).
+    pub fn terrain(&self) -> Option<&std::sync::Arc<crate::sim::terrain::TerrainField>> {
+        self.terrain.as_ref()
     }
 
     /// What the view shows besides grass: obstacles as solids and the arrows (a triangle list
