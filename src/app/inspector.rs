@@ -191,7 +191,11 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                 .show(ui, |ui| {
                     ui.heading("Inspector");
                     ui.add_space(4.0);
-                    match app.selection.first().copied() {
+                    let locked = app.locked(app.selection.first().copied());
+                    if locked {
+                        ui.weak("Locked: unlock it in the Layers list to change it.");
+                    }
+                    ui.add_enabled_ui(!locked, |ui| match app.selection.first().copied() {
                         Some(Sel::Node(id)) if app.selection.len() == 1 => {
                             node_inspector(app, &ctx, ui, id)
                         }
@@ -211,7 +215,7 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                             ui.weak("Delete (Del) or duplicate (Ctrl+D) them, or drag to move.");
                         }
                         None => layout_inspector(app, &ctx, ui),
-                    }
+                    });
                 });
         });
 }

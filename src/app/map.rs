@@ -113,7 +113,7 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     };
     view::draw_obstacles(&painter, &cam, rect, &app.doc, &is_sel);
     let hovered_node = hover.and_then(|p| view::hit_node(&app.doc, &cam, rect, p, HIT));
-    for tree in &app.doc.trees {
+    for tree in app.doc.trees.iter().filter(|t| !t.hidden) {
         let tree_sel = selection.contains(&Sel::Tree(tree.id));
         view::draw_tree(
             &painter,
@@ -465,6 +465,8 @@ fn interact(
                     emission: doc::Emission::Continuous,
                     propagation_speed: 20.0,
                     root: Node::new(id + 1, pos, 8.0, 5.0),
+                    locked: false,
+                    hidden: false,
                 };
                 if app.edit(
                     ctx,
@@ -561,6 +563,8 @@ fn interact(
                             id,
                             name: format!("Rock {}", app.doc.obstacles.len() + 1),
                             shape: Shape::Circle { center, radius: r },
+                            locked: false,
+                            hidden: false,
                         };
                         if app.edit(
                             ctx,
@@ -615,6 +619,8 @@ fn close_polygon(app: &mut EditorApp, ctx: &egui::Context) {
         id,
         name: format!("Wall {}", app.doc.obstacles.len() + 1),
         shape: Shape::Polygon { points },
+        locked: false,
+        hidden: false,
     };
     if app.edit(
         ctx,
@@ -717,20 +723,20 @@ fn select_tool(
                     if !additive {
                         app.selection.clear();
                     }
-                    let picked: Vec<Sel> = app
-                        .doc
-                        .nodes()
-                        .filter(|(_, n)| r.contains(cam.to_screen(rect, n.pos)))
-                        .map(|(_, n)| Sel::Node(n.id))
+                    let picked: Vec<Sel> = (app.doc.trees.iter())
+                        .filter(|t| t.pickable())
+                        .flat_map(|t| t.root.iter())
+                        .filter(|n| r.contains(cam.to_screen(rect, n.pos)))
+                        .map(|n| Sel::Node(n.id))
                         .chain(
                             app.doc
                                 .obstacles
                                 .iter()
+                                .filter(|o| o.pickable())
                                 .filter(|o| {
-                                    r.contains(cam.to_screen(
-                                        rect,
-                                        obstacle_centre(&o.shape, app.doc.bounds()),
-                                    ))
+                                    r.contains(
+                                        cam.to_screen(rect, o.shape.centre(app.doc.bounds())),
+                                    )
                                 })
                                 .map(|o| Sel::Obstacle(o.id)),
                         )
@@ -747,23 +753,6 @@ fn select_tool(
     }
 }
 
-pub fn obstacle_centre(shape: &Shape, bounds: (doc::Vec2, doc::Vec2)) -> doc::Vec2 {
-    match shape {
-        Shape::Circle { center, .. } => *center,
-        Shape::Polygon { points } => {
-            let n = points.len().max(1) as f32;
-            let s = points
-                .iter()
-                .fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
-            [s[0] / n, s[1] / n]
-        }
-        Shape::Mask { rect, .. } => {
-            let [a, b] = doc::placed(rect, bounds);
-            [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]
-        }
-    }
-}
-
 fn moved_obstacle(
     o: &doc::Obstacle,
     d: doc::Vec2,
@@ -774,32 +763,60 @@ fn moved_obstacle(
     o
 }
 
-/// Moves every selected node and obstacle by `d` metres as part of gesture `key`.
-fn move_selection(app: &mut EditorApp, ctx: &egui::Context, d: doc::Vec2, key: u64) {
+/// The edits that move every selected node (a selected tree: all its nodes) and obstacle by
+/// `d` metres; locked and hidden items stay.
+fn moves(app: &EditorApp, d: doc::Vec2) -> Vec<Edit> {
+    let mut nodes: Vec<&Node> = Vec::new();
     let mut edits = Vec::new();
     for s in &app.selection {
         match *s {
-            Sel::Node(id) => {
-                if let Some(n) = app.doc.trees.iter().find_map(|t| t.root.find(id)) {
-                    edits.push(Edit::MoveNode {
-                        id,
-                        pos: [n.pos[0] + d[0], n.pos[1] + d[1]],
-                    });
-                }
-            }
+            Sel::Node(id) => nodes.extend(
+                (app.doc.trees.iter())
+                    .filter(|t| t.pickable())
+                    .find_map(|t| t.root.find(id)),
+            ),
+            Sel::Tree(id) => nodes.extend(
+                (app.doc.trees.iter())
+                    .filter(|t| t.id == id && t.pickable())
+                    .flat_map(|t| t.root.iter()),
+            ),
             Sel::Obstacle(id) => {
-                if let Some(o) = app.doc.obstacles.iter().find(|o| o.id == id) {
+                if let Some(o) = app
+                    .doc
+                    .obstacles
+                    .iter()
+                    .find(|o| o.id == id && o.pickable())
+                {
                     edits.push(Edit::SetObstacle {
                         obstacle: moved_obstacle(o, d, app.doc.bounds()),
                     });
                 }
             }
-            _ => {}
+            Sel::Ambient(_) => {}
         }
     }
+    nodes.sort_by_key(|n| n.id);
+    nodes.dedup_by_key(|n| n.id);
+    let moved = nodes.iter().map(|n| Edit::MoveNode {
+        id: n.id,
+        pos: [n.pos[0] + d[0], n.pos[1] + d[1]],
+    });
+    moved.chain(edits).collect()
+}
+
+/// Moves every selected node and obstacle by `d` metres as part of gesture `key`.
+fn move_selection(app: &mut EditorApp, ctx: &egui::Context, d: doc::Vec2, key: u64) {
+    let edits = moves(app, d);
     if !edits.is_empty() {
         app.edit_merged(ctx, Edit::Batch(edits), key);
     }
+}
+
+/// Moves the selection by `d` metres as one undo step (the arrow keys); `false` when nothing
+/// selected can move.
+pub fn nudge_selection(app: &mut EditorApp, ctx: &egui::Context, d: doc::Vec2) -> bool {
+    let edits = moves(app, d);
+    !edits.is_empty() && app.edit(ctx, Edit::Batch(edits))
 }
 
 fn snap_selection(app: &mut EditorApp, ctx: &egui::Context, key: u64) {

@@ -5,6 +5,7 @@
 //! ([`LiveSim`]) and never blocks the UI.
 
 pub use crate::io::{AUTOSAVE_SECONDS, Document};
+mod clipboard;
 pub mod export;
 mod files;
 mod gpu_view;
@@ -274,6 +275,8 @@ pub struct EditorApp {
     pub export: export::ExportDialog,
     /// Help → User guide.
     pub guide: panels::Guide,
+    /// What this editor last copied.
+    copied: clipboard::Copied,
 }
 
 impl EditorApp {
@@ -314,6 +317,7 @@ impl EditorApp {
             allow_close: false,
             export: export::ExportDialog::default(),
             guide: Default::default(),
+            copied: Default::default(),
         }
     }
 
@@ -796,20 +800,79 @@ impl EditorApp {
                 *r = (*r * 1.25).clamp(*paint::RADIUS.start(), *paint::RADIUS.end());
             }
         }
+        self.clipboard_events(ctx);
+        // The arrow keys nudge the selection (by the snap step, ten with Shift) and pan the
+        // map when nothing selected can move.
+        let step = self.settings.snap_step.max(0.01)
+            * if ctx.input(|i| i.modifiers.shift) {
+                10.0
+            } else {
+                1.0
+            };
+        let keys = [
+            (Key::ArrowLeft, [-1.0, 0.0]),
+            (Key::ArrowRight, [1.0, 0.0]),
+            (Key::ArrowUp, [0.0, -1.0]),
+            (Key::ArrowDown, [0.0, 1.0]),
+        ];
+        let mut nudged = false;
+        if !self.selection.is_empty() {
+            for (key, d) in keys {
+                let times = ctx.input(|i| {
+                    (i.events.iter())
+                        .filter(|e| matches!(e, egui::Event::Key { key: k, pressed: true, .. } if *k == key))
+                        .count()
+                });
+                for _ in 0..times {
+                    nudged |= map::nudge_selection(self, ctx, [d[0] * step, d[1] * step]);
+                }
+            }
+        }
+        if nudged || !self.selection.is_empty() && self.can_nudge() {
+            return;
+        }
         let pan = 40.0;
-        for (key, d) in [
-            (Key::ArrowLeft, egui::vec2(pan, 0.0)),
-            (Key::ArrowRight, egui::vec2(-pan, 0.0)),
-            (Key::ArrowUp, egui::vec2(0.0, pan)),
-            (Key::ArrowDown, egui::vec2(0.0, -pan)),
-        ] {
+        for (key, d) in keys {
             if ctx.input(|i| i.key_down(key)) {
                 if let Some(c) = &mut self.map.camera {
+                    let d = egui::vec2(-d[0], -d[1]) * pan;
                     c.pan_pixels(d * ctx.input(|i| i.stable_dt).min(0.1) * 10.0);
                 }
                 ctx.request_repaint();
             }
         }
+    }
+
+    /// Whether `sel` belongs to a locked tree, obstacle or ambient layer (the inspector then
+    /// shows it without changing it).
+    pub fn locked(&self, sel: Option<Sel>) -> bool {
+        let doc = &self.doc;
+        match sel {
+            Some(Sel::Node(id)) => {
+                (doc.trees.iter()).any(|t| t.locked && t.root.find(id).is_some())
+            }
+            Some(Sel::Tree(id)) => doc.trees.iter().any(|t| t.id == id && t.locked),
+            Some(Sel::Obstacle(id)) => doc.obstacles.iter().any(|o| o.id == id && o.locked),
+            Some(Sel::Ambient(id)) => doc.ambient.iter().any(|a| a.id == id && a.locked),
+            None => false,
+        }
+    }
+
+    /// Whether anything selected moves with the arrow keys (not locked, not hidden, not an
+    /// ambient layer).
+    fn can_nudge(&self) -> bool {
+        self.selection.iter().any(|s| match *s {
+            Sel::Node(id) => {
+                (self.doc.trees.iter()).any(|t| t.pickable() && t.root.find(id).is_some())
+            }
+            Sel::Tree(id) => self.doc.trees.iter().any(|t| t.id == id && t.pickable()),
+            Sel::Obstacle(id) => self
+                .doc
+                .obstacles
+                .iter()
+                .any(|o| o.id == id && o.pickable()),
+            Sel::Ambient(_) => false,
+        })
     }
 }
 

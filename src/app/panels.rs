@@ -130,6 +130,28 @@ fn edit_menu(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         app.duplicate_selection(ctx);
     }
     ui.separator();
+    let shortcut = |ui: &egui::Ui, key| {
+        ui.ctx()
+            .format_shortcut(&egui::KeyboardShortcut::new(egui::Modifiers::COMMAND, key))
+    };
+    let cut = egui::Button::new("Cut").shortcut_text(shortcut(ui, egui::Key::X));
+    if ui.add_enabled(any, cut).clicked() {
+        app.cut_selection(ctx);
+    }
+    let copy = egui::Button::new("Copy").shortcut_text(shortcut(ui, egui::Key::C));
+    if ui.add_enabled(any, copy).clicked() {
+        app.copy_selection(ctx);
+    }
+    let paste = egui::Button::new("Paste").shortcut_text(shortcut(ui, egui::Key::V));
+    if ui
+        .add(paste)
+        .on_hover_text("Pastes trees, obstacles and ambient layers copied from any layout")
+        .clicked()
+    {
+        // The window's integration answers with a paste event carrying the clipboard's text.
+        ctx.send_viewport_cmd(egui::ViewportCommand::RequestPaste);
+    }
+    ui.separator();
     ui.checkbox(&mut app.settings.snap, "Snap to grid");
 }
 
@@ -408,12 +430,21 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                         .show(ui, |ui| {
                             let mut select = None;
                             let mut delete = None;
+                            let mut flags = None;
                             for o in &app.doc.obstacles {
                                 ui.horizontal(|ui| {
                                     // The buttons right-aligned, the name cut to what is left.
                                     ui.with_layout(right_to_left(), |ui| {
                                         if ui.small_button("×").on_hover_text("Delete").clicked() {
                                             delete = Some(o.id);
+                                        }
+                                        if let Some((hidden, locked)) =
+                                            hide_and_lock(ui, o.hidden, o.locked)
+                                        {
+                                            let mut o = o.clone();
+                                            o.hidden = hidden;
+                                            o.locked = locked;
+                                            flags = Some(Edit::SetObstacle { obstacle: o });
                                         }
                                         let sel = app.selection.contains(&Sel::Obstacle(o.id));
                                         if layer_name(ui, sel, o.name.clone()).clicked() {
@@ -431,12 +462,43 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                             if let Some(id) = delete {
                                 app.edit(&ctx, Edit::RemoveObstacle { id });
                             }
+                            if let Some(e) = flags {
+                                app.edit(&ctx, e);
+                            }
                         });
                     egui::CollapsingHeader::new(RichText::new("Ambient").strong())
                         .default_open(true)
                         .show(ui, |ui| ambient_list(app, &ctx, ui));
                 });
         });
+}
+
+/// A layer's hide and lock toggles (right to left: lock, then hide), each drawn lit when on;
+/// the new values when one was clicked.
+fn hide_and_lock(ui: &mut egui::Ui, hidden: bool, locked: bool) -> Option<(bool, bool)> {
+    let toggle = |ui: &mut egui::Ui, on: bool, text: &str, tip: &str| {
+        ui.add(egui::Button::selectable(on, RichText::new(text).small()))
+            .on_hover_text(tip)
+            .clicked()
+    };
+    let lock_tip = if locked {
+        "Locked: the map does not pick or move it and the inspector does not change it. \
+         Click to unlock"
+    } else {
+        "Lock: the map no longer picks or moves it, the inspector no longer changes it"
+    };
+    let hide_tip = if hidden {
+        "Hidden: not drawn on the map or in 3D (it still acts on the wind). Click to show"
+    } else {
+        "Hide on the map and in 3D (it still acts on the wind)"
+    };
+    if toggle(ui, locked, "lock", lock_tip) {
+        return Some((hidden, !locked));
+    }
+    if toggle(ui, hidden, "hide", hide_tip) {
+        return Some((!hidden, locked));
+    }
+    None
 }
 
 /// A layer row's buttons, laid out from the right edge leftwards.
@@ -487,6 +549,12 @@ fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             ui.with_layout(right_to_left(), |ui| {
                 if ui.small_button("×").on_hover_text("Delete tree").clicked() {
                     action = Some(Edit::RemoveTree { id: t.id });
+                }
+                if let Some((hidden, locked)) = hide_and_lock(ui, t.hidden, t.locked) {
+                    let mut p = TreeProps::of(t);
+                    p.hidden = hidden;
+                    p.locked = locked;
+                    action = Some(Edit::SetTreeProps { id: t.id, props: p });
                 }
                 if ui
                     .small_button("S")
@@ -543,6 +611,12 @@ fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 if ui.small_button("×").on_hover_text("Delete").clicked() {
                     action = Some(Edit::RemoveAmbient { id: a.id });
                 }
+                if let Some((hidden, locked)) = hide_and_lock(ui, a.hidden, a.locked) {
+                    let mut l = a.clone();
+                    l.hidden = hidden;
+                    l.locked = locked;
+                    action = Some(Edit::SetAmbient { layer: l });
+                }
                 let sel = app.selection.contains(&Sel::Ambient(a.id));
                 let name = format!("{} ({})", a.name, a.kind.type_name());
                 if layer_name(ui, sel, name).clicked() {
@@ -558,6 +632,8 @@ fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             name: name.into(),
             enabled: true,
             kind,
+            locked: false,
+            hidden: false,
         };
         let layer = if ui.button("Directional with gusts").clicked() {
             Some(make(
@@ -811,10 +887,18 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ),
     ("Ctrl+D", "Duplicate the selection"),
     (
+        "Ctrl+C / Ctrl+X / Ctrl+V",
+        "Copy, cut, paste (as layout JSON; at the pointer on the map)",
+    ),
+    (
+        "Arrow keys (Shift: x10)",
+        "Nudge the selection by the snap step; pan without one",
+    ),
+    (
         "Shift+click, drag on empty map",
         "Add to the selection, box-select",
     ),
-    ("Middle/right drag, arrow keys", "Pan"),
+    ("Middle/right drag", "Pan"),
     ("Mouse wheel", "Zoom about the cursor"),
     ("F", "Frame the whole world"),
     ("Space", "Play / pause the wind"),

@@ -238,7 +238,7 @@ pub fn draw_arrow(painter: &egui::Painter, a: Pos2, b: Pos2, width: f32, colour:
     ));
 }
 
-/// Draws the obstacles.
+/// Draws the obstacles that are not hidden.
 pub fn draw_obstacles(
     painter: &egui::Painter,
     cam: &Camera,
@@ -246,7 +246,7 @@ pub fn draw_obstacles(
     doc: &Layout,
     is_selected: &dyn Fn(u32) -> bool,
 ) {
-    for o in &doc.obstacles {
+    for o in doc.obstacles.iter().filter(|o| !o.hidden) {
         let sel = is_selected(o.id);
         let stroke = Stroke::new(
             if sel { 2.5 } else { 1.0 },
@@ -299,21 +299,25 @@ pub fn draw_obstacles(
     }
 }
 
-/// The node nearest to screen point `s` within `radius` points.
+/// The node nearest to screen point `s` within `radius` points, among the trees that are
+/// neither hidden nor locked.
 pub fn hit_node(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2, radius: f32) -> Option<u32> {
-    doc.nodes()
-        .map(|(_, n)| (n.id, cam.to_screen(rect, n.pos).distance(s)))
+    (doc.trees.iter())
+        .filter(|t| t.pickable())
+        .flat_map(|t| t.root.iter())
+        .map(|n| (n.id, cam.to_screen(rect, n.pos).distance(s)))
         .filter(|(_, d)| *d <= radius)
         .min_by(|a, b| a.1.total_cmp(&b.1))
         .map(|(id, _)| id)
 }
 
-/// The obstacle under screen point `s`.
+/// The obstacle under screen point `s`, among those neither hidden nor locked.
 pub fn hit_obstacle(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2) -> Option<u32> {
     let w = cam.to_world(rect, s);
     doc.obstacles
         .iter()
         .rev()
+        .filter(|o| o.pickable())
         .find(|o| match &o.shape {
             Shape::Circle { center, radius } => {
                 (w[0] - center[0]).hypot(w[1] - center[1]) <= *radius
@@ -512,13 +516,13 @@ pub struct AmbientGizmo {
     pub gust_scale: Option<f32>,
 }
 
-/// The gizmos of `layout`'s enabled ambient layers, in the layers' order.
+/// The gizmos of `layout`'s enabled ambient layers not hidden, in the layers' order.
 pub fn ambient_gizmos(layout: &Layout) -> Vec<AmbientGizmo> {
     use crate::doc::AmbientKind as K;
     layout
         .ambient
         .iter()
-        .filter(|a| a.enabled)
+        .filter(|a| a.enabled && !a.hidden)
         .map(|a| {
             let (deg, gust_scale) = match &a.kind {
                 K::Directional { direction_deg, .. } => (*direction_deg, None),

@@ -13,6 +13,8 @@ pub struct TreeProps {
     pub window: TimeWindow,
     pub emission: Emission,
     pub propagation_speed: f32,
+    pub locked: bool,
+    pub hidden: bool,
 }
 
 impl TreeProps {
@@ -23,6 +25,8 @@ impl TreeProps {
             window: tree.window,
             emission: tree.emission,
             propagation_speed: tree.propagation_speed,
+            locked: tree.locked,
+            hidden: tree.hidden,
         }
     }
 }
@@ -198,6 +202,8 @@ impl Edit {
                 tree.window = props.window;
                 tree.emission = props.emission;
                 tree.propagation_speed = props.propagation_speed;
+                tree.locked = props.locked;
+                tree.hidden = props.hidden;
                 Self::SetTreeProps { id, props: old }
             }
             Self::AddNode {

@@ -4,6 +4,7 @@
 
 mod advice;
 pub mod bounds;
+pub mod clipboard;
 mod edit;
 mod parse;
 mod types;

@@ -246,6 +246,10 @@ fn one() -> f32 {
     1.0
 }
 
+fn is_false(b: &bool) -> bool {
+    !*b
+}
+
 fn yes() -> bool {
     true
 }
@@ -271,6 +275,14 @@ pub struct Tree {
     #[serde(default = "default_propagation_speed")]
     #[schemars(range(min = PROPAGATION_SPEED.min, max = PROPAGATION_SPEED.max))]
     pub propagation_speed: f32,
+    /// Locked: drawn on the map but not picked, moved or nudged there, and not changed in the
+    /// inspector (the Layers list still selects it, and unlocks it).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub locked: bool,
+    /// Hidden: not drawn on the map or in the 3D view, and not picked there; it still acts on
+    /// the wind (switch a tree or layer off with `enabled`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub hidden: bool,
     /// The root point. Each child is the end point of an arrow from its parent.
     pub root: Node,
 }
@@ -342,6 +354,14 @@ pub struct Obstacle {
     #[schemars(length(max = NAME_MAX))]
     pub name: String,
     pub shape: Shape,
+    /// Locked: drawn on the map but not picked, moved or nudged there, and not changed in the
+    /// inspector (the Layers list still selects it, and unlocks it).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub locked: bool,
+    /// Hidden: not drawn on the map or in the 3D view, and not picked there; it still acts on
+    /// the wind (switch a tree or layer off with `enabled`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub hidden: bool,
 }
 
 /// An obstacle's outline in world metres.
@@ -390,6 +410,25 @@ pub enum Shape {
 
 fn half() -> f32 {
     0.5
+}
+
+impl Shape {
+    /// The middle of the outline: a circle's centre, a polygon's mean corner, a mask's
+    /// rectangle's middle (`bounds`: the world's, where the mask has no rectangle).
+    pub fn centre(&self, bounds: (Vec2, Vec2)) -> Vec2 {
+        match self {
+            Self::Circle { center, .. } => *center,
+            Self::Polygon { points } => {
+                let n = points.len().max(1) as f32;
+                let s = (points.iter()).fold([0.0, 0.0], |a, p| [a[0] + p[0], a[1] + p[1]]);
+                [s[0] / n, s[1] / n]
+            }
+            Self::Mask { rect, .. } => {
+                let [a, b] = placed(rect, bounds);
+                [(a[0] + b[0]) / 2.0, (a[1] + b[1]) / 2.0]
+            }
+        }
+    }
 }
 
 /// A decoded mask image: luminance per pixel, row-major from the top-left, 0 to 65535.
@@ -616,6 +655,14 @@ pub struct AmbientLayer {
     #[serde(default = "yes")]
     pub enabled: bool,
     pub kind: AmbientKind,
+    /// Locked: drawn on the map but not picked, moved or nudged there, and not changed in the
+    /// inspector (the Layers list still selects it, and unlocks it).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub locked: bool,
+    /// Hidden: not drawn on the map or in the 3D view, and not picked there; it still acts on
+    /// the wind (switch a tree or layer off with `enabled`).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub hidden: bool,
 }
 
 /// Ambient wind sources; each defines a target wind field `w(x, t)` in m/s.
@@ -1003,6 +1050,20 @@ impl Layout {
         let o = self.world.origin;
         let s = self.world.size;
         (o, [o[0] + s[0], o[1] + s[1]])
+    }
+}
+
+impl Tree {
+    /// Whether the map picks and moves it: neither hidden nor locked.
+    pub fn pickable(&self) -> bool {
+        !self.hidden && !self.locked
+    }
+}
+
+impl Obstacle {
+    /// Whether the map picks and moves it: neither hidden nor locked.
+    pub fn pickable(&self) -> bool {
+        !self.hidden && !self.locked
     }
 }
 

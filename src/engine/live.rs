@@ -735,6 +735,8 @@ mod tests {
                     center: [l.world.size[0] * 0.5, l.world.size[1] * 0.5],
                     radius: l.world.size[0] * 0.08,
                 },
+                locked: false,
+                hidden: false,
             });
             l
         };

@@ -23,12 +23,12 @@ fn v(p: [f32; 3], colour: [f32; 4]) -> SceneVertex {
     SceneVertex { pos: p, colour }
 }
 
-/// Obstacles as prisms `OBSTACLE_HEIGHT` tall: walls and a top, as a triangle list. Circles are
+/// Obstacles (those not hidden) as prisms `OBSTACLE_HEIGHT` tall: walls and a top, as a triangle list. Circles are
 /// 32-sided.
 pub fn solids(layout: &Layout) -> Vec<SceneVertex> {
     let mut out = Vec::new();
     let h = OBSTACLE_HEIGHT;
-    for o in &layout.obstacles {
+    for o in layout.obstacles.iter().filter(|o| !o.hidden) {
         let ring: Vec<[f32; 2]> = match &o.shape {
             Shape::Circle { center, radius } => (0..32)
                 .map(|k| {
@@ -71,12 +71,12 @@ fn prism(out: &mut Vec<SceneVertex>, ring: &[[f32; 2]], h: f32) {
     }
 }
 
-/// The enabled AGC trees as lines on the ground (an arrow per edge, a cross at each root), as
+/// The enabled AGC trees not hidden as lines on the ground (an arrow per edge, a cross at each root), as
 /// a line list.
 pub fn arrows(layout: &Layout) -> Vec<SceneVertex> {
     let y = 0.05;
     let mut out = Vec::new();
-    for tree in layout.trees.iter().filter(|t| t.enabled) {
+    for tree in layout.trees.iter().filter(|t| t.enabled && !t.hidden) {
         let r = tree.root.pos;
         for (dx, dz) in [(0.8, 0.0), (0.0, 0.8)] {
             out.push(v([r[0] - dx, y, r[1] - dz], ROOT));

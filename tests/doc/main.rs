@@ -54,6 +54,8 @@ fn small_text() -> String {
         emission: doc::Emission::Continuous,
         propagation_speed: 20.0,
         root,
+        locked: false,
+        hidden: false,
     });
     doc::to_json(&l)
 }
@@ -483,6 +485,8 @@ fn undo_and_redo_are_named_after_the_step() {
             center: [10.0, 10.0],
             radius: 2.0,
         },
+        locked: false,
+        hidden: false,
     };
     let index = l.obstacles.len();
     let add = Edit::AddObstacle {
@@ -648,6 +652,8 @@ fn to_edit(l: &Layout, op: &Op) -> Option<Edit> {
                 emission: doc::Emission::Continuous,
                 propagation_speed: 15.0,
                 root: Node::new(id + 1, [x, z], 20.0, 5.0),
+                locked: false,
+                hidden: false,
             },
         },
         Op::RemoveTree { tree } => Edit::RemoveTree {
@@ -668,6 +674,8 @@ fn to_edit(l: &Layout, op: &Op) -> Option<Edit> {
                     center: [x, z],
                     radius: r,
                 },
+                locked: false,
+                hidden: false,
             },
         },
         Op::RemoveObstacle { obstacle } => Edit::RemoveObstacle {
@@ -969,6 +977,8 @@ fn everything() -> serde_json::Value {
                 center: [10.0, 10.0],
                 radius: 2.0,
             },
+            locked: false,
+            hidden: false,
         },
         doc::Obstacle {
             id: 2,
@@ -980,6 +990,8 @@ fn everything() -> serde_json::Value {
                 rect: None,
                 pixels: Default::default(),
             },
+            locked: false,
+            hidden: false,
         },
     ];
     let kinds = [
@@ -996,6 +1008,8 @@ fn everything() -> serde_json::Value {
             name: format!("layer {i}"),
             enabled: true,
             kind: serde_json::from_str(k).unwrap(),
+            locked: false,
+            hidden: false,
         })
         .collect();
     assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
@@ -1183,6 +1197,7 @@ fn saving_keeps_the_files_mode_and_writes_through_symlinks() {
 }
 
 /// Fuzzing the loader (issue 13): arbitrary bytes and mutated layouts.
+mod clipboard;
 mod fuzz;
 
 /// The editor never makes a layout that windloom cannot open again: its own edit commands

@@ -612,6 +612,8 @@ fn nonsense_bakes_say_so_in_the_manifest() {
                 [o[0] - 1.0, o[1] + d + 1.0],
             ],
         },
+        locked: false,
+        hidden: false,
     }];
     let m = run(&covered, &dir.path().join("covered"), &opts);
     assert_eq!(m.max_speed, 0.0);

@@ -23,6 +23,8 @@ fn ridge_level(dir: &Path) -> Layout {
             pulse_magnitude: 0.0,
             pulse_frequency: 0.0,
         },
+        locked: false,
+        hidden: false,
     }];
     let img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(400, 50, |x, _| {
         let m = (x as f32 + 0.5) / 2.0;

@@ -657,6 +657,8 @@ mod render_never_panics {
                 emission: doc::Emission::Continuous,
                 propagation_speed: 20.0,
                 root,
+                locked: false,
+                hidden: false,
             });
             prop_assume!(doc::validate(&l).is_empty());
             let mut solver = windloom::sim::Solver::new(&l);

@@ -151,6 +151,8 @@ fn flow_goes_around_an_obstacle_and_is_zero_inside() {
             center: [55.0, 30.0],
             radius: 8.0,
         },
+        locked: false,
+        hidden: false,
     });
     let mut s = Solver::new(&l);
     run(&mut s, 3.0);

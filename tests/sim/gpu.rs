@@ -169,6 +169,8 @@ fn each_pass_matches_the_cpu_on_every_boundary_with_obstacles() {
                 name: format!("extra {n}"),
                 enabled: true,
                 kind: serde_json::from_str(k).unwrap(),
+                locked: false,
+                hidden: false,
             });
         }
         let kinds: std::collections::BTreeSet<&str> =

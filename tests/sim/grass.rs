@@ -398,6 +398,8 @@ fn thinned_grass_knows_about_how_many_blades_the_layout_has() {
             center: [60.0, 60.0],
             radius: 30.0,
         },
+        locked: false,
+        hidden: false,
     });
     let all = scatter(&l).len();
     let (nx, nz, _) = strata(&l);

@@ -24,6 +24,8 @@ fn tree(id: u32, root: Node) -> Tree {
         emission: Emission::Continuous,
         propagation_speed: 50.0,
         root,
+        locked: false,
+        hidden: false,
     }
 }
 

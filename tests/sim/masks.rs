@@ -32,6 +32,8 @@ fn with_mask(l: &mut Layout, image: MaskImage, rect: Option<[[f32; 2]; 2]>, inve
             rect,
             pixels: MaskPixels::Loaded(std::sync::Arc::new(image)),
         },
+        locked: false,
+        hidden: false,
     });
 }
 
@@ -55,6 +57,8 @@ fn a_mask_makes_the_cells_a_shape_of_its_dark_pixels_would() {
         shape: Shape::Polygon {
             points: vec![[30.0, 40.0], [60.0, 40.0], [60.0, 70.0], [30.0, 70.0]],
         },
+        locked: false,
+        hidden: false,
     });
     let solid = windloom::sim::obstacles::rasterize(&masked);
     assert_eq!(solid, windloom::sim::obstacles::rasterize(&drawn));

@@ -90,6 +90,8 @@ fn extreme_layout() -> impl Strategy<Value = Layout> {
                         center: [0.6 * size, 0.4 * size],
                         radius: 0.1 * size,
                     },
+                    locked: false,
+                    hidden: false,
                 });
                 l
             },
@@ -256,6 +258,8 @@ fn extreme_layouts_run_10000_steps_finite_and_bounded() {
                         center: [3.0 + 3.1 * k as f32, 4.0 + 1.7 * (k % 13) as f32],
                         radius: 0.6,
                     },
+                    locked: false,
+                    hidden: false,
                 });
             }
             assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));

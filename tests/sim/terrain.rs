@@ -33,6 +33,8 @@ fn breezy(deg: f32) -> Layout {
             pulse_magnitude: 0.0,
             pulse_frequency: 0.0,
         },
+        locked: false,
+        hidden: false,
     }];
     l
 }
@@ -173,6 +175,8 @@ fn the_gpu_terrain_pass_matches_the_cpu() {
             center: [150.0, 100.0],
             radius: 30.0,
         },
+        locked: false,
+        hidden: false,
     });
     let mut cpu = Solver::new(&l);
     let (u, v) = cpu.faces_mut();

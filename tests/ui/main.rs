@@ -212,6 +212,8 @@ fn wait_for<T>(secs: u64, mut f: impl FnMut() -> Option<T>) -> Option<T> {
 mod editing;
 /// An editor left open: memory and wgpu resources flat over hundreds of frames.
 mod endurance;
+/// Copy and paste, nudging, lock and hide.
+mod everyday;
 /// Export / Bake from the editor.
 mod export;
 /// Files: bad files, autosave and recovery, a typed path without a dialog, changes on disk,

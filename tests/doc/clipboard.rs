@@ -1,0 +1,137 @@
+//! Copy and paste as the document sees it: a selection as a layout of its own, pasted with
+//! fresh ids as one undo step, within a layout and into another; lock and hide saved.
+
+use super::*;
+use doc::clipboard::{self, Item};
+
+fn ids(l: &Layout) -> Vec<u32> {
+    let mut v: Vec<u32> = (l.nodes().map(|(_, n)| n.id))
+        .chain(l.trees.iter().map(|t| t.id))
+        .chain(l.obstacles.iter().map(|o| o.id))
+        .chain(l.ambient.iter().map(|a| a.id))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn a_copied_selection_reads_back_as_a_layout() {
+    let l = example("obstacles.json");
+    // A whole tree by its root, a polygon and a circle.
+    let copied = clipboard::copy(
+        &l,
+        &[Item::Node(101), Item::Obstacle(12), Item::Obstacle(10)],
+    )
+    .unwrap();
+    assert_eq!(copied.trees.len(), 1);
+    assert_eq!(copied.trees[0].root, l.trees[0].root);
+    // In the layout's order, not the picking order.
+    let kept: Vec<u32> = copied.obstacles.iter().map(|o| o.id).collect();
+    assert_eq!(kept, vec![10, 12]);
+    let text = clipboard::to_text(&copied);
+    assert_eq!(clipboard::from_text(&text).unwrap(), copied);
+    // Nothing picked that exists: nothing to copy.
+    assert!(clipboard::copy(&l, &[Item::Obstacle(999)]).is_none());
+}
+
+#[test]
+fn a_copied_arrow_keeps_the_arrow_into_it() {
+    let l = example("branching.json");
+    let tree = &l.trees[0];
+    let child = &tree.root.children[0];
+    let copied = clipboard::copy(&l, &[Item::Node(child.id)]).unwrap();
+    assert_eq!(copied.trees.len(), 1);
+    let part = &copied.trees[0];
+    assert_eq!(
+        part.root.pos, tree.root.pos,
+        "the copy's root is its parent's point"
+    );
+    assert_eq!(part.root.children, vec![child.clone()]);
+    // A node inside a picked subtree is not copied twice.
+    if let Some(grandchild) = child.children.first() {
+        let both = clipboard::copy(&l, &[Item::Node(child.id), Item::Node(grandchild.id)]);
+        assert_eq!(both.unwrap().trees.len(), 1);
+    }
+}
+
+#[test]
+fn pasting_twice_into_the_same_layout_gives_fresh_ids_in_one_undo_step_each() {
+    let mut l = example("obstacles.json");
+    let before = doc::to_json(&l);
+    let copied = clipboard::copy(&l, &[Item::Tree(1), Item::Obstacle(13)]).unwrap();
+    let mut h = History::new();
+    for k in 1..=2 {
+        let pasted = clipboard::paste(&l, copied.clone(), [3.0 * k as f32, 0.0]).unwrap();
+        assert_eq!(pasted.items.len(), 2);
+        h.apply(&mut l, pasted.edit).unwrap();
+        let all = ids(&l);
+        let mut unique = all.clone();
+        unique.dedup();
+        assert_eq!(all, unique, "every id stays unique after paste {k}");
+        assert!(doc::validate(&l).is_empty());
+    }
+    assert_eq!(l.trees.len(), 5);
+    assert_eq!(l.obstacles.len(), 6);
+    // The copies are moved by the offset, and nothing else changed.
+    let last = l.trees.last().unwrap();
+    assert_eq!(last.root.pos[0], l.trees[0].root.pos[0] + 6.0);
+    assert_eq!(last.root.pos[1], l.trees[0].root.pos[1]);
+    assert!(h.undo(&mut l) && h.undo(&mut l));
+    assert_eq!(doc::to_json(&l), before, "two undos take both pastes away");
+}
+
+#[test]
+fn a_selection_pastes_into_another_layout_and_a_layout_file_pastes_whole() {
+    let from = example("two-winds.json");
+    let mut into = example("obstacles.json");
+    let copied = clipboard::copy(&from, &[Item::Tree(2)]).unwrap();
+    let text = clipboard::to_text(&copied);
+    let pasted = clipboard::paste(&into, clipboard::from_text(&text).unwrap(), [0.0, 0.0]);
+    let pasted = pasted.unwrap();
+    pasted.edit.apply(&mut into).unwrap();
+    let east = into.trees.last().unwrap();
+    assert_eq!(east.name, "East wind");
+    assert_eq!(east.root.pos, from.trees[1].root.pos);
+    assert!(doc::validate(&into).is_empty());
+
+    // A layout file's text (copied from a text editor) pastes all it holds.
+    let file = std::fs::read_to_string(example_path("two-winds.json")).unwrap();
+    let whole = clipboard::from_text(&file).unwrap();
+    let n = into.trees.len();
+    clipboard::paste(&into, whole, [0.0, 0.0])
+        .unwrap()
+        .edit
+        .apply(&mut into)
+        .unwrap();
+    assert_eq!(into.trees.len(), n + 2);
+
+    // Text that is no layout is refused with where it went wrong.
+    let e = clipboard::from_text("hello").unwrap_err();
+    assert!(e.to_string().starts_with("1:1:"), "{e}");
+}
+
+#[test]
+fn pasted_items_come_unlocked_and_shown() {
+    let mut l = example("two-winds.json");
+    l.trees[0].locked = true;
+    l.trees[0].hidden = true;
+    let copied = clipboard::copy(&l, &[Item::Tree(1)]).unwrap();
+    let pasted = clipboard::paste(&l, copied, [1.0, 1.0]).unwrap();
+    pasted.edit.apply(&mut l).unwrap();
+    let t = l.trees.last().unwrap();
+    assert!(!t.locked && !t.hidden);
+}
+
+#[test]
+fn lock_and_hide_are_saved_and_absent_when_off() {
+    let mut l = example("obstacles.json");
+    let plain = doc::to_json(&l);
+    assert!(!plain.contains("\"locked\"") && !plain.contains("\"hidden\""));
+    l.trees[1].locked = true;
+    l.obstacles[0].hidden = true;
+    let text = doc::to_json(&l);
+    assert!(text.contains("\"locked\": true") && text.contains("\"hidden\": true"));
+    let back = doc::parse(&text).unwrap();
+    assert!(back.trees[1].locked && !back.trees[1].hidden);
+    assert!(back.obstacles[0].hidden && !back.obstacles[0].locked);
+}
