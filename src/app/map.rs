@@ -17,6 +17,11 @@ pub enum Gesture {
     Box { start: Pos2, additive: bool },
     /// A new circle from its centre.
     Circle { center: doc::Vec2 },
+    /// A stroke being drawn: the path so far (world), and the point it continues, if any.
+    Stroke {
+        from: Option<u32>,
+        path: Vec<doc::Vec2>,
+    },
 }
 
 /// The map view's state: what it shows and where, the gesture in progress, its textures,
@@ -60,7 +65,7 @@ impl Default for MapState {
 }
 
 /// Hit radius for points, in screen points.
-const HIT: f32 = 10.0;
+pub(super) const HIT: f32 = 10.0;
 
 pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
@@ -445,6 +450,7 @@ fn interact(
 
     match app.tool {
         Tool::Select => select_tool(app, ctx, response, rect, cam, painter, shift),
+        Tool::Stroke => super::stroke::tool(app, ctx, response, rect, cam, painter),
         Tool::Paint => {
             if super::paint::target(app) == Some(super::paint::Target::Density) {
                 super::paint::draw_density(app, painter, cam, rect);

@@ -16,6 +16,8 @@ mod inspector;
 mod map;
 mod paint;
 mod panels;
+pub mod presets;
+mod stroke;
 pub mod view;
 
 use crate::doc::{self, Edit, Layout};
@@ -41,13 +43,16 @@ pub enum Tool {
     Polygon,
     /// Paint a mask obstacle's pixels or the grass density map.
     Paint,
+    /// Drag a free path: an arrow chain along it.
+    Stroke,
 }
 
 impl Tool {
-    pub const ALL: [Tool; 6] = [
+    pub const ALL: [Tool; 7] = [
         Tool::Select,
         Tool::AddRoot,
         Tool::AddArrow,
+        Tool::Stroke,
         Tool::Circle,
         Tool::Polygon,
         Tool::Paint,
@@ -61,6 +66,7 @@ impl Tool {
             Self::Circle => "Circle",
             Self::Polygon => "Polygon",
             Self::Paint => "Paint",
+            Self::Stroke => "Stroke",
         }
     }
 
@@ -72,6 +78,7 @@ impl Tool {
             Self::Circle => egui::Key::C,
             Self::Polygon => egui::Key::P,
             Self::Paint => egui::Key::B,
+            Self::Stroke => egui::Key::W,
         }
     }
 
@@ -87,6 +94,10 @@ impl Tool {
             Self::Circle => "Drag from the centre outwards to place a round obstacle",
             Self::Polygon => {
                 "Click corners; click the first corner or press Enter to close, Esc to cancel"
+            }
+            Self::Stroke => {
+                "Drag a path: an arrow chain along it (from a point: it continues that tree); \
+                 strength and radius in the toolbar"
             }
             Self::Paint => {
                 "Drag to paint the selected mask obstacle solid (or, with none selected, grass \
@@ -155,6 +166,8 @@ pub struct Settings {
     /// The speed at the top of the speed colours (map and 3D), m/s; `None`: the field's peak
     /// (View menu).
     pub speed_scale: Option<f32>,
+    /// The Stroke tool's arrows.
+    pub stroke: doc::stroke::StrokeSettings,
 }
 
 /// What a colour scale was found for: the snapshot, the view, the fixed speed scale.
@@ -177,6 +190,7 @@ impl Default for Settings {
             wind_opacity: grass_controls::GrassControls::default().wind_opacity,
             grass_arrows: true,
             speed_scale: None,
+            stroke: Default::default(),
         }
     }
 }
@@ -220,6 +234,12 @@ pub enum Dialog {
         note: Option<String>,
     },
     Shortcuts,
+    /// Save as preset: its kind, the name typed so far, why the last one was refused.
+    SavePreset {
+        kind: crate::io::presets::Kind,
+        name: String,
+        refused: Option<String>,
+    },
 }
 
 /// An action waiting for the user to confirm discarding changes.
@@ -277,6 +297,8 @@ pub struct EditorApp {
     pub guide: panels::Guide,
     /// What this editor last copied.
     copied: clipboard::Copied,
+    /// The Presets menu: the user's presets folder.
+    pub presets: presets::PresetsState,
 }
 
 impl EditorApp {
@@ -318,6 +340,7 @@ impl EditorApp {
             export: export::ExportDialog::default(),
             guide: Default::default(),
             copied: Default::default(),
+            presets: Default::default(),
         }
     }
 

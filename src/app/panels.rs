@@ -13,6 +13,7 @@ pub fn menu_bar(app: &mut EditorApp, ui: &mut egui::Ui) {
             ui.menu_button("File", |ui| file_menu(app, &ctx, ui));
             ui.menu_button("Edit", |ui| edit_menu(app, &ctx, ui));
             ui.menu_button("View", |ui| view_menu(app, ui));
+            ui.menu_button("Presets", |ui| super::presets::presets_menu(app, &ctx, ui));
             ui.menu_button("Help", |ui| help_menu(app, ui));
             ui.separator();
             if ui.available_width() >= app.toolbar_width {
@@ -224,6 +225,23 @@ fn toolbar(app: &mut EditorApp, ui: &mut egui::Ui) {
         )
         .on_hover_text("The brush's radius ([ and ])");
     }
+    if app.tool == Tool::Stroke {
+        let s = &mut app.settings.stroke;
+        ui.add(
+            egui::DragValue::new(&mut s.strength)
+                .range(0.0..=crate::doc::bounds::STRENGTH.max)
+                .speed(0.1)
+                .suffix(" m/s"),
+        )
+        .on_hover_text("The stroke's arrows' strength");
+        ui.add(
+            egui::DragValue::new(&mut s.radius)
+                .range(0.5..=200.0)
+                .speed(0.05)
+                .suffix(" m"),
+        )
+        .on_hover_text("The stroke's arrows' radius; the path is kept to within a quarter of it");
+    }
     ui.separator();
     let playing = app.live.playing;
     if ui
@@ -414,7 +432,7 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
     let ctx = ui.ctx().clone();
     egui::Panel::left("layers")
         .resizable(true)
-        .default_size(230.0)
+        .default_size(262.0)
         .show(ui, |ui| {
             // The panel keeps its width as layers come and go (see the inspector's).
             egui::ScrollArea::vertical()
@@ -473,14 +491,10 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
         });
 }
 
-/// A layer's hide and lock toggles (right to left: lock, then hide), each drawn lit when on;
-/// the new values when one was clicked.
+/// A layer's hide and lock toggles (right to left: lock, then hide): an eye, crossed out and
+/// faded when the layer is hidden, and a padlock, shut and lit when it is locked; the new
+/// values when one was clicked.
 fn hide_and_lock(ui: &mut egui::Ui, hidden: bool, locked: bool) -> Option<(bool, bool)> {
-    let toggle = |ui: &mut egui::Ui, on: bool, text: &str, tip: &str| {
-        ui.add(egui::Button::selectable(on, RichText::new(text).small()))
-            .on_hover_text(tip)
-            .clicked()
-    };
     let lock_tip = if locked {
         "Locked: the map does not pick or move it and the inspector does not change it. \
          Click to unlock"
@@ -492,13 +506,84 @@ fn hide_and_lock(ui: &mut egui::Ui, hidden: bool, locked: bool) -> Option<(bool,
     } else {
         "Hide on the map and in 3D (it still acts on the wind)"
     };
-    if toggle(ui, locked, "lock", lock_tip) {
+    if icon_toggle(ui, "lock", locked, lock_tip, draw_lock) {
         return Some((hidden, !locked));
     }
-    if toggle(ui, hidden, "hide", hide_tip) {
+    if icon_toggle(ui, "hide", hidden, hide_tip, draw_eye) {
         return Some((!hidden, locked));
     }
     None
+}
+
+/// A small toggle drawn by `draw` (painter, its square, on, ink), named `name` for screen
+/// readers and tests; whether it was clicked.
+fn icon_toggle(
+    ui: &mut egui::Ui,
+    name: &str,
+    on: bool,
+    tip: &str,
+    draw: fn(&egui::Painter, egui::Rect, bool, egui::Color32),
+) -> bool {
+    let size = egui::vec2(16.0, ui.spacing().interact_size.y);
+    let (rect, r) = ui.allocate_exact_size(size, egui::Sense::click());
+    r.widget_info(|| egui::WidgetInfo::selected(egui::Role::CheckBox, ui.is_enabled(), on, name));
+    let visuals = ui.style().interact(&r);
+    let ink = if r.hovered() {
+        visuals.fg_stroke.color
+    } else if on {
+        ui.visuals().selection.stroke.color
+    } else {
+        ui.visuals().weak_text_color()
+    };
+    let square = egui::Rect::from_center_size(rect.center(), egui::vec2(12.0, 12.0));
+    draw(ui.painter(), square, on, ink);
+    r.on_hover_text(tip).clicked()
+}
+
+/// An eye; crossed out when `hidden`.
+fn draw_eye(p: &egui::Painter, r: egui::Rect, hidden: bool, ink: egui::Color32) {
+    let c = r.center();
+    let (w, h) = (r.width() / 2.0, r.height() * 0.3);
+    let lid = |sign: f32| -> Vec<egui::Pos2> {
+        (0..=12)
+            .map(|k| {
+                let t = k as f32 / 12.0 * 2.0 - 1.0;
+                c + egui::vec2(t * w, sign * h * (1.0 - t * t))
+            })
+            .collect()
+    };
+    let stroke = egui::Stroke::new(1.2, ink);
+    p.add(egui::Shape::line(lid(-1.0), stroke));
+    p.add(egui::Shape::line(lid(1.0), stroke));
+    p.circle_filled(c, h * 0.6, ink);
+    if hidden {
+        p.line_segment([r.left_bottom(), r.right_top()], stroke);
+    }
+}
+
+/// A padlock: shut when `locked`, its shackle open otherwise.
+fn draw_lock(p: &egui::Painter, r: egui::Rect, locked: bool, ink: egui::Color32) {
+    let body = egui::Rect::from_min_max(
+        egui::pos2(r.left() + 1.0, r.center().y),
+        egui::pos2(r.right() - 1.0, r.bottom()),
+    );
+    p.rect_filled(body, 1.0, ink);
+    let (cx, top) = (r.center().x, r.top() + 1.0);
+    let rad = body.width() * 0.32;
+    let lift = if locked { 0.0 } else { 2.5 };
+    let shackle: Vec<egui::Pos2> = (0..=12)
+        .map(|k| {
+            let a = std::f32::consts::PI * (k as f32 / 12.0);
+            egui::pos2(cx - rad * a.cos(), top + rad - rad * a.sin() - lift)
+        })
+        .collect();
+    let stroke = egui::Stroke::new(1.4, ink);
+    let (left, right) = (shackle[0], shackle[12]);
+    p.add(egui::Shape::line(shackle, stroke));
+    p.line_segment([left, egui::pos2(left.x, body.top())], stroke);
+    if locked {
+        p.line_segment([right, egui::pos2(right.x, body.top())], stroke);
+    }
 }
 
 /// A layer row's buttons, laid out from the right edge leftwards.
@@ -703,15 +788,16 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
         return;
     };
     let mut keep = true;
+    let mut dialog = dialog;
     let modal = egui::Modal::new(egui::Id::unique("windloom dialog")).show(ctx, |ui| {
         ui.set_max_width(560.0);
-        match &dialog {
+        match &mut dialog {
             Dialog::Error { title, text } => {
                 ui.heading(title);
                 egui::ScrollArea::vertical()
                     .max_height(300.0)
                     .show(ui, |ui| {
-                        ui.add(egui::Label::new(RichText::new(text).monospace()).wrap());
+                        ui.add(egui::Label::new(RichText::new(text.as_str()).monospace()).wrap());
                     });
                 ui.label("The current document was kept.");
                 if ui.button("OK").clicked() {
@@ -771,6 +857,13 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
             }
             Dialog::Path { save, text, note } => {
                 keep = path_dialog(app, ui, *save, text, note.as_ref());
+            }
+            Dialog::SavePreset {
+                kind,
+                name,
+                refused,
+            } => {
+                keep = super::presets::save_dialog(app, ctx, ui, *kind, name, refused);
             }
             Dialog::Shortcuts => {
                 ui.heading("Keyboard shortcuts");
@@ -875,8 +968,8 @@ fn path_dialog(
 
 pub const SHORTCUTS: &[(&str, &str)] = &[
     (
-        "S / R / A / C / P / B",
-        "Select, Add root, Add arrow, Circle, Polygon, Paint tools",
+        "S / R / A / W / C / P / B",
+        "Select, Add root, Add arrow, Stroke, Circle, Polygon, Paint tools",
     ),
     ("[ / ]", "With Paint: a smaller / larger brush"),
     ("Ctrl+Z", "Undo"),

@@ -158,7 +158,7 @@ pub fn paste(layout: &Layout, mut copied: Layout, offset: Vec2) -> Option<Pasted
         });
     }
     (!edits.is_empty()).then_some(Pasted {
-        edit: Edit::Batch(edits),
+        edit: Edit::Named("Paste", Box::new(Edit::Batch(edits))),
         items,
     })
 }

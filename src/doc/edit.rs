@@ -93,6 +93,8 @@ pub enum Edit {
     Rename(String),
     /// Several edits as one undo step; applied in order, undone in reverse.
     Batch(Vec<Edit>),
+    /// An edit named for what the user did ("Apply preset", "Paste"), for the Undo menu.
+    Named(&'static str, Box<Edit>),
 }
 
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
@@ -147,6 +149,7 @@ impl Edit {
             Self::SetSim(_) => "Change simulation",
             Self::SetGrass(_) => "Change grass",
             Self::Rename(_) => "Rename layout",
+            Self::Named(label, _) => label,
             // A batch is named after what it does where that is one thing: the edits' own
             // name when they share it, "Delete selection" for a mixed deletion.
             Self::Batch(edits) => match edits.split_first() {
@@ -313,6 +316,7 @@ impl Edit {
                 inverses.reverse();
                 Self::Batch(inverses)
             }
+            Self::Named(label, edit) => Self::Named(label, Box::new(edit.apply_unchecked(doc)?)),
         })
     }
 }

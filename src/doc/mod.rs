@@ -7,6 +7,8 @@ pub mod bounds;
 pub mod clipboard;
 mod edit;
 mod parse;
+pub mod presets;
+pub mod stroke;
 mod types;
 mod validate;
 

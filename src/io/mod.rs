@@ -2,6 +2,7 @@
 
 pub mod disk;
 mod document;
+pub mod presets;
 pub mod recovery;
 
 pub use document::{AUTOSAVE_SECONDS, Document};

@@ -1197,8 +1197,9 @@ fn saving_keeps_the_files_mode_and_writes_through_symlinks() {
 }
 
 /// Fuzzing the loader (issue 13): arbitrary bytes and mutated layouts.
-mod clipboard;
+mod editing;
 mod fuzz;
+mod presets;
 
 /// The editor never makes a layout that windloom cannot open again: its own edit commands
 /// refuse to chain an arrow past the limit (or name a layer past its length), and the longest

@@ -90,6 +90,7 @@ mod fluid;
 mod forcing;
 /// Obstacles from a level's collision mask.
 mod masks;
+mod presets;
 mod pressure;
 mod stability;
 mod terrain;

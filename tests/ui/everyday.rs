@@ -193,3 +193,176 @@ fn locked_and_hidden_items_stay_put_on_the_map() {
     let d = &h.state().doc;
     assert!(!d.trees[0].hidden && !d.obstacles[0].locked);
 }
+
+/// Presses at `points[0]`, moves through every point, releases at the last.
+fn drag_path(h: &mut Harness<'_, EditorApp>, points: &[Pos2]) {
+    h.event(Event::PointerMoved(points[0]));
+    h.run_steps(1);
+    h.event(Event::PointerButton {
+        pos: points[0],
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(1);
+    for p in &points[1..] {
+        h.event(Event::PointerMoved(*p));
+        h.run_steps(1);
+    }
+    h.event(Event::PointerButton {
+        pos: *points.last().unwrap(),
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(2);
+}
+
+#[test]
+fn a_stroke_draws_an_arrow_chain_along_the_path() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(Layout::new("blank", [100.0, 80.0], [50, 40]));
+    h.key_press(egui::Key::W);
+    h.run_steps(1);
+    assert_eq!(h.state().tool, Tool::Stroke);
+    // Down a street and round its corner: (10, 10) east to (60, 10), then south to (60, 60),
+    // drawn a metre at a time.
+    let mut world: Vec<[f32; 2]> = (0..=50).map(|k| [10.0 + k as f32, 10.0]).collect();
+    world.extend((1..=50).map(|k| [60.0, 10.0 + k as f32]));
+    let screen: Vec<Pos2> = world.iter().map(|w| h.state().screen_pos(*w)).collect();
+    drag_path(&mut h, &screen);
+    let d = &h.state().doc;
+    assert_eq!(d.trees.len(), 1, "a stroke on empty map makes a tree");
+    let tree = &d.trees[0];
+    let points: Vec<[f32; 2]> = tree.root.iter().map(|n| n.pos).collect();
+    assert_eq!(points.len(), 3, "two arrows, round the corner: {points:?}");
+    let tol = 2.0 * metres_per_point(&h);
+    for (p, want) in points
+        .iter()
+        .zip([[10.0, 10.0], [60.0, 10.0], [60.0, 60.0]])
+    {
+        assert!(
+            (p[0] - want[0]).abs() < tol && (p[1] - want[1]).abs() < tol,
+            "{points:?}"
+        );
+    }
+    let s = h.state().settings.stroke;
+    let end = tree.root.children[0].children[0].clone();
+    assert_eq!((end.strength, end.radius), (s.strength, s.radius));
+    assert_eq!(h.state().selection, vec![Sel::Node(end.id)]);
+
+    // A stroke from the chain's end continues it, west.
+    let from = h.state().screen_pos(end.pos);
+    let to: Vec<Pos2> = (0..=30)
+        .map(|k| h.state().screen_pos([60.0 - k as f32, 60.0]))
+        .collect();
+    drag_path(&mut h, &[vec![from], to].concat());
+    let tree = &h.state().doc.trees[0];
+    assert_eq!(h.state().doc.trees.len(), 1);
+    assert_eq!(tree.root.count(), 4, "one more arrow under the end point");
+    // Each stroke is one undo step.
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(1);
+    assert_eq!(h.state().doc.trees[0].root.count(), 3);
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(1);
+    assert!(h.state().doc.trees.is_empty());
+}
+
+/// Opens the Presets menu's `sub` menu.
+fn presets_submenu(h: &mut Harness<'_, EditorApp>, sub: &str) {
+    h.get_by_label("Presets").click();
+    h.run_steps(2);
+    // The menu's item, not the inspector's section of the same name (further down).
+    let item = h
+        .get_all_by_label(sub)
+        .min_by(|a, b| a.rect().top().total_cmp(&b.rect().top()))
+        .unwrap();
+    item.hover();
+    h.run_steps(2);
+}
+
+#[test]
+fn presets_apply_in_one_undo_step_and_the_user_s_own_are_kept() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let folder = dir.path().to_path_buf();
+    let mut h = harness(example("obstacles.json"));
+    h.state_mut().presets.folder = Some(folder.clone());
+    h.run_steps(1);
+    let before = doc::to_json(&h.state().doc);
+
+    presets_submenu(&mut h, "Wind");
+    h.get_by_label("Storm").click();
+    h.run_steps(2);
+    let names: Vec<String> = h
+        .state()
+        .doc
+        .ambient
+        .iter()
+        .map(|a| a.name.clone())
+        .collect();
+    assert_eq!(names, ["Storm", "Storm gusts"]);
+    assert_eq!(
+        h.state().doc.history().undo_label(),
+        Some("Apply wind preset")
+    );
+
+    presets_submenu(&mut h, "Grass");
+    h.get_by_label("Wheat").click();
+    h.run_steps(2);
+    let wheat = doc::presets::grass("Wheat").unwrap();
+    assert_eq!(h.state().doc.grass.height, wheat.height);
+
+    // Save this wind as the user's own, then take both presets back.
+    presets_submenu(&mut h, "Wind");
+    h.get_by_label("Save as preset…").click();
+    h.run_steps(2);
+    // A name that is a path is refused in the dialog, which stays.
+    h.event(Event::Text("../storm".into()));
+    h.run_steps(1);
+    h.get_by_label("Save").click();
+    h.run_steps(2);
+    h.get_by_label_contains("letters, digits");
+    h.get_by_label("Cancel").click();
+    h.run_steps(2);
+    presets_submenu(&mut h, "Wind");
+    h.get_by_label("Save as preset…").click();
+    h.run_steps(2);
+    h.event(Event::Text("Big storm".into()));
+    h.run_steps(1);
+    h.key_press(egui::Key::Enter);
+    h.run_steps(2);
+    let saved = folder.join("wind").join("Big storm.json");
+    assert!(saved.is_file(), "{:?}", h.state().message);
+    assert!(h.state().dialog.is_none(), "the dialog closes once saved");
+    for _ in 0..2 {
+        h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+        h.run_steps(1);
+    }
+    assert_eq!(
+        doc::to_json(&h.state().doc),
+        before,
+        "two undos, two presets"
+    );
+
+    // Another layout (another session) finds it in the menu and applies it.
+    let mut other = harness(example("meadow.json"));
+    other.state_mut().presets.folder = Some(folder);
+    other.run_steps(1);
+    presets_submenu(&mut other, "Wind");
+    other.get_by_label("Big storm").click();
+    other.run_steps(2);
+    let names: Vec<String> = other
+        .state()
+        .doc
+        .ambient
+        .iter()
+        .map(|a| a.name.clone())
+        .collect();
+    assert_eq!(names, ["Storm", "Storm gusts"]);
+}

@@ -1,5 +1,6 @@
-//! Copy and paste as the document sees it: a selection as a layout of its own, pasted with
-//! fresh ids as one undo step, within a layout and into another; lock and hide saved.
+//! Editing as the document sees it: a selection copied as a layout of its own, pasted with
+//! fresh ids as one undo step, within a layout and into another; lock and hide saved; a
+//! stroke simplified into an arrow chain.
 
 use super::*;
 use doc::clipboard::{self, Item};
@@ -134,4 +135,74 @@ fn lock_and_hide_are_saved_and_absent_when_off() {
     let back = doc::parse(&text).unwrap();
     assert!(back.trees[1].locked && !back.trees[1].hidden);
     assert!(back.obstacles[0].hidden && !back.obstacles[0].locked);
+}
+
+/// The distance from `p` to the segment `a`–`b`.
+fn to_segment(p: [f32; 2], a: [f32; 2], b: [f32; 2]) -> f32 {
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let l2 = d[0] * d[0] + d[1] * d[1];
+    let t = (((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / l2).clamp(0.0, 1.0);
+    (p[0] - a[0] - t * d[0]).hypot(p[1] - a[1] - t * d[1])
+}
+
+#[test]
+fn a_stroke_becomes_a_chain_of_few_arrows_that_follows_it() {
+    use doc::stroke::{StrokeSettings, chain, simplify};
+    let settings = StrokeSettings {
+        strength: 6.0,
+        radius: 8.0,
+    };
+    // A wobbly straight line: one arrow.
+    let line: Vec<[f32; 2]> = (0..200)
+        .map(|k| [k as f32 * 0.5, (k as f32 * 0.7).sin() * 0.3])
+        .collect();
+    assert_eq!(simplify(&line, settings.tolerance()).len(), 2);
+    // A valley's bend, a quarter circle of 60 m drawn with 400 points: a few arrows, none
+    // straying from the path by more than the tolerance.
+    let arc: Vec<[f32; 2]> = (0..=400)
+        .map(|k| {
+            let a = k as f32 / 400.0 * std::f32::consts::FRAC_PI_2;
+            [60.0 * a.cos(), 60.0 * a.sin()]
+        })
+        .collect();
+    let kept = simplify(&arc, settings.tolerance());
+    assert!((4..=12).contains(&kept.len()), "{} points", kept.len());
+    assert_eq!((kept[0], *kept.last().unwrap()), (arc[0], arc[400]));
+    for p in &arc {
+        let off = (kept.windows(2))
+            .map(|w| to_segment(*p, w[0], w[1]))
+            .fold(f32::INFINITY, f32::min);
+        assert!(off <= settings.tolerance() + 1e-3, "{p:?} is {off} m off");
+    }
+    // The chain: root at the start, each arrow with the settings, ids in a row.
+    let root = chain(&kept, settings, 50).unwrap();
+    let mut l = Layout::new("stroke", [200.0, 200.0], [64, 64]);
+    let mut depth = 0;
+    let mut n = &root;
+    while let Some(c) = n.children.first() {
+        assert_eq!((c.strength, c.radius), (6.0, 8.0));
+        assert_eq!(n.children.len(), 1, "a chain, no branches");
+        depth += 1;
+        n = c;
+    }
+    assert_eq!(depth, kept.len() - 1);
+    l.trees.push(doc::Tree {
+        id: 49,
+        name: "Stroke".into(),
+        enabled: true,
+        window: doc::TimeWindow::Always,
+        emission: doc::Emission::Continuous,
+        propagation_speed: 20.0,
+        locked: false,
+        hidden: false,
+        root,
+    });
+    assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
+    // A scribble of thousands of turns is held to the longest chain a layout takes.
+    let scribble: Vec<[f32; 2]> = (0..5000)
+        .map(|k| [k as f32 * 0.1, if k % 2 == 0 { 0.0 } else { 20.0 }])
+        .collect();
+    let kept = simplify(&scribble, 0.01);
+    assert!(kept.len() - 1 <= doc::bounds::CHAIN_MAX, "{}", kept.len());
+    assert!(chain(&kept[..1], settings, 1).is_none());
 }
