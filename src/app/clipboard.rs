@@ -20,17 +20,6 @@ pub struct Copied {
     pastes: u32,
 }
 
-fn items(selection: &[Sel]) -> Vec<clipboard::Item> {
-    (selection.iter())
-        .map(|s| match *s {
-            Sel::Node(id) => clipboard::Item::Node(id),
-            Sel::Tree(id) => clipboard::Item::Tree(id),
-            Sel::Obstacle(id) => clipboard::Item::Obstacle(id),
-            Sel::Ambient(id) => clipboard::Item::Ambient(id),
-        })
-        .collect()
-}
-
 fn selection_of(items: &[clipboard::Item], layout: &doc::Layout) -> Vec<Sel> {
     (items.iter())
         .map(|i| match *i {
@@ -51,7 +40,8 @@ impl EditorApp {
     /// Puts the selection on the system clipboard as layout JSON; `false` when nothing is
     /// selected.
     pub fn copy_selection(&mut self, ctx: &egui::Context) -> bool {
-        let Some(copied) = clipboard::copy(&self.doc, &items(&self.selection)) else {
+        let Some(copied) = clipboard::copy(&self.doc, &super::handles::items(&self.selection))
+        else {
             return false;
         };
         let text = clipboard::to_text(&copied);

@@ -205,19 +205,128 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                             {
                                 node_inspector(app, &ctx, ui, root);
                             }
+                            ui.separator();
+                            transform_section(app, &ctx, ui);
                         }
                         Some(Sel::Obstacle(id)) if app.selection.len() == 1 => {
-                            obstacle_inspector(app, &ctx, ui, id)
+                            obstacle_inspector(app, &ctx, ui, id);
+                            ui.separator();
+                            transform_section(app, &ctx, ui);
                         }
                         Some(Sel::Ambient(id)) => ambient_inspector(app, &ctx, ui, id),
                         Some(_) => {
                             ui.label(format!("{} items selected", app.selection.len()));
                             ui.weak("Delete (Del) or duplicate (Ctrl+D) them, or drag to move.");
+                            ui.separator();
+                            points_section(app, &ctx, ui);
+                            transform_section(app, &ctx, ui);
                         }
                         None => layout_inspector(app, &ctx, ui),
                     });
                 });
         });
+}
+
+/// The selected points' strength and radius, edited all at once: a field shows the first
+/// point's value (and says when the others differ); a change sets every point to it.
+fn points_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
+    use crate::doc::transform;
+    let items = super::handles::items(&app.selection);
+    let points: Vec<(f32, f32)> = (app.doc.trees.iter())
+        .flat_map(|t| t.root.iter())
+        .filter(|n| items.contains(&doc::Item::Node(n.id)))
+        .map(|n| (n.strength, n.radius))
+        .collect();
+    let Some(&(mut strength, mut radius)) = points.first() else {
+        return;
+    };
+    ui.label(RichText::new(format!("{} points", points.len())).strong());
+    let mixed = |f: fn(&(f32, f32)) -> f32| points.iter().any(|p| f(p) != f(&points[0]));
+    let (mut s_changed, mut r_changed) = (false, false);
+    egui::Grid::new("points").num_columns(2).show(ui, |ui| {
+        s_changed = num(ui, "Strength", &mut strength, bounds::STRENGTH, 0.1, " m/s");
+        if mixed(|p| p.0) {
+            ui.label("");
+            ui.weak("(they differ: a change sets them all)");
+            ui.end_row();
+        }
+        r_changed = num(ui, "Radius", &mut radius, bounds::RADIUS, 0.05, " m");
+        if mixed(|p| p.1) {
+            ui.label("");
+            ui.weak("(they differ: a change sets them all)");
+            ui.end_row();
+        }
+    });
+    let edit = transform::set_points(
+        &app.doc,
+        &items,
+        s_changed.then_some(strength),
+        r_changed.then_some(radius),
+    );
+    if (s_changed || r_changed)
+        && let Some(e) = edit
+    {
+        app.edit_merged(ctx, e, "points");
+    }
+    ui.separator();
+}
+
+/// Rotate and scale the selection by typed values, about the middle of its box (the map's
+/// handles do it by dragging).
+fn transform_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
+    use crate::doc::transform;
+    let items = super::handles::items(&app.selection);
+    let Some(pivot) = transform::pivot(&app.doc, &items) else {
+        return;
+    };
+    ui.label(RichText::new("Transform").strong());
+    let (mut angle, mut percent) = app.transform_input;
+    let mut apply = None;
+    egui::Grid::new("transform").num_columns(3).show(ui, |ui| {
+        ui.label("Angle");
+        ui.add(
+            egui::DragValue::new(&mut angle)
+                .range(-360.0..=360.0)
+                .suffix("°"),
+        );
+        if ui
+            .button("Rotate")
+            .on_hover_text("Clockwise on the map, about the middle of the selection")
+            .clicked()
+        {
+            apply = Some(transform::Transform {
+                pivot,
+                angle: angle.to_radians(),
+                scale: 1.0,
+            });
+        }
+        ui.end_row();
+        ui.label("Factor");
+        ui.add(
+            egui::DragValue::new(&mut percent)
+                .range(1.0..=5000.0)
+                .suffix(" %"),
+        );
+        if ui
+            .button("Scale")
+            .on_hover_text("Positions and radii, about the middle of the selection")
+            .clicked()
+        {
+            apply = Some(transform::Transform {
+                pivot,
+                angle: 0.0,
+                scale: percent / 100.0,
+            });
+        }
+        ui.end_row();
+    });
+    app.transform_input = (angle, percent);
+    if let Some(t) = apply
+        && let Some(e) = transform::transform(&app.doc, &items, t)
+    {
+        app.edit(ctx, e);
+    }
+    ui.weak("Or drag the handles on the map: the round one turns (Shift: by 15°), the square one scales.");
 }
 
 fn node_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, id: u32) {

@@ -17,6 +17,24 @@ pub enum Gesture {
     Box { start: Pos2, additive: bool },
     /// A new circle from its centre.
     Circle { center: doc::Vec2 },
+    /// A polygon's corner dragged (an inserted one too).
+    Corner {
+        obstacle: u32,
+        index: usize,
+        key: u64,
+    },
+    /// A circle's radius handle dragged.
+    Radius { obstacle: u32, key: u64 },
+    /// The selection turned (`rotate`) or scaled about `pivot` by its handle, dragged from
+    /// `from`, computed from the layout as it was.
+    Transform {
+        rotate: bool,
+        pivot: doc::Vec2,
+        from: doc::Vec2,
+        original: Box<doc::Layout>,
+        items: Vec<doc::Item>,
+        key: u64,
+    },
     /// A stroke being drawn: the path so far (world), and the point it continues, if any.
     Stroke {
         from: Option<u32>,
@@ -133,6 +151,9 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
 
     view::draw_ambient_gizmos(&painter, &cam, rect, &app.doc);
     interact(app, &ctx, &response, rect, &cam, &painter);
+    if app.tool == Tool::Select {
+        super::handles::draw(app, &painter, &cam, rect);
+    }
     view::draw_legend(&painter, rect, app.settings.wind_view, max_speed);
     // Beside the 3D view: where its pointer is on the ground (last frame's).
     if app.settings.central == super::Central::Split
@@ -653,8 +674,22 @@ fn select_tool(
             .map(Sel::Node)
             .or_else(|| view::hit_obstacle(&app.doc, cam, rect, p).map(Sel::Obstacle))
     };
+    let handles = super::handles::handles(app, cam, rect);
+    let alt = ctx.input(|i| i.modifiers.alt);
+    // A corner right-clicked or Alt-clicked goes.
+    let delete_click =
+        response.secondary_clicked() || (alt && response.clicked_by(egui::PointerButton::Primary));
+    if delete_click
+        && let Some(p) = response.interact_pointer_pos()
+        && let Some(super::handles::Handle::Corner { obstacle, index }) =
+            super::handles::hit(&handles, p)
+    {
+        super::handles::delete_corner(app, ctx, obstacle, index);
+        return;
+    }
     if response.clicked_by(egui::PointerButton::Primary)
         && let Some(p) = response.interact_pointer_pos()
+        && super::handles::hit(&handles, p).is_none()
     {
         match hit_at(app, p) {
             Some(s) if shift => {
@@ -673,27 +708,46 @@ fn select_tool(
         && let Some(p) = response.interact_pointer_pos()
     {
         let start = p - response.drag_delta();
-        match hit_at(app, start) {
-            Some(s) => {
-                if !app.selection.contains(&s) {
-                    if shift {
-                        app.selection.push(s);
-                    } else {
-                        app.selection = vec![s];
+        let key = super::gesture_key(("drag", ctx.input(|i| i.time).to_bits()));
+        if let Some(h) = super::handles::hit(&handles, start) {
+            super::handles::start(app, ctx, h, cam.to_world(rect, start), key);
+        } else {
+            match hit_at(app, start) {
+                Some(s) => {
+                    if !app.selection.contains(&s) {
+                        if shift {
+                            app.selection.push(s);
+                        } else {
+                            app.selection = vec![s];
+                        }
                     }
+                    app.map.gesture = Some(Gesture::Move {
+                        last: cam.to_world(rect, start),
+                        key,
+                    });
                 }
-                let key = super::gesture_key(("move", ctx.input(|i| i.time).to_bits()));
-                app.map.gesture = Some(Gesture::Move {
-                    last: cam.to_world(rect, start),
-                    key,
-                });
+                None => {
+                    app.map.gesture = Some(Gesture::Box {
+                        start,
+                        additive: shift,
+                    })
+                }
             }
-            None => {
-                app.map.gesture = Some(Gesture::Box {
-                    start,
-                    additive: shift,
-                })
-            }
+        }
+    }
+    if matches!(
+        app.map.gesture,
+        Some(Gesture::Corner { .. } | Gesture::Radius { .. } | Gesture::Transform { .. })
+    ) {
+        // While the button is down: the release's frame has ended the gesture's undo step.
+        if let Some(p) = response.interact_pointer_pos()
+            && ctx.input(|i| i.pointer.primary_down())
+        {
+            super::handles::drag(app, ctx, cam.to_world(rect, p), shift);
+        }
+        if response.drag_stopped() {
+            app.map.gesture = None;
+            app.doc.end_gesture();
         }
     }
     match app.map.gesture.clone() {

@@ -9,6 +9,7 @@ mod clipboard;
 pub mod export;
 mod files;
 mod gpu_view;
+mod handles;
 pub use crate::gpu::grass::Orbit;
 pub use gpu_view::SOFTWARE_BLADE_BUDGET;
 mod grass_controls;
@@ -299,6 +300,8 @@ pub struct EditorApp {
     copied: clipboard::Copied,
     /// The Presets menu: the user's presets folder.
     pub presets: presets::PresetsState,
+    /// The inspector's typed rotation (degrees) and scale (percent).
+    pub transform_input: (f32, f32),
 }
 
 impl EditorApp {
@@ -341,6 +344,7 @@ impl EditorApp {
             guide: Default::default(),
             copied: Default::default(),
             presets: Default::default(),
+            transform_input: (90.0, 200.0),
         }
     }
 

@@ -991,6 +991,10 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "Shift+click, drag on empty map",
         "Add to the selection, box-select",
     ),
+    (
+        "Right-click / Alt+click a corner",
+        "Delete a selected polygon's corner",
+    ),
     ("Middle/right drag", "Pan"),
     ("Mouse wheel", "Zoom about the cursor"),
     ("F", "Frame the whole world"),

@@ -9,6 +9,7 @@ mod edit;
 mod parse;
 pub mod presets;
 pub mod stroke;
+pub mod transform;
 mod types;
 mod validate;
 
@@ -19,6 +20,7 @@ pub use bounds::{
     NESTING_MAX, NODES_MAX, OBSTACLES_MAX, POLYGON_POINTS_MAX, RADIUS_MAX, SOLVER_BYTES_PER_CELL,
     STRENGTH_MAX, TREES_MAX, WORLD_SIZE_MAX, WORLD_SIZE_MIN,
 };
+pub use clipboard::Item;
 pub use edit::{Edit, EditError, History, TreeProps};
 pub use parse::{Diagnostic, Diagnostics, parse, parse_bytes, schema, to_json};
 pub use types::*;

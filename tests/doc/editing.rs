@@ -1,6 +1,6 @@
 //! Editing as the document sees it: a selection copied as a layout of its own, pasted with
 //! fresh ids as one undo step, within a layout and into another; lock and hide saved; a
-//! stroke simplified into an arrow chain.
+//! stroke simplified into an arrow chain; a selection turned and scaled; polygon corners.
 
 use super::*;
 use doc::clipboard::{self, Item};
@@ -205,4 +205,95 @@ fn a_stroke_becomes_a_chain_of_few_arrows_that_follows_it() {
     let kept = simplify(&scribble, 0.01);
     assert!(kept.len() - 1 <= doc::bounds::CHAIN_MAX, "{}", kept.len());
     assert!(chain(&kept[..1], settings, 1).is_none());
+}
+
+#[test]
+fn a_selection_turns_and_scales_about_its_middle_in_one_step() {
+    use doc::transform::{self, Transform};
+    let mut l = example("obstacles.json");
+    let before = l.clone();
+    let items = [Item::Tree(1), Item::Obstacle(10), Item::Obstacle(12)];
+    let pivot = transform::pivot(&l, &items).unwrap();
+    let quarter = Transform {
+        pivot,
+        angle: std::f32::consts::FRAC_PI_2,
+        scale: 1.0,
+    };
+    let mut h = History::new();
+    let e = transform::transform(&l, &items, quarter).unwrap();
+    h.apply(&mut l, e).unwrap();
+    assert_eq!(h.undo_label(), Some("Rotate"));
+    // A quarter turn clockwise on the map: east becomes south.
+    let root = l.trees[0].root.pos;
+    let was = before.trees[0].root.pos;
+    let d = [was[0] - pivot[0], was[1] - pivot[1]];
+    assert!(
+        (root[0] - (pivot[0] - d[1])).abs() < 1e-3 && (root[1] - (pivot[1] + d[0])).abs() < 1e-3
+    );
+    // The rest of the layout stays.
+    assert_eq!(l.trees[1], before.trees[1]);
+    assert_eq!(l.obstacles[1], before.obstacles[1]);
+    assert!(h.undo(&mut l));
+    assert_eq!(doc::to_json(&l), doc::to_json(&before));
+
+    // Twice as big: positions from the pivot and every radius double.
+    let double = Transform {
+        pivot,
+        angle: 0.0,
+        scale: 2.0,
+    };
+    let e = transform::transform(&l, &items, double).unwrap();
+    h.apply(&mut l, e).unwrap();
+    assert_eq!(
+        l.trees[0].root.children[0].radius,
+        before.trees[0].root.children[0].radius * 2.0
+    );
+    let Shape::Circle { radius, .. } = l.obstacles[0].shape else {
+        panic!()
+    };
+    assert_eq!(radius, 14.0);
+    let (lo, hi) = transform::extent(&l, &items).unwrap();
+    let (lo0, hi0) = transform::extent(&before, &items).unwrap();
+    assert!(((hi[0] - lo[0]) - 2.0 * (hi0[0] - lo0[0])).abs() < 1e-3);
+    assert!(doc::validate(&l).is_empty());
+    // A locked obstacle stays put.
+    let mut locked = before.clone();
+    locked.obstacles[0].locked = true;
+    let e = transform::transform(&locked, &[Item::Obstacle(10)], double);
+    assert!(e.is_none());
+}
+
+#[test]
+fn a_polygon_s_corners_move_insert_and_delete_down_to_three() {
+    use doc::transform::{delete_corner, insert_corner, move_corner};
+    let l = example("obstacles.json");
+    let barn = &l.obstacles[2];
+    let moved = move_corner(barn, 0, [70.0, 30.0]).unwrap();
+    let Shape::Polygon { points } = &moved.shape else {
+        panic!()
+    };
+    assert_eq!(points[0], [70.0, 30.0]);
+    let five = insert_corner(barn, 0, [87.0, 30.0]).unwrap();
+    let Shape::Polygon { points } = &five.shape else {
+        panic!()
+    };
+    assert_eq!(points.len(), 5);
+    assert_eq!(
+        points[1],
+        [87.0, 30.0],
+        "after the corner its edge starts at"
+    );
+    let three = delete_corner(&delete_corner(&five, 1).unwrap(), 0).unwrap();
+    let Shape::Polygon { points } = &three.shape else {
+        panic!()
+    };
+    assert_eq!(points.len(), 3);
+    assert!(
+        delete_corner(&three, 0).is_none(),
+        "a triangle keeps its corners"
+    );
+    assert!(
+        move_corner(&l.obstacles[0], 0, [0.0, 0.0]).is_none(),
+        "a circle has none"
+    );
 }

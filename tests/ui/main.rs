@@ -219,6 +219,8 @@ mod export;
 /// Files: bad files, autosave and recovery, a typed path without a dialog, changes on disk,
 /// concurrent saves, and a killed editor's last edit.
 mod files;
+/// Shapes edited with handles, transforms, several points at once.
+mod shapes;
 /// The map and the 3D view on the GPU.
 mod views;
 /// The window: snapshots, Xvfb, no display, idling.
