@@ -32,6 +32,7 @@ fn selection_of(items: &[clipboard::Item], layout: &doc::Layout) -> Vec<Sel> {
             clipboard::Item::Node(id) => Sel::Node(id),
             clipboard::Item::Obstacle(id) => Sel::Obstacle(id),
             clipboard::Item::Ambient(id) => Sel::Ambient(id),
+            clipboard::Item::Probe(id) => Sel::Probe(id),
         })
         .collect()
 }
@@ -45,7 +46,10 @@ impl EditorApp {
             return false;
         };
         let text = clipboard::to_text(&copied);
-        let n = copied.trees.len() + copied.obstacles.len() + copied.ambient.len();
+        let n = copied.trees.len()
+            + copied.obstacles.len()
+            + copied.ambient.len()
+            + copied.probes.len();
         ctx.copy_text(text.clone());
         self.copied = Copied {
             text,

@@ -250,7 +250,16 @@ pub struct GrassView {
         Vec<crate::doc::Obstacle>,
     )>,
     target: Option<(crate::gpu::grass::Target, egui::TextureId)>,
-    scene_for: Option<(Vec<crate::doc::Tree>, Vec<crate::doc::Obstacle>, bool)>,
+    #[expect(
+        clippy::type_complexity,
+        reason = "what the scene was built for, compared whole"
+    )]
+    scene_for: Option<(
+        Vec<crate::doc::Tree>,
+        Vec<crate::doc::Obstacle>,
+        Vec<crate::doc::Probe>,
+        bool,
+    )>,
     footprint_for: Option<([f32; 2], [f32; 2])>,
     wind_serial: u64,
     /// The wind colours' scale, and the snapshot and fixed scale it was found for.
@@ -278,6 +287,8 @@ pub struct GrassView {
     pub rect: Option<egui::Rect>,
     /// The ground point (world x, z) under the pointer, while it is over the view.
     pub hover_ground: Option<[f32; 2]>,
+    /// The ground point of the last click (a plain left click, not a drag), until taken.
+    pub clicked_ground: Option<[f32; 2]>,
     /// Where the map's pointer was marked on the view last frame (beside the map).
     pub mark: Option<egui::Pos2>,
     /// What the last frame showed, and when that last changed (editor seconds).
@@ -311,6 +322,7 @@ impl Default for GrassView {
             counters_rect: None,
             rect: None,
             hover_ground: None,
+            clicked_ground: None,
             mark: None,
             shown: None,
             changed_at: 0.0,
@@ -362,6 +374,11 @@ impl GrassView {
         };
         // The status bar's readout: the ground under the pointer.
         self.hover_ground = response.hover_pos().and_then(ground_at).map(|g| [g.x, g.z]);
+        if response.clicked_by(egui::PointerButton::Primary) {
+            self.clicked_ground = (response.interact_pointer_pos())
+                .and_then(ground_at)
+                .map(|g| [g.x, g.z]);
+        }
         // The sphere: under the pointer, on the ground, while the left button is down.
         let pushing = self.controls.push && !ui.input(|i| i.modifiers.ctrl);
         let sphere = if pushing && response.is_pointer_button_down_on() {
@@ -568,7 +585,12 @@ impl GrassView {
         // Obstacles and arrows: rebuilt when the trees or obstacles change, or the arrows are
         // switched on or off.
         let arrows = self.controls.arrows;
-        let scene_key = (doc.trees.clone(), doc.obstacles.clone(), arrows);
+        let scene_key = (
+            doc.trees.clone(),
+            doc.obstacles.clone(),
+            doc.probes.clone(),
+            arrows,
+        );
         if self.scene_for.as_ref() != Some(&scene_key) {
             grass.set_layout_scene(&rs.device, doc, arrows);
             self.scene_for = Some(scene_key);

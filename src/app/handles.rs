@@ -35,6 +35,7 @@ pub fn items(selection: &[Sel]) -> Vec<Item> {
             Sel::Tree(id) => Item::Tree(id),
             Sel::Obstacle(id) => Item::Obstacle(id),
             Sel::Ambient(id) => Item::Ambient(id),
+            Sel::Probe(id) => Item::Probe(id),
         })
         .collect()
 }

@@ -214,6 +214,9 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                             transform_section(app, &ctx, ui);
                         }
                         Some(Sel::Ambient(id)) => ambient_inspector(app, &ctx, ui, id),
+                        Some(Sel::Probe(id)) if app.selection.len() == 1 => {
+                            probe_inspector(app, &ctx, ui, id)
+                        }
                         Some(_) => {
                             ui.label(format!("{} items selected", app.selection.len()));
                             ui.weak("Delete (Del) or duplicate (Ctrl+D) them, or drag to move.");
@@ -327,6 +330,23 @@ fn transform_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
         app.edit(ctx, e);
     }
     ui.weak("Or drag the handles on the map: the round one turns (Shift: by 15°), the square one scales.");
+}
+
+fn probe_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, id: u32) {
+    let Some(mut p) = app.doc.probes.iter().find(|p| p.id == id).cloned() else {
+        return;
+    };
+    ui.label(RichText::new("Probe").strong());
+    let mut changed = false;
+    egui::Grid::new("probe").num_columns(2).show(ui, |ui| {
+        changed |= row(ui, "Name", |ui| ui.text_edit_singleline(&mut p.name));
+        changed |= num(ui, "x", &mut p.pos[0], bounds::COORD, 0.1, " m");
+        changed |= num(ui, "z", &mut p.pos[1], bounds::COORD, 0.1, " m");
+    });
+    ui.weak("Its readings are plotted under the map; drag it to move it.");
+    if changed {
+        app.edit_merged(ctx, Edit::SetProbe { probe: p }, ("probe", id));
+    }
 }
 
 fn node_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, id: u32) {

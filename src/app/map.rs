@@ -149,6 +149,9 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
         );
     }
 
+    view::draw_probes(&painter, &cam, rect, &app.doc, &|id| {
+        selection.contains(&Sel::Probe(id))
+    });
     view::draw_ambient_gizmos(&painter, &cam, rect, &app.doc);
     interact(app, &ctx, &response, rect, &cam, &painter);
     if app.tool == Tool::Select {
@@ -472,6 +475,14 @@ fn interact(
     match app.tool {
         Tool::Select => select_tool(app, ctx, response, rect, cam, painter, shift),
         Tool::Stroke => super::stroke::tool(app, ctx, response, rect, cam, painter),
+        Tool::Probe => {
+            if response.clicked_by(egui::PointerButton::Primary)
+                && let Some(p) = pointer
+            {
+                let at = app.snap(cam.to_world(rect, p));
+                app.add_probe(ctx, at);
+            }
+        }
         Tool::Paint => {
             if super::paint::target(app) == Some(super::paint::Target::Density) {
                 super::paint::draw_density(app, painter, cam, rect);
@@ -670,8 +681,9 @@ fn select_tool(
     shift: bool,
 ) {
     let hit_at = |app: &EditorApp, p: Pos2| -> Option<Sel> {
-        view::hit_node(&app.doc, cam, rect, p, HIT)
-            .map(Sel::Node)
+        view::hit_probe(&app.doc, cam, rect, p, HIT)
+            .map(Sel::Probe)
+            .or_else(|| view::hit_node(&app.doc, cam, rect, p, HIT).map(Sel::Node))
             .or_else(|| view::hit_obstacle(&app.doc, cam, rect, p).map(Sel::Obstacle))
     };
     let handles = super::handles::handles(app, cam, rect);
@@ -789,6 +801,11 @@ fn select_tool(
                         .filter(|n| r.contains(cam.to_screen(rect, n.pos)))
                         .map(|n| Sel::Node(n.id))
                         .chain(
+                            (app.doc.probes.iter())
+                                .filter(|p| r.contains(cam.to_screen(rect, p.pos)))
+                                .map(|p| Sel::Probe(p.id)),
+                        )
+                        .chain(
                             app.doc
                                 .obstacles
                                 .iter()
@@ -853,6 +870,16 @@ fn moves(app: &EditorApp, d: doc::Vec2) -> Vec<Edit> {
                 }
             }
             Sel::Ambient(_) => {}
+            Sel::Probe(id) => {
+                if let Some(p) = app.doc.probes.iter().find(|p| p.id == id) {
+                    edits.push(Edit::SetProbe {
+                        probe: doc::Probe {
+                            pos: [p.pos[0] + d[0], p.pos[1] + d[1]],
+                            ..p.clone()
+                        },
+                    });
+                }
+            }
         }
     }
     nodes.sort_by_key(|n| n.id);

@@ -18,6 +18,7 @@ mod map;
 mod paint;
 mod panels;
 pub mod presets;
+mod probes;
 mod stroke;
 pub mod view;
 
@@ -44,12 +45,14 @@ pub enum Tool {
     Polygon,
     /// Paint a mask obstacle's pixels or the grass density map.
     Paint,
+    /// Click to drop a probe that plots the wind where it stands.
+    Probe,
     /// Drag a free path: an arrow chain along it.
     Stroke,
 }
 
 impl Tool {
-    pub const ALL: [Tool; 7] = [
+    pub const ALL: [Tool; 8] = [
         Tool::Select,
         Tool::AddRoot,
         Tool::AddArrow,
@@ -57,6 +60,7 @@ impl Tool {
         Tool::Circle,
         Tool::Polygon,
         Tool::Paint,
+        Tool::Probe,
     ];
 
     pub fn label(self) -> &'static str {
@@ -68,6 +72,7 @@ impl Tool {
             Self::Polygon => "Polygon",
             Self::Paint => "Paint",
             Self::Stroke => "Stroke",
+            Self::Probe => "Probe",
         }
     }
 
@@ -80,6 +85,7 @@ impl Tool {
             Self::Polygon => egui::Key::P,
             Self::Paint => egui::Key::B,
             Self::Stroke => egui::Key::W,
+            Self::Probe => egui::Key::M,
         }
     }
 
@@ -95,6 +101,10 @@ impl Tool {
             Self::Circle => "Drag from the centre outwards to place a round obstacle",
             Self::Polygon => {
                 "Click corners; click the first corner or press Enter to close, Esc to cancel"
+            }
+            Self::Probe => {
+                "Click to drop a probe: the wind where it stands is plotted under the map (also \
+                 on the ground in the 3D view)"
             }
             Self::Stroke => {
                 "Drag a path: an arrow chain along it (from a point: it continues that tree); \
@@ -115,6 +125,7 @@ pub enum Sel {
     Tree(u32),
     Obstacle(u32),
     Ambient(u32),
+    Probe(u32),
 }
 
 /// Command buffers from the simulation thread, each with the acknowledgement it waits for.
@@ -302,6 +313,8 @@ pub struct EditorApp {
     pub presets: presets::PresetsState,
     /// The inspector's typed rotation (degrees) and scale (percent).
     pub transform_input: (f32, f32),
+    /// What the probes read of the live wind.
+    pub probe_log: probes::ProbeLog,
 }
 
 impl EditorApp {
@@ -345,6 +358,7 @@ impl EditorApp {
             copied: Default::default(),
             presets: Default::default(),
             transform_input: (90.0, 200.0),
+            probe_log: Default::default(),
         }
     }
 
@@ -506,6 +520,13 @@ impl EditorApp {
                     .show(ui, &rs, &self.doc, &snap, beside, &base);
                 // The status bar reads the ground under the pointer in 3D as on the map (beside
                 // the map, whichever view the pointer is over).
+                // The Probe tool drops one on the ground clicked in 3D.
+                if self.tool == Tool::Probe
+                    && let Some(at) = self.grass_view.clicked_ground.take()
+                {
+                    let ctx = ui.ctx().clone();
+                    self.add_probe(&ctx, at);
+                }
                 let hover = self.grass_view.hover_ground;
                 if hover.is_some() || self.settings.central == Central::Grass {
                     self.map.cursor_world = hover;
@@ -609,6 +630,7 @@ impl EditorApp {
             Sel::Tree(id) => doc.trees.iter().any(|t| t.id == id),
             Sel::Obstacle(id) => doc.obstacles.iter().any(|o| o.id == id),
             Sel::Ambient(id) => doc.ambient.iter().any(|a| a.id == id),
+            Sel::Probe(id) => doc.probes.iter().any(|p| p.id == id),
         });
     }
 
@@ -659,6 +681,7 @@ impl EditorApp {
                 }
                 Sel::Obstacle(id) => edits.push(Edit::RemoveObstacle { id }),
                 Sel::Ambient(id) => edits.push(Edit::RemoveAmbient { id }),
+                Sel::Probe(id) => edits.push(Edit::RemoveProbe { id }),
             }
         }
         if edits.is_empty() {
@@ -881,6 +904,7 @@ impl EditorApp {
             Some(Sel::Tree(id)) => doc.trees.iter().any(|t| t.id == id && t.locked),
             Some(Sel::Obstacle(id)) => doc.obstacles.iter().any(|o| o.id == id && o.locked),
             Some(Sel::Ambient(id)) => doc.ambient.iter().any(|a| a.id == id && a.locked),
+            Some(Sel::Probe(_)) => false,
             None => false,
         }
     }
@@ -899,6 +923,7 @@ impl EditorApp {
                 .iter()
                 .any(|o| o.id == id && o.pickable()),
             Sel::Ambient(_) => false,
+            Sel::Probe(_) => true,
         })
     }
 }
@@ -939,6 +964,11 @@ impl eframe::App for EditorApp {
         panels::status_bar(self, ui);
         panels::layers_panel(self, ui);
         inspector::inspector_panel(self, ui);
+        {
+            let snap = self.live.snapshot();
+            self.probe_log.record(&self.doc, &snap);
+        }
+        probes::panel(self, ui);
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE.fill(egui::Color32::from_gray(24)))
             .show(ui, |ui| match self.settings.central {

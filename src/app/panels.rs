@@ -968,8 +968,8 @@ fn path_dialog(
 
 pub const SHORTCUTS: &[(&str, &str)] = &[
     (
-        "S / R / A / W / C / P / B",
-        "Select, Add root, Add arrow, Stroke, Circle, Polygon, Paint tools",
+        "S / R / A / W / C / P / B / M",
+        "Select, Add root, Add arrow, Stroke, Circle, Polygon, Paint, Probe tools",
     ),
     ("[ / ]", "With Paint: a smaller / larger brush"),
     ("Ctrl+Z", "Undo"),

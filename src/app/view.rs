@@ -311,6 +311,42 @@ pub fn hit_node(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2, radius: f32) ->
         .map(|(id, _)| id)
 }
 
+/// The probe nearest to screen point `s` within `radius` points.
+pub fn hit_probe(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2, radius: f32) -> Option<u32> {
+    (doc.probes.iter())
+        .map(|p| (p.id, cam.to_screen(rect, p.pos).distance(s)))
+        .filter(|(_, d)| *d <= radius)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(id, _)| id)
+}
+
+/// Draws the probes: a pin in each one's plot colour, its name beside it.
+pub fn draw_probes(
+    painter: &egui::Painter,
+    cam: &Camera,
+    rect: Rect,
+    doc: &Layout,
+    is_selected: &dyn Fn(u32) -> bool,
+) {
+    for (k, p) in doc.probes.iter().enumerate() {
+        let at = cam.to_screen(rect, p.pos);
+        let ring = if is_selected(p.id) {
+            Stroke::new(2.5, SELECT_COLOUR)
+        } else {
+            Stroke::new(1.5, Color32::WHITE)
+        };
+        painter.circle(at, 6.0, super::probes::colour(k), ring);
+        painter.circle_filled(at, 1.5, Color32::BLACK);
+        painter.text(
+            at + Vec2::new(9.0, -9.0),
+            egui::Align2::LEFT_BOTTOM,
+            &p.name,
+            egui::FontId::proportional(12.0),
+            Color32::WHITE,
+        );
+    }
+}
+
 /// The obstacle under screen point `s`, among those neither hidden nor locked.
 pub fn hit_obstacle(doc: &Layout, cam: &Camera, rect: Rect, s: Pos2) -> Option<u32> {
     let w = cam.to_world(rect, s);

@@ -178,6 +178,33 @@ pub enum Command {
         #[arg(long, value_parser = parse_speed_scale)]
         speed_scale: Option<f32>,
     },
+    /// Measure the wind at points over time, headless: each probe's min, mean and max speed,
+    /// gust factor (the highest 3-second mean over the mean) and mean direction on stdout,
+    /// and with --csv every reading (speed, direction, components) as CSV.
+    ///
+    /// Example: windloom probe layouts/obstacles.json --at 40,60 --at 90,30 --seconds 30 --csv probes.csv
+    Probe {
+        /// The layout file to run.
+        layout: PathBuf,
+        /// A point X,Z in metres (repeatable); without it, the layout's own probes.
+        #[arg(long = "at", value_parser = parse_point, allow_hyphen_values = true)]
+        at: Vec<[f32; 2]>,
+        /// Seconds simulated from calm before the first reading (0 to 3600).
+        #[arg(long, default_value_t = 5.0)]
+        warmup: f32,
+        /// Seconds read after the warm-up (0.1 to 3600).
+        #[arg(long, default_value_t = 30.0)]
+        seconds: f32,
+        /// Readings per second (at most one per step).
+        #[arg(long, default_value_t = 20.0)]
+        hz: f32,
+        /// Write every reading to this CSV file (atomically).
+        #[arg(long)]
+        csv: Option<PathBuf>,
+        /// Solver to run.
+        #[arg(long, value_enum, default_value_t = Backend::Cpu)]
+        backend: Backend,
+    },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
     ///
@@ -315,6 +342,15 @@ fn numbers<const N: usize>(s: &str) -> Option<[f32; N]> {
         .map(|t| t.trim().parse::<f32>().ok())
         .collect::<Option<_>>()?;
     v.try_into().ok()
+}
+
+/// `"x,z"` → a finite point in metres.
+pub fn parse_point(s: &str) -> Result<[f32; 2], String> {
+    let a: [f32; 2] = numbers(s).ok_or_else(|| format!("expected X,Z in metres, got {s:?}"))?;
+    if a.iter().any(|x| !x.is_finite()) {
+        return Err(format!("{s:?}: X and Z must be finite numbers"));
+    }
+    Ok(a)
 }
 
 /// `"1,2,3,4,5,6"` → six finite numbers.

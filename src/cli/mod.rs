@@ -8,6 +8,7 @@ mod bake;
 mod bench;
 mod editor;
 mod fmt;
+mod probe;
 mod render;
 mod validate;
 
@@ -71,6 +72,7 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Some(command @ Command::Bake { .. }) => bake::run(command),
         Some(command @ Command::Render { .. }) => render::run(command),
         Some(command @ Command::Bench { .. }) => bench::run(command),
+        Some(command @ Command::Probe { .. }) => probe::run(command),
     }
 }
 

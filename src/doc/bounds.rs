@@ -206,6 +206,7 @@ pub const NUMBERS: &[(&str, &str, Bound)] = &[
     ("Emission.pulsed", "period", PERIOD),
     ("Emission.pulsed", "duty", DUTY),
     ("Node", "pos", COORD),
+    ("Probe", "pos", COORD),
     ("Node", "strength", STRENGTH),
     ("Node", "radius", RADIUS),
     ("Shape.circle", "center", COORD),
@@ -303,6 +304,8 @@ pub const NODES_MAX: usize = 10_000;
 pub const TREES_MAX: usize = 1_000;
 pub const OBSTACLES_MAX: usize = 10_000;
 pub const AMBIENT_MAX: usize = 64;
+/// Most probes in a layout.
+pub const PROBES_MAX: usize = 64;
 /// Most points of one polygon obstacle.
 pub const POLYGON_POINTS_MAX: usize = 10_000;
 /// Longest name (of the layout, a tree, an obstacle or a layer), in characters.

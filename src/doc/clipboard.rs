@@ -16,6 +16,7 @@ pub enum Item {
     Node(u32),
     Obstacle(u32),
     Ambient(u32),
+    Probe(u32),
 }
 
 /// The name a copied selection carries.
@@ -65,7 +66,14 @@ pub fn copy(layout: &Layout, items: &[Item]) -> Option<Layout> {
         .filter(|a| picked(Item::Ambient(a.id)))
         .cloned()
         .collect();
-    let empty = out.trees.is_empty() && out.obstacles.is_empty() && out.ambient.is_empty();
+    out.probes = (layout.probes.iter())
+        .filter(|p| picked(Item::Probe(p.id)))
+        .cloned()
+        .collect();
+    let empty = out.trees.is_empty()
+        && out.obstacles.is_empty()
+        && out.ambient.is_empty()
+        && out.probes.is_empty();
     (!empty).then_some(out)
 }
 
@@ -92,6 +100,7 @@ pub fn centre(copied: &Layout) -> Option<Vec2> {
     let bounds = copied.bounds();
     let points: Vec<Vec2> = (copied.nodes().map(|(_, n)| n.pos))
         .chain(copied.obstacles.iter().map(|o| o.shape.centre(bounds)))
+        .chain(copied.probes.iter().map(|p| p.pos))
         .collect();
     let (lo, hi) = points.iter().fold(
         ([f32::INFINITY; 2], [f32::NEG_INFINITY; 2]),
@@ -155,6 +164,15 @@ pub fn paste(layout: &Layout, mut copied: Layout, offset: Vec2) -> Option<Pasted
         edits.push(Edit::AddAmbient {
             index: usize::MAX,
             layer,
+        });
+    }
+    for mut probe in copied.probes.drain(..) {
+        probe.id = fresh();
+        probe.pos = [probe.pos[0] + offset[0], probe.pos[1] + offset[1]];
+        items.push(Item::Probe(probe.id));
+        edits.push(Edit::AddProbe {
+            index: usize::MAX,
+            probe,
         });
     }
     (!edits.is_empty()).then_some(Pasted {

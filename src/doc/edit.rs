@@ -87,6 +87,17 @@ pub enum Edit {
     SetAmbient {
         layer: AmbientLayer,
     },
+    AddProbe {
+        index: usize,
+        probe: Probe,
+    },
+    RemoveProbe {
+        id: u32,
+    },
+    /// Replaces the probe with the same id.
+    SetProbe {
+        probe: Probe,
+    },
     SetWorld(World),
     SetSim(SimParams),
     SetGrass(GrassParams),
@@ -107,6 +118,8 @@ pub enum EditError {
     NoObstacle(u32),
     #[error("no ambient layer with id {0}")]
     NoLayer(u32),
+    #[error("no probe with id {0}")]
+    NoProbe(u32),
     #[error("node {0} is a root: remove its tree instead")]
     Root(u32),
     #[error("the edit would make the layout invalid: {}", .0.first().map(|i| i.to_string()).unwrap_or_default())]
@@ -145,6 +158,9 @@ impl Edit {
             Self::AddAmbient { .. } => "Add ambient layer",
             Self::RemoveAmbient { .. } => "Delete ambient layer",
             Self::SetAmbient { .. } => "Change ambient layer",
+            Self::AddProbe { .. } => "Add probe",
+            Self::RemoveProbe { .. } => "Delete probe",
+            Self::SetProbe { .. } => "Change probe",
             Self::SetWorld(_) => "Change world",
             Self::SetSim(_) => "Change simulation",
             Self::SetGrass(_) => "Change grass",
@@ -294,6 +310,22 @@ impl Edit {
                 let i = index_by_id(&doc.ambient, id, |a| a.id).ok_or(EditError::NoLayer(id))?;
                 let old = std::mem::replace(&mut doc.ambient[i], layer);
                 Self::SetAmbient { layer: old }
+            }
+            Self::AddProbe { index, probe } => {
+                let id = probe.id;
+                doc.probes.insert(index.min(doc.probes.len()), probe);
+                Self::RemoveProbe { id }
+            }
+            Self::RemoveProbe { id } => {
+                let i = index_by_id(&doc.probes, id, |p| p.id).ok_or(EditError::NoProbe(id))?;
+                let probe = doc.probes.remove(i);
+                Self::AddProbe { index: i, probe }
+            }
+            Self::SetProbe { probe } => {
+                let id = probe.id;
+                let i = index_by_id(&doc.probes, id, |p| p.id).ok_or(EditError::NoProbe(id))?;
+                let old = std::mem::replace(&mut doc.probes[i], probe);
+                Self::SetProbe { probe: old }
             }
             Self::SetWorld(w) => Self::SetWorld(std::mem::replace(&mut doc.world, w)),
             Self::SetSim(s) => Self::SetSim(std::mem::replace(&mut doc.sim, s)),

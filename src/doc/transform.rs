@@ -45,6 +45,10 @@ fn obstacles_of<'a>(layout: &'a Layout, items: &[Item]) -> impl Iterator<Item = 
     (layout.obstacles.iter()).filter(|o| o.pickable() && items.contains(&Item::Obstacle(o.id)))
 }
 
+fn probes_of<'a>(layout: &'a Layout, items: &[Item]) -> impl Iterator<Item = &'a Probe> {
+    (layout.probes.iter()).filter(|p| items.contains(&Item::Probe(p.id)))
+}
+
 /// The middle of the items' bounding box on the map (points, and obstacles' outlines), the
 /// pivot their handles turn and scale about; `None` when none of them is on the map.
 pub fn pivot(layout: &Layout, items: &[Item]) -> Option<Vec2> {
@@ -56,6 +60,7 @@ pub fn pivot(layout: &Layout, items: &[Item]) -> Option<Vec2> {
 pub fn extent(layout: &Layout, items: &[Item]) -> Option<(Vec2, Vec2)> {
     let bounds = layout.bounds();
     let mut pts: Vec<Vec2> = nodes_of(layout, items).iter().map(|n| n.pos).collect();
+    pts.extend(probes_of(layout, items).map(|p| p.pos));
     for o in obstacles_of(layout, items) {
         match &o.shape {
             Shape::Circle { center, radius } => {
@@ -119,6 +124,14 @@ pub fn transform(layout: &Layout, items: &[Item], t: Transform) -> Option<Edit> 
             }
         }
         edits.push(Edit::SetObstacle { obstacle: o });
+    }
+    for p in probes_of(layout, items) {
+        edits.push(Edit::SetProbe {
+            probe: Probe {
+                pos: t.apply(p.pos),
+                ..p.clone()
+            },
+        });
     }
     (!edits.is_empty()).then(|| {
         let label = if t.scale != 1.0 && t.angle == 0.0 {

@@ -48,10 +48,29 @@ pub struct Layout {
     #[serde(default)]
     #[schemars(length(max = AMBIENT_MAX))]
     pub ambient: Vec<AmbientLayer>,
+    /// Points where the editor plots the wind over time (and `windloom probe` measures it),
+    /// at most 64.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(length(max = PROBES_MAX))]
+    pub probes: Vec<Probe>,
     #[serde(default)]
     pub sim: SimParams,
     #[serde(default)]
     pub grass: GrassParams,
+}
+
+/// A named point where the wind is measured over time: a player's spot, a banner.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Probe {
+    /// Stable id, unique among the layout's probes.
+    pub id: u32,
+    /// At most 256 characters.
+    #[schemars(length(max = NAME_MAX))]
+    pub name: String,
+    /// World position `[x, z]` in metres, each within ±1e6.
+    #[schemars(inner(range(min = COORD.min, max = COORD.max)))]
+    pub pos: Vec2,
 }
 
 /// The world rectangle, the wind grid laid over it, and the map backdrop.
@@ -1018,6 +1037,7 @@ impl Layout {
             trees: Vec::new(),
             obstacles: Vec::new(),
             ambient: Vec::new(),
+            probes: Vec::new(),
             sim: SimParams::default(),
             grass: GrassParams::default(),
         }
@@ -1031,16 +1051,18 @@ impl Layout {
             .flat_map(|(t, tree)| tree.root.iter().map(move |n| (t, n)))
     }
 
-    /// The largest id in use by any node, tree, obstacle or layer, plus one.
+    /// The largest id in use by any node, tree, obstacle, layer or probe, plus one.
     pub fn next_id(&self) -> u32 {
         let nodes = self.nodes().map(|(_, n)| n.id);
         let trees = self.trees.iter().map(|t| t.id);
         let obstacles = self.obstacles.iter().map(|o| o.id);
         let layers = self.ambient.iter().map(|a| a.id);
+        let probes = self.probes.iter().map(|p| p.id);
         nodes
             .chain(trees)
             .chain(obstacles)
             .chain(layers)
+            .chain(probes)
             .max()
             .map_or(1, |m| m + 1)
     }

@@ -212,6 +212,14 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
         AMBIENT_MAX,
         "ambient layers",
     );
+    c.count("probes", layout.probes.len(), PROBES_MAX, "probes");
+    let mut probe_ids = HashMap::new();
+    for (k, probe) in layout.probes.iter().enumerate() {
+        let p = format!("probes[{k}]");
+        c.unique_id(&mut probe_ids, "probe", probe.id, &p);
+        c.name(&format!("{p}.name"), &probe.name);
+        c.point(&format!("{p}.pos"), probe.pos);
+    }
     let nodes: usize = layout.trees.iter().map(|t| t.root.count()).sum();
     c.count(
         "trees",

@@ -4,6 +4,7 @@
 //! notion of a backend.
 
 pub mod live;
+pub mod probe;
 mod stepper;
 
 pub use stepper::Stepper;

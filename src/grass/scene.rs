@@ -17,6 +17,7 @@ pub const OBSTACLE_HEIGHT: f32 = 2.5;
 const STONE: [f32; 4] = [0.21, 0.18, 0.15, 1.0];
 const ARROW: [f32; 4] = [0.06, 0.35, 1.0, 1.0];
 const ROOT: [f32; 4] = [0.83, 0.10, 0.05, 1.0];
+const PROBE: [f32; 4] = [1.0, 0.47, 0.78, 1.0];
 const FOOTPRINT: [f32; 4] = [1.0, 0.78, 0.05, 1.0];
 
 fn v(p: [f32; 3], colour: [f32; 4]) -> SceneVertex {
@@ -71,11 +72,21 @@ fn prism(out: &mut Vec<SceneVertex>, ring: &[[f32; 2]], h: f32) {
     }
 }
 
-/// The enabled AGC trees not hidden as lines on the ground (an arrow per edge, a cross at each root), as
+/// The layout's probes as posts, and the enabled AGC trees not hidden as lines on the ground (an arrow per edge, a cross at each root), as
 /// a line list.
 pub fn arrows(layout: &Layout) -> Vec<SceneVertex> {
     let y = 0.05;
     let mut out = Vec::new();
+    // Probes: a post 2.5 m tall with a cross at its foot.
+    for p in &layout.probes {
+        let q = p.pos;
+        out.push(v([q[0], 0.0, q[1]], PROBE));
+        out.push(v([q[0], 2.5, q[1]], PROBE));
+        for (dx, dz) in [(0.5, 0.0), (0.0, 0.5)] {
+            out.push(v([q[0] - dx, y, q[1] - dz], PROBE));
+            out.push(v([q[0] + dx, y, q[1] + dz], PROBE));
+        }
+    }
     for tree in layout.trees.iter().filter(|t| t.enabled && !t.hidden) {
         let r = tree.root.pos;
         for (dx, dz) in [(0.8, 0.0), (0.0, 0.8)] {

@@ -1012,6 +1012,11 @@ fn everything() -> serde_json::Value {
             hidden: false,
         })
         .collect();
+    l.probes = vec![doc::Probe {
+        id: 1,
+        name: "probe".into(),
+        pos: [10.0, 10.0],
+    }];
     assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
     serde_json::to_value(&l).unwrap()
 }
@@ -1027,6 +1032,7 @@ fn pointer(def: &str, prop: &str) -> String {
         "TimeWindow.between" => format!("/trees/0/window/{prop}"),
         "Emission.pulsed" => format!("/trees/0/emission/{prop}"),
         "Node" if prop == "pos" => "/trees/0/root/pos/0".into(),
+        "Probe" => format!("/probes/0/{prop}/0"),
         "Node" => format!("/trees/0/root/{prop}"),
         "Shape.circle" if prop == "center" => "/obstacles/0/shape/center/1".into(),
         "Shape.circle" => format!("/obstacles/0/shape/{prop}"),

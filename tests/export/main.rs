@@ -1437,6 +1437,8 @@ mod engines;
 mod live;
 /// The manifest's schema, and every file decoded by the manifest alone.
 mod manifest;
+/// `windloom probe` and the probes' statistics.
+mod probes;
 /// Terrain: the shaped wind and the heights in a bake.
 mod terrain;
 /// What a studio must be able to trust: frame timing, other EXR readers, one bake per

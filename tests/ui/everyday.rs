@@ -366,3 +366,89 @@ fn presets_apply_in_one_undo_step_and_the_user_s_own_are_kept() {
         .collect();
     assert_eq!(names, ["Storm", "Storm gusts"]);
 }
+
+#[test]
+fn probes_dropped_on_the_map_and_in_3d_plot_the_wind_and_export_it() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("obstacles.json"));
+    h.key_press(egui::Key::M);
+    h.run_steps(1);
+    assert_eq!(h.state().tool, Tool::Probe);
+    let tol = 1.5 * metres_per_point(&h);
+    let at = h.state().screen_pos([40.0, 60.0]);
+    click(&mut h, at);
+    let p = h.state().doc.probes.clone();
+    assert_eq!(p.len(), 1, "a click drops a probe");
+    assert!((p[0].pos[0] - 40.0).abs() < tol && (p[0].pos[1] - 60.0).abs() < tol);
+    assert_eq!(h.state().selection, vec![Sel::Probe(p[0].id)]);
+    assert_eq!(h.state().doc.history().undo_label(), Some("Add probe"));
+
+    // The wind steps on: the probe reads it, and the panel under the map says so.
+    for _ in 0..6 {
+        step_and_wait(&mut h, 10, RunsOn::Cpu);
+        h.run_steps(1);
+    }
+    let readings = h.state().probe_log.records[&p[0].id].clone();
+    assert!(readings.len() >= 2, "{} readings", readings.len());
+    let last = readings.last().unwrap();
+    assert!(
+        last.speed() > 1.0,
+        "the west gale blows at the probe: {last:?}"
+    );
+    h.get_by_label("gust factor");
+    h.get_by_label("Export CSV…");
+
+    // Export: a CSV a reader takes back, one row per reading.
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("p.csv");
+    let ctx = h.ctx.clone();
+    assert!(h.state_mut().export_probes_csv(&ctx, &out));
+    let rows = csv::Reader::from_path(&out).unwrap().records().count();
+    assert_eq!(rows, readings.len());
+
+    // Dragged with the Select tool, it moves in one step.
+    h.key_press(egui::Key::S);
+    h.run_steps(1);
+    // (The probes' panel took room from the map: where the probe is now.)
+    let at = h.state().screen_pos(p[0].pos);
+    let to = h.state().screen_pos([50.0, 70.0]);
+    drag(&mut h, at, to);
+    let moved = h.state().doc.probes[0].pos;
+    assert!(
+        (moved[0] - 50.0).abs() < tol && (moved[1] - 70.0).abs() < tol,
+        "{moved:?}"
+    );
+    // Delete removes it, and the panel with it.
+    h.key_press(egui::Key::Delete);
+    h.run_steps(2);
+    assert!(h.state().doc.probes.is_empty());
+    assert!(h.query_by_label("Export CSV…").is_none());
+}
+
+#[test]
+fn a_probe_drops_on_the_ground_clicked_in_the_3d_view() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = gpu_harness(example("meadow.json"), |app| {
+        app.settings.central = windloom::app::Central::Grass;
+        app.tool = Tool::Probe;
+    });
+    h.run_steps(6);
+    let r = h.state().grass_view.rect.expect("the 3D view is drawn");
+    let at = r.center() + egui::vec2(0.0, r.height() * 0.2);
+    h.event(Event::PointerMoved(at));
+    h.run_steps(2);
+    let ground = h
+        .state()
+        .grass_view
+        .hover_ground
+        .expect("the pointer is over the ground");
+    click(&mut h, at);
+    let probes = &h.state().doc.probes;
+    assert_eq!(probes.len(), 1, "a click on the ground drops a probe");
+    let d = (probes[0].pos[0] - ground[0]).hypot(probes[0].pos[1] - ground[1]);
+    assert!(d < 0.5, "{:?} vs {ground:?}", probes[0].pos);
+}
