@@ -505,6 +505,7 @@ fn interact(
                     root: Node::new(id + 1, pos, 8.0, 5.0),
                     locked: false,
                     hidden: false,
+                    keys: Vec::new(),
                 };
                 if app.edit(
                     ctx,

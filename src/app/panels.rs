@@ -719,6 +719,7 @@ fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             kind,
             locked: false,
             hidden: false,
+            keys: Vec::new(),
         };
         let layer = if ui.button("Directional with gusts").clicked() {
             Some(make(

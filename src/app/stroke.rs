@@ -101,6 +101,7 @@ fn finish(app: &mut EditorApp, ctx: &egui::Context, from: Option<u32>, points: V
                 locked: false,
                 hidden: false,
                 root: chain,
+                keys: Vec::new(),
             },
         },
     };

@@ -130,6 +130,12 @@ pub const RADIUS: Bound = Bound::positive(1.0e-3, 100_000.0);
 pub const PROPAGATION_SPEED: Bound = Bound::positive(1.0e-3, 1.0e6);
 /// A time window's start and end, in simulated seconds.
 pub const WINDOW_TIME: Bound = Bound::new(0.0, 1.0e7);
+/// A keyframe's strength: a factor on the tree's arrows' (or the layer's) speeds.
+pub const KEY_STRENGTH: Bound = Bound::new(0.0, 10.0);
+/// A keyframe's rotation, degrees (ten turns either way).
+pub const KEY_ROTATION: Bound = Bound::new(-3600.0, 3600.0);
+/// Most keyframes of one tree or layer.
+pub const KEYS_MAX: usize = 1_000;
 /// A pulsed tree's period, in seconds.
 pub const PERIOD: Bound = Bound::positive(1.0e-3, 1.0e6);
 /// A pulsed tree's duty: the share of the period it blows.
@@ -201,6 +207,9 @@ pub const NUMBERS: &[(&str, &str, Bound)] = &[
     ("VerticalProfile", "reference_height", PROFILE_HEIGHT),
     ("VerticalProfile", "top", PROFILE_HEIGHT),
     ("Tree", "propagation_speed", PROPAGATION_SPEED),
+    ("Key", "time", WINDOW_TIME),
+    ("Key", "strength", KEY_STRENGTH),
+    ("Key", "rotation_deg", KEY_ROTATION),
     ("TimeWindow.between", "start", WINDOW_TIME),
     ("TimeWindow.between", "end", WINDOW_TIME),
     ("Emission.pulsed", "period", PERIOD),

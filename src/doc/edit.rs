@@ -15,6 +15,7 @@ pub struct TreeProps {
     pub propagation_speed: f32,
     pub locked: bool,
     pub hidden: bool,
+    pub keys: Vec<Key>,
 }
 
 impl TreeProps {
@@ -27,6 +28,7 @@ impl TreeProps {
             propagation_speed: tree.propagation_speed,
             locked: tree.locked,
             hidden: tree.hidden,
+            keys: tree.keys.clone(),
         }
     }
 }
@@ -223,6 +225,7 @@ impl Edit {
                 tree.propagation_speed = props.propagation_speed;
                 tree.locked = props.locked;
                 tree.hidden = props.hidden;
+                tree.keys = props.keys;
                 Self::SetTreeProps { id, props: old }
             }
             Self::AddNode {

@@ -20,6 +20,7 @@ fn layer(name: &str, kind: AmbientKind) -> AmbientLayer {
         kind,
         locked: false,
         hidden: false,
+        keys: Vec::new(),
     }
 }
 
@@ -55,6 +56,7 @@ fn tree(name: &str, points: &[Vec2], strength: f32, radius: f32) -> Tree {
         locked: false,
         hidden: false,
         root: chain,
+        keys: Vec::new(),
     }
 }
 

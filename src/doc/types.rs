@@ -273,6 +273,64 @@ fn yes() -> bool {
     true
 }
 
+/// A keyframe: at `time` seconds, a factor `strength` on the speeds and a turn of
+/// `rotation_deg` degrees (clockwise on the map, from +x toward +z); between two keys the
+/// values ease from one to the next as the earlier key says, and hold before the first and
+/// after the last.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Key {
+    /// Seconds of simulation time, 0 to 1e7.
+    #[schemars(range(min = WINDOW_TIME.min, max = WINDOW_TIME.max))]
+    pub time: f32,
+    /// 0 to 10: 1 is the authored strength, 0 calm.
+    #[serde(default = "one")]
+    #[schemars(range(min = KEY_STRENGTH.min, max = KEY_STRENGTH.max))]
+    pub strength: f32,
+    /// Degrees, ±3600: the tree turns about its root, the layer's direction turns.
+    #[serde(default)]
+    #[schemars(range(min = KEY_ROTATION.min, max = KEY_ROTATION.max))]
+    pub rotation_deg: f32,
+    /// How the values go from this key to the next.
+    #[serde(default)]
+    pub ease: Ease,
+}
+
+/// How a keyframe's values go to the next key's.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize, JsonSchema)]
+#[serde(rename_all = "snake_case")]
+pub enum Ease {
+    /// At a steady rate.
+    #[default]
+    Linear,
+    /// Slow at both ends (smoothstep).
+    Smooth,
+}
+
+/// The strength factor and the rotation (radians) `keys` give at time `t`: `(1, 0)` without
+/// keys.
+pub fn key_values(keys: &[Key], t: f32) -> (f32, f32) {
+    let (Some(first), Some(last)) = (keys.first(), keys.last()) else {
+        return (1.0, 0.0);
+    };
+    let at = |k: &Key| (k.strength, k.rotation_deg.to_radians());
+    if t <= first.time {
+        return at(first);
+    }
+    if t >= last.time {
+        return at(last);
+    }
+    let i = keys.partition_point(|k| k.time <= t);
+    let (a, b) = (&keys[i - 1], &keys[i]);
+    let mut f = (t - a.time) / (b.time - a.time).max(f32::MIN_POSITIVE);
+    if a.ease == Ease::Smooth {
+        f = f * f * (3.0 - 2.0 * f);
+    }
+    let (sa, ra) = at(a);
+    let (sb, rb) = at(b);
+    (sa + (sb - sa) * f, ra + (rb - ra) * f)
+}
+
 /// An AGC arrow tree: a root point whose children are arrow end points, recursively.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize, JsonSchema)]
 #[serde(deny_unknown_fields)]
@@ -294,6 +352,12 @@ pub struct Tree {
     #[serde(default = "default_propagation_speed")]
     #[schemars(range(min = PROPAGATION_SPEED.min, max = PROPAGATION_SPEED.max))]
     pub propagation_speed: f32,
+    /// Keyframes of the tree's strength and direction over time (a factor on every arrow's
+    /// strength, and a turn of the whole tree about its root), at most 1,000, in time order;
+    /// none: steady.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(length(max = KEYS_MAX))]
+    pub keys: Vec<Key>,
     /// Locked: drawn on the map but not picked, moved or nudged there, and not changed in the
     /// inspector (the Layers list still selects it, and unlocks it).
     #[serde(default, skip_serializing_if = "is_false")]
@@ -674,6 +738,11 @@ pub struct AmbientLayer {
     #[serde(default = "yes")]
     pub enabled: bool,
     pub kind: AmbientKind,
+    /// Keyframes of the layer's strength and direction over time (a factor on its speeds,
+    /// and a turn of its direction), at most 1,000, in time order; none: steady.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(length(max = KEYS_MAX))]
+    pub keys: Vec<Key>,
     /// Locked: drawn on the map but not picked, moved or nudged there, and not changed in the
     /// inspector (the Layers list still selects it, and unlocks it).
     #[serde(default, skip_serializing_if = "is_false")]

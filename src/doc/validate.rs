@@ -253,6 +253,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
             c.bound(&format!("{p}.emission.period"), period, PERIOD);
             c.bound(&format!("{p}.emission.duty"), duty, DUTY);
         }
+        check_keys(&mut c, &tree.keys, &format!("{p}.keys"));
         check_node(&mut c, &mut node_ids, &tree.root, &format!("{p}.root"), 0);
     }
 
@@ -307,6 +308,7 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
     let mut layer_ids = HashMap::new();
     for (a, layer) in layout.ambient.iter().enumerate() {
         let p = format!("ambient[{a}]");
+        check_keys(&mut c, &layer.keys, &format!("{p}.keys"));
         c.unique_id(&mut layer_ids, "ambient layer", layer.id, &p);
         c.name(&format!("{p}.name"), &layer.name);
         let k = format!("{p}.kind");
@@ -652,5 +654,27 @@ pub fn density_map_problem(layout: &Layout) -> Option<String> {
         MaskPixels::Loaded(_) => None,
         MaskPixels::Failed(why) => Some(format!("grass.density_map: {why}")),
         MaskPixels::NotLoaded => Some(format!("grass.density_map: {} was not read", map.image)),
+    }
+}
+
+/// A tree's or layer's keyframes: each value within its bound, at most [`KEYS_MAX`], the
+/// times increasing.
+fn check_keys(c: &mut Checker, keys: &[Key], path: &str) {
+    c.count(path, keys.len(), KEYS_MAX, "keyframes");
+    for (k, key) in keys.iter().enumerate() {
+        let p = format!("{path}[{k}]");
+        c.bound(&format!("{p}.time"), key.time, WINDOW_TIME);
+        c.bound(&format!("{p}.strength"), key.strength, KEY_STRENGTH);
+        c.bound(&format!("{p}.rotation_deg"), key.rotation_deg, KEY_ROTATION);
+        if k > 0 && key.time.is_finite() && key.time <= keys[k - 1].time {
+            c.push(
+                &format!("{p}.time"),
+                format!(
+                    "keyframes go in time order: {} is not after the one before ({})",
+                    key.time,
+                    keys[k - 1].time
+                ),
+            );
+        }
     }
 }

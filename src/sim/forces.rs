@@ -223,28 +223,44 @@ fn arrow_active(emission: Emission, since_start: f32, delay: f32) -> bool {
     }
 }
 
-/// The arrows of all trees that push at time `t`.
+/// The arrows of all trees that push at time `t`, each tree as its keyframes have it then:
+/// its arrows' strengths scaled, the whole tree turned about its root.
 pub fn agc_splats(layout: &Layout, t: f32) -> Vec<ArrowSplat> {
     let mut out = Vec::new();
     for tree in &layout.trees {
         let Some(start) = in_window(tree, t) else {
             continue;
         };
+        let (factor, turn) = doc::key_values(&tree.keys, t);
+        let (sin, cos) = turn.sin_cos();
+        let root = tree.root.pos;
+        let place = |p: [f32; 2]| -> [f32; 2] {
+            if turn == 0.0 {
+                return p;
+            }
+            let d = [p[0] - root[0], p[1] - root[1]];
+            [
+                root[0] + cos * d[0] - sin * d[1],
+                root[1] + sin * d[0] + cos * d[1],
+            ]
+        };
         for (parent, child, path_len) in tree.root.arrows() {
             let delay = path_len / tree.propagation_speed;
             if !arrow_active(tree.emission, t - start, delay) {
                 continue;
             }
-            let d = [child.pos[0] - parent.pos[0], child.pos[1] - parent.pos[1]];
+            let (a, b) = (place(parent.pos), place(child.pos));
+            let d = [b[0] - a[0], b[1] - a[1]];
             let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
-            if len <= 0.0 || child.strength <= 0.0 {
+            let strength = child.strength * factor;
+            if len <= 0.0 || strength <= 0.0 {
                 continue;
             }
             out.push(ArrowSplat {
-                a: parent.pos,
-                b: child.pos,
+                a,
+                b,
                 dir: [d[0] / len, d[1] / len],
-                strength: child.strength,
+                strength,
                 radius: child.radius,
             });
         }
@@ -509,6 +525,8 @@ pub const LAYER_SINE: u32 = 3;
 /// Ambient layers prepared for one instant: evaluates the target wind at any point.
 pub struct Ambient {
     layers: Vec<(AmbientKind, Option<FftGusts>)>,
+    /// Each layer's keyframes (strength factor, turn of its direction).
+    keys: Vec<Vec<doc::Key>>,
     /// Each layer's time-dependent values at the current time ([`Self::set_time`]): what
     /// [`Self::wind`] evaluates per point, and what the GPU forces pass is given.
     params: Vec<LayerParams>,
@@ -517,6 +535,10 @@ pub struct Ambient {
 impl Ambient {
     /// Prepares the enabled layers of `layout` (FFT spectra are built here, once).
     pub fn new(layout: &Layout) -> Self {
+        let keys = (layout.ambient.iter())
+            .filter(|a| a.enabled)
+            .map(|a| a.keys.clone())
+            .collect();
         let layers = layout
             .ambient
             .iter()
@@ -544,6 +566,7 @@ impl Ambient {
             .collect();
         let mut ambient = Self {
             layers,
+            keys,
             params: Vec::new(),
         };
         ambient.set_time(0.0);
@@ -563,11 +586,16 @@ impl Ambient {
             }
         }
         let mut offset = 0u32;
-        self.params = self
-            .layers
-            .iter()
-            .map(|(kind, fft)| {
+        self.params = (self.layers.iter().zip(&self.keys))
+            .map(|((kind, fft), keys)| {
                 let blank = LayerParams::zeroed();
+                // Keyframes: a factor on the layer's speeds, a turn of the way it blows (its
+                // frozen pattern still scrolls the authored way, so a turn does not sweep it).
+                let (f, turn) = doc::key_values(keys, t);
+                let turned = |d: [f32; 2]| -> [f32; 2] {
+                    let (s, c) = turn.sin_cos();
+                    [c * d[0] - s * d[1], s * d[0] + c * d[1]]
+                };
                 match kind {
                     AmbientKind::Directional {
                         direction_deg,
@@ -583,10 +611,10 @@ impl Ambient {
                         // Frozen turbulence scrolled with the mean wind (Taylor's hypothesis).
                         LayerParams {
                             kind: LAYER_DIRECTIONAL,
-                            dir: d,
+                            dir: turned(d),
                             shift: [d[0] * main * t, d[1] * main * t],
-                            a: *turbulence,
-                            b: main * pulse,
+                            a: turbulence * f,
+                            b: main * pulse * f,
                             ..blank
                         }
                     }
@@ -599,10 +627,10 @@ impl Ambient {
                         let d = doc::direction(*direction_deg);
                         LayerParams {
                             kind: LAYER_NOISE,
-                            dir: d,
+                            dir: turned(d),
                             shift: [d[0] * speed * t, d[1] * speed * t],
                             a: *scale,
-                            b: *strength,
+                            b: strength * f,
                             ..blank
                         }
                     }
@@ -625,10 +653,10 @@ impl Ambient {
                             kind: LAYER_FFT,
                             fft_offset,
                             fft_n,
-                            dir: d,
+                            dir: turned(d),
                             shift: [d[0] * wind_speed * t, d[1] * wind_speed * t],
-                            a: *wind_speed,
-                            b: *amplitude,
+                            a: wind_speed * f,
+                            b: amplitude * f,
                             c: tile,
                             ..blank
                         }
@@ -640,8 +668,8 @@ impl Ambient {
                         frequency,
                     } => LayerParams {
                         kind: LAYER_SINE,
-                        dir: doc::direction(*direction_deg),
-                        a: *amplitude,
+                        dir: turned(doc::direction(*direction_deg)),
+                        a: amplitude * f,
                         b: *wavelength,
                         c: frequency * t,
                         ..blank

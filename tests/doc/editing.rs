@@ -196,6 +196,7 @@ fn a_stroke_becomes_a_chain_of_few_arrows_that_follows_it() {
         locked: false,
         hidden: false,
         root,
+        keys: Vec::new(),
     });
     assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
     // A scribble of thousands of turns is held to the longest chain a layout takes.

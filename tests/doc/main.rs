@@ -56,6 +56,7 @@ fn small_text() -> String {
         root,
         locked: false,
         hidden: false,
+        keys: Vec::new(),
     });
     doc::to_json(&l)
 }
@@ -654,6 +655,7 @@ fn to_edit(l: &Layout, op: &Op) -> Option<Edit> {
                 root: Node::new(id + 1, [x, z], 20.0, 5.0),
                 locked: false,
                 hidden: false,
+                keys: Vec::new(),
             },
         },
         Op::RemoveTree { tree } => Edit::RemoveTree {
@@ -1010,8 +1012,15 @@ fn everything() -> serde_json::Value {
             kind: serde_json::from_str(k).unwrap(),
             locked: false,
             hidden: false,
+            keys: Vec::new(),
         })
         .collect();
+    l.trees[0].keys = vec![doc::Key {
+        time: 1.0,
+        strength: 1.0,
+        rotation_deg: 0.0,
+        ease: doc::Ease::Linear,
+    }];
     l.probes = vec![doc::Probe {
         id: 1,
         name: "probe".into(),
@@ -1033,6 +1042,7 @@ fn pointer(def: &str, prop: &str) -> String {
         "Emission.pulsed" => format!("/trees/0/emission/{prop}"),
         "Node" if prop == "pos" => "/trees/0/root/pos/0".into(),
         "Probe" => format!("/probes/0/{prop}/0"),
+        "Key" => format!("/trees/0/keys/0/{prop}"),
         "Node" => format!("/trees/0/root/{prop}"),
         "Shape.circle" if prop == "center" => "/obstacles/0/shape/center/1".into(),
         "Shape.circle" => format!("/obstacles/0/shape/{prop}"),

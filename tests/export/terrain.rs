@@ -25,6 +25,7 @@ fn ridge_level(dir: &Path) -> Layout {
         },
         locked: false,
         hidden: false,
+        keys: Vec::new(),
     }];
     let img = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_fn(400, 50, |x, _| {
         let m = (x as f32 + 0.5) / 2.0;

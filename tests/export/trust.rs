@@ -659,6 +659,7 @@ mod render_never_panics {
                 root,
                 locked: false,
                 hidden: false,
+                keys: Vec::new(),
             });
             prop_assume!(doc::validate(&l).is_empty());
             let mut solver = windloom::sim::Solver::new(&l);

@@ -1,5 +1,5 @@
 use super::example;
-use windloom::doc::{Advection, Boundary};
+use windloom::doc::{Advection, Boundary, Layout};
 use windloom::gpu::fluid::{FieldId, GpuFluid, SHADERS, shader_source};
 use windloom::gpu::mapview;
 use windloom::gpu::{GpuContext, GpuError};
@@ -171,6 +171,7 @@ fn each_pass_matches_the_cpu_on_every_boundary_with_obstacles() {
                 kind: serde_json::from_str(k).unwrap(),
                 locked: false,
                 hidden: false,
+                keys: Vec::new(),
             });
         }
         let kinds: std::collections::BTreeSet<&str> =
@@ -443,6 +444,13 @@ fn a_2048_grid_runs_on_the_gpu_and_agrees_with_the_cpu() {
 }
 
 fn bake_raw(backend: windloom::engine::Backend) -> (Vec<f32>, windloom::bake::Manifest) {
+    bake_raw_of(&example("two-winds.json"), backend)
+}
+
+fn bake_raw_of(
+    layout: &Layout,
+    backend: windloom::engine::Backend,
+) -> (Vec<f32>, windloom::bake::Manifest) {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("bake");
     let opts = windloom::bake::BakeOptions {
@@ -455,7 +463,7 @@ fn bake_raw(backend: windloom::engine::Backend) -> (Vec<f32>, windloom::bake::Ma
         ..Default::default()
     };
     let m = windloom::bake::bake(
-        &example("two-winds.json"),
+        layout,
         &out,
         &opts,
         &std::sync::atomic::AtomicBool::new(false),
@@ -497,6 +505,84 @@ fn a_gpu_bake_agrees_with_a_cpu_bake() {
         );
         assert_eq!(auto, cpu);
     }
+}
+
+/// Two winds keyed: the west wind turning a quarter and fading, a breeze turning about.
+fn keyed_layout() -> Layout {
+    use windloom::doc::{AmbientKind, AmbientLayer, Ease, Key};
+    let key = |time, strength, rotation_deg| Key {
+        time,
+        strength,
+        rotation_deg,
+        ease: Ease::Smooth,
+    };
+    let mut l = example("two-winds.json");
+    l.world.grid = [60, 40];
+    l.trees[0].keys = vec![key(0.2, 1.0, 0.0), key(1.2, 0.3, 90.0)];
+    l.ambient.push(AmbientLayer {
+        id: 77,
+        name: "breeze".into(),
+        enabled: true,
+        kind: AmbientKind::Directional {
+            direction_deg: 0.0,
+            main: 2.0,
+            turbulence: 0.5,
+            pulse_magnitude: 0.2,
+            pulse_frequency: 0.3,
+        },
+        keys: vec![key(0.0, 1.0, 0.0), key(1.5, 2.0, 120.0)],
+        locked: false,
+        hidden: false,
+    });
+    l
+}
+
+/// Keyframes are followed by the GPU as by the CPU: 100 steps point by point, and a bake of
+/// the keyed layout on each within the whole-run bound, its frames changing as keyed.
+#[test]
+fn keyframes_are_followed_on_the_gpu_and_in_a_bake_as_on_the_cpu() {
+    let Some(ctx) = context() else { return };
+    let l = keyed_layout();
+    let mut cpu = Solver::new(&l);
+    let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
+    for _ in 0..100 {
+        cpu.step();
+        gpu.step(&ctx);
+    }
+    gpu.finish(&ctx).unwrap();
+    let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
+    let (err, peak) = deviation(&a, &b);
+    println!("keyed, 100 steps: max |Δv| {err:.2e} of peak {peak:.2}");
+    assert!(peak > 1.0 && err <= 1e-3 * peak, "{err} of {peak}");
+    // The same field as without keys it is not.
+    let mut unkeyed = example("two-winds.json");
+    unkeyed.world.grid = [60, 40];
+    let mut plain = Solver::new(&unkeyed);
+    for _ in 0..100 {
+        plain.step();
+    }
+    let (d, _) = deviation(&plain.velocity_field(), &b);
+    assert!(d > 0.5, "the keys change the wind: {d}");
+
+    use windloom::engine::Backend;
+    let (c, _) = bake_raw_of(&l, Backend::Cpu);
+    let (g, _) = bake_raw_of(&l, Backend::Gpu);
+    let peak = c.iter().fold(0.0f32, |m, x| m.max(x.abs()));
+    let err = g
+        .iter()
+        .zip(&c)
+        .fold(0.0f32, |m, (x, y)| m.max((x - y).abs()));
+    assert!(
+        peak > 1.0 && err <= 1e-3 * peak,
+        "keyed bake: {err} of {peak}"
+    );
+    // Its frames (1.0, 1.1, 1.2 s, while the keys turn) differ from one another.
+    let n = c.len() / 3;
+    let step = c[..n]
+        .iter()
+        .zip(&c[n..2 * n])
+        .fold(0.0f32, |m, (x, y)| m.max((x - y).abs()));
+    assert!(step > 0.05, "frames change as keyed: {step}");
 }
 
 #[test]

@@ -26,6 +26,7 @@ fn tree(id: u32, root: Node) -> Tree {
         root,
         locked: false,
         hidden: false,
+        keys: Vec::new(),
     }
 }
 
@@ -89,6 +90,7 @@ mod bits;
 mod fluid;
 mod forcing;
 /// Obstacles from a level's collision mask.
+mod keys;
 mod masks;
 mod presets;
 mod pressure;

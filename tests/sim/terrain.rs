@@ -35,6 +35,7 @@ fn breezy(deg: f32) -> Layout {
         },
         locked: false,
         hidden: false,
+        keys: Vec::new(),
     }];
     l
 }
