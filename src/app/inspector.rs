@@ -479,6 +479,8 @@ fn tree_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, t
             ("tree", tree.id),
         );
     }
+    ui.separator();
+    keys_section(app, ctx, ui, Sel::Tree(tree.id));
 }
 
 fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, id: u32) {
@@ -736,6 +738,109 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
     });
     if changed {
         app.edit_merged(ctx, Edit::SetAmbient { layer: l }, ("ambient", id));
+    }
+    ui.separator();
+    keys_section(app, ctx, ui, Sel::Ambient(id));
+}
+
+/// The keyframes of a tree or ambient layer: one row each (time, strength factor, turn,
+/// ease, ×), and a key at the time shown; each change one undo step (a drag one in all).
+fn keys_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, owner: Sel) {
+    let keys = match owner {
+        Sel::Tree(id) => app
+            .doc
+            .trees
+            .iter()
+            .find(|t| t.id == id)
+            .map(|t| t.keys.clone()),
+        Sel::Ambient(id) => app
+            .doc
+            .ambient
+            .iter()
+            .find(|a| a.id == id)
+            .map(|a| a.keys.clone()),
+        _ => None,
+    };
+    let Some(mut keys) = keys else {
+        return;
+    };
+    ui.label(RichText::new("Keyframes").strong())
+        .on_hover_text("Strength (a factor on the speeds) and a turn over time; the timeline under the map shows them");
+    let mut changed = false;
+    let mut remove = None;
+    if keys.is_empty() {
+        ui.weak("None: steady. Add one at the time shown (K), then change it.");
+    } else {
+        egui::Grid::new(("keys", owner))
+            .num_columns(5)
+            .show(ui, |ui| {
+                for h in ["time", "strength", "turn", "ease", ""] {
+                    ui.weak(h);
+                }
+                ui.end_row();
+                for (k, key) in keys.iter_mut().enumerate() {
+                    changed |= ui
+                        .add(
+                            egui::DragValue::new(&mut key.time)
+                                .range(0.0..=1.0e7)
+                                .speed(0.05)
+                                .suffix(" s"),
+                        )
+                        .changed();
+                    changed |= ui
+                        .add(
+                            egui::DragValue::new(&mut key.strength)
+                                .range(0.0..=10.0)
+                                .speed(0.01)
+                                .prefix("×"),
+                        )
+                        .changed();
+                    changed |= ui
+                        .add(
+                            egui::DragValue::new(&mut key.rotation_deg)
+                                .range(-3600.0..=3600.0)
+                                .speed(1.0)
+                                .suffix("°"),
+                        )
+                        .changed();
+                    let smooth = key.ease == doc::Ease::Smooth;
+                    if ui
+                        .selectable_label(smooth, if smooth { "smooth" } else { "linear" })
+                        .on_hover_text("How the values go on to the next key: click to switch")
+                        .clicked()
+                    {
+                        key.ease = if smooth {
+                            doc::Ease::Linear
+                        } else {
+                            doc::Ease::Smooth
+                        };
+                        changed = true;
+                    }
+                    if ui
+                        .small_button("×")
+                        .on_hover_text("Delete this key")
+                        .clicked()
+                    {
+                        remove = Some(k);
+                    }
+                    ui.end_row();
+                }
+            });
+    }
+    if let Some(k) = remove {
+        keys.remove(k);
+        changed = true;
+    }
+    if changed && let Some(e) = super::timeline::set_keys(app, owner, keys) {
+        app.edit_merged(ctx, e, ("keys", owner));
+    }
+    let t = app.live.snapshot().time;
+    if ui
+        .button(format!("+ Key at {t:.2} s"))
+        .on_hover_text("K")
+        .clicked()
+    {
+        app.add_key_at(ctx, t);
     }
 }
 

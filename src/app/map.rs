@@ -149,6 +149,36 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
         );
     }
 
+    // A keyed tree as its keys turn it now: its arrows, thin, where the wind is.
+    for tree in app
+        .doc
+        .trees
+        .iter()
+        .filter(|t| !t.hidden && !t.keys.is_empty())
+    {
+        let (_, turn) = doc::key_values(&tree.keys, snap.time);
+        if turn.abs() < 1e-4 {
+            continue;
+        }
+        let (s, c) = turn.sin_cos();
+        let r = tree.root.pos;
+        let place = |p: doc::Vec2| {
+            let d = [p[0] - r[0], p[1] - r[1]];
+            cam.to_screen(
+                rect,
+                [r[0] + c * d[0] - s * d[1], r[1] + s * d[0] + c * d[1]],
+            )
+        };
+        for (parent, child, _) in tree.root.arrows() {
+            view::draw_arrow(
+                &painter,
+                place(parent.pos),
+                place(child.pos),
+                2.0,
+                Color32::from_rgba_unmultiplied(160, 220, 255, 150),
+            );
+        }
+    }
     view::draw_probes(&painter, &cam, rect, &app.doc, &|id| {
         selection.contains(&Sel::Probe(id))
     });

@@ -20,6 +20,7 @@ mod panels;
 pub mod presets;
 mod probes;
 mod stroke;
+pub mod timeline;
 pub mod view;
 
 use crate::doc::{self, Edit, Layout};
@@ -315,6 +316,8 @@ pub struct EditorApp {
     pub transform_input: (f32, f32),
     /// What the probes read of the live wind.
     pub probe_log: probes::ProbeLog,
+    /// The timeline under the map: play range, loop, scrubbing.
+    pub timeline: timeline::Timeline,
 }
 
 impl EditorApp {
@@ -359,6 +362,7 @@ impl EditorApp {
             presets: Default::default(),
             transform_input: (90.0, 200.0),
             probe_log: Default::default(),
+            timeline: Default::default(),
         }
     }
 
@@ -820,6 +824,10 @@ impl EditorApp {
         if pressed(KS::new(M::NONE, Key::Delete)) || pressed(KS::new(M::NONE, Key::Backspace)) {
             self.delete_selection(ctx, false);
         }
+        if pressed(KS::new(M::NONE, Key::K)) {
+            let t = self.live.snapshot().time;
+            self.add_key_at(ctx, t);
+        }
         if pressed(KS::new(M::NONE, Key::F)) {
             self.map.camera = Some(Camera::frame_all(&self.doc, self.map.rect));
         }
@@ -967,8 +975,10 @@ impl eframe::App for EditorApp {
         {
             let snap = self.live.snapshot();
             self.probe_log.record(&self.doc, &snap);
+            self.keep_in_range(snap.time);
         }
         probes::panel(self, ui);
+        timeline::panel(self, ui);
         egui::CentralPanel::default()
             .frame(egui::Frame::NONE.fill(egui::Color32::from_gray(24)))
             .show(ui, |ui| match self.settings.central {

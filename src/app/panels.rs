@@ -265,14 +265,17 @@ fn toolbar(app: &mut EditorApp, ui: &mut egui::Ui) {
         app.live.reset();
     }
     let mut speed = app.live.speed;
-    if ui
+    // Narrow: the toolbar shares the menus' row in a 1280-point window.
+    let width = std::mem::replace(&mut ui.spacing_mut().slider_width, 60.0);
+    let slider = ui
         .add(
             egui::Slider::new(&mut speed, 0.1..=4.0)
                 .logarithmic(true)
-                .text("speed"),
+                .suffix("×"),
         )
-        .changed()
-    {
+        .on_hover_text("Simulation speed: simulated seconds per second");
+    ui.spacing_mut().slider_width = width;
+    if slider.changed() {
         app.live.set_speed(speed);
     }
     ui.separator();
@@ -1000,6 +1003,10 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ("Mouse wheel", "Zoom about the cursor"),
     ("F", "Frame the whole world"),
     ("Space", "Play / pause the wind"),
+    (
+        "K",
+        "Key the selected tree or ambient layer at the time shown",
+    ),
     (
         "Enter / Esc",
         "Close / cancel a polygon; Esc clears the selection",

@@ -97,6 +97,7 @@ enum Command {
     Play(bool),
     Step,
     Reset,
+    Seek(f32),
     Speed(f32),
     Quit,
 }
@@ -159,6 +160,13 @@ impl LiveSim {
         let _ = self.tx.send(Command::Reset);
     }
 
+    /// Puts the field at simulation time `t` (the timeline's scrub): from the nearest
+    /// checkpoint at or before it, stepped on to `t` (only the newest of several queued seeks
+    /// is made).
+    pub fn seek(&self, t: f32) {
+        let _ = self.tx.send(Command::Seek(t));
+    }
+
     /// Simulated seconds per real second.
     pub fn set_speed(&mut self, speed: f32) {
         self.speed = speed;
@@ -203,8 +211,27 @@ fn needs_rebuild(old: &Layout, new: &Layout) -> bool {
 
 /// The solver in use: the CPU's always exists (on the GPU it holds the last read-back, and
 /// takes the field back when the user switches), the GPU's while the field runs there.
+/// A saved state of the field: what a seek back starts from.
+struct Checkpoint {
+    time: f32,
+    u: Vec<f32>,
+    v: Vec<f32>,
+    p: Vec<f32>,
+}
+
+/// The memory the checkpoints may take, bytes; past it every other one is dropped (they
+/// stand twice as far apart).
+pub const CHECKPOINT_BUDGET: usize = 256 << 20;
+/// Simulated seconds between two checkpoints, at first.
+pub const CHECKPOINT_SECONDS: f32 = 1.0;
+
 struct Engine {
     cpu: Solver,
+    /// States of the running field, in time order, since the layout last changed (a seek
+    /// back re-simulates from the nearest; none before the calm start).
+    checkpoints: Vec<Checkpoint>,
+    /// Seconds between checkpoints now (doubles each time the budget is reached).
+    checkpoint_every: f32,
     gpu: Option<GpuSolver>,
     ctx: Option<GpuContext>,
     choice: Backend,
@@ -224,6 +251,8 @@ impl Engine {
     fn new(layout: &Layout) -> Self {
         Self {
             cpu: Solver::new(layout),
+            checkpoints: Vec::new(),
+            checkpoint_every: CHECKPOINT_SECONDS,
             gpu: None,
             ctx: None,
             choice: Backend::Auto,
@@ -363,6 +392,82 @@ impl Engine {
         self.move_to(want, layout);
     }
 
+    /// Saves the CPU copy of the field (on the GPU: the last read-back) when it is a
+    /// checkpoint's interval past the last one.
+    fn checkpoint(&mut self) {
+        let t = self.cpu.time;
+        let due = self
+            .checkpoints
+            .last()
+            .is_none_or(|c| t >= c.time + self.checkpoint_every - 1e-4);
+        if !due || self.halted || t <= 0.0 {
+            return;
+        }
+        let (u, v) = self.cpu.faces_mut();
+        let c = Checkpoint {
+            time: t,
+            u: u.to_vec(),
+            v: v.to_vec(),
+            p: self.cpu.p.clone(),
+        };
+        let bytes = 4 * (c.u.len() + c.v.len() + c.p.len());
+        self.checkpoints.push(c);
+        if bytes * self.checkpoints.len() > CHECKPOINT_BUDGET {
+            let mut k = 0;
+            self.checkpoints.retain(|_| {
+                k += 1;
+                k % 2 == 0
+            });
+            self.checkpoint_every *= 2.0;
+        }
+    }
+
+    /// Forgets the checkpoints (the layout changed: its past is another wind).
+    fn forget_checkpoints(&mut self) {
+        self.checkpoints.clear();
+        self.checkpoint_every = CHECKPOINT_SECONDS;
+    }
+
+    /// The field at time `t`: restored from the latest checkpoint at or before it (or calm
+    /// at 0), then stepped on the CPU to `t`, and handed back to the GPU if it ran there.
+    fn seek(&mut self, layout: &Layout, t: f32) {
+        let on_gpu = self.gpu.is_some();
+        self.move_to(RunsOn::Cpu, layout);
+        let t = t.max(0.0);
+        let from = self.checkpoints.iter().rposition(|c| c.time <= t + 1e-4);
+        // Stepping on from where the field is now is quickest when it is before `t` and
+        // after every checkpoint that is.
+        let ahead = from.is_none_or(|k| self.checkpoints[k].time <= self.cpu.time)
+            && self.cpu.time <= t + 1e-4
+            && !self.halted;
+        if !ahead {
+            match from {
+                Some(k) => {
+                    let c = &self.checkpoints[k];
+                    let (time, p) = (c.time, c.p.clone());
+                    let (u, v) = (c.u.clone(), c.v.clone());
+                    let (nu, nv) = self.cpu.faces_mut();
+                    nu.copy_from_slice(&u);
+                    nv.copy_from_slice(&v);
+                    self.cpu.p.copy_from_slice(&p);
+                    self.cpu.time = time;
+                }
+                None => {
+                    self.cpu = Solver::new(layout);
+                }
+            }
+            self.halted = false;
+        }
+        let dt = self.cpu.params.dt;
+        while self.cpu.time + dt * 0.5 <= t {
+            self.cpu.step();
+            self.checkpoint();
+        }
+        if on_gpu {
+            self.move_to(RunsOn::Gpu, layout);
+        }
+    }
+
     /// Hands the running field to `want`'s solver.
     fn move_to(&mut self, want: RunsOn, layout: &Layout) {
         match (want, self.gpu.is_some(), &self.ctx) {
@@ -420,6 +525,7 @@ impl Engine {
     /// Replaces the solver (on the CPU, the GPU's dropped); returns whether the field ran on
     /// the GPU.
     fn new_solver(&mut self, layout: &Layout, keep_time: bool) -> bool {
+        self.forget_checkpoints();
         if self.halted {
             self.halted = false;
             self.notice = None;
@@ -460,6 +566,7 @@ impl Engine {
     }
 
     fn set_layout(&mut self, layout: &Layout) {
+        self.forget_checkpoints();
         self.cpu.set_layout(layout);
         if let (Some(g), Some(ctx)) = (&mut self.gpu, &self.ctx) {
             g.set_layout_on(ctx, layout, self.cpu.terrain.as_deref());
@@ -492,6 +599,7 @@ impl Engine {
         self.steps_since_readback = 0;
         self.serial += 1;
         self.contain_blow_up();
+        self.checkpoint();
         if self.halted {
             // The zeroed copy is what the view draws, not the GPU's buffers.
             field = None;
@@ -579,6 +687,7 @@ fn worker(
     };
     loop {
         let mut single_steps = 0usize;
+        let mut seek: Option<f32> = None;
         // Only the newest of several queued layouts matters (a dragged grid size sends one per
         // frame); rebuilding the solver for each would waste seconds at large grids.
         let mut newest: Option<Box<Layout>> = None;
@@ -615,6 +724,7 @@ fn worker(
                     owed = 0.0;
                 }
                 Command::Step => single_steps += 1,
+                Command::Seek(t) => seek = Some(t),
                 Command::Reset => {
                     if let Some(l) = newest.take() {
                         layout = *l;
@@ -637,6 +747,14 @@ fn worker(
             }
             layout = *l;
             changed = true;
+        }
+        if let Some(t) = seek {
+            engine.seek(&layout, t);
+            owed = 0.0;
+            last = Instant::now();
+            engine.publish(&shared, true);
+            repaint();
+            continue;
         }
         if single_steps > 0 {
             for _ in 0..single_steps {
@@ -682,6 +800,48 @@ fn worker(
 mod tests {
     use super::*;
     use crate::gpu::test_context;
+
+    /// Scrubbing back to a time gives the field a straight run gives there, bit for bit: a
+    /// checkpoint holds all the state a step reads; and it needs only the steps from the
+    /// checkpoint before it.
+    #[test]
+    fn a_seek_back_gives_the_straight_run_s_field() {
+        let mut layout = crate::doc::default_layout();
+        layout.world.grid = [48, 32];
+        let dt = layout.sim.dt;
+        let mut straight = Solver::new(&layout);
+        let target = (2.5 / dt).round() as usize;
+        for _ in 0..target {
+            straight.step();
+        }
+        let want = straight.velocity_field();
+        let mut e = Engine::new(&layout);
+        for _ in 0..(4.0 / dt).round() as usize {
+            e.step();
+            e.checkpoint();
+        }
+        assert!(
+            e.checkpoints.len() >= 3,
+            "{} checkpoints",
+            e.checkpoints.len()
+        );
+        e.seek(&layout, target as f32 * dt);
+        assert!((e.cpu.time - straight.time).abs() < 1e-4);
+        assert_eq!(
+            e.cpu.velocity_field(),
+            want,
+            "the same bits as the straight run"
+        );
+        // Forward from there, and back to the calm start.
+        e.seek(&layout, 3.0);
+        assert!((e.cpu.time - 3.0).abs() < dt);
+        e.seek(&layout, 0.0);
+        assert_eq!(e.cpu.time, 0.0);
+        assert!(e.cpu.velocity_field().iter().all(|w| *w == [0.0, 0.0]));
+        // An edit forgets them: the past of another layout is another wind.
+        e.set_layout(&layout);
+        assert!(e.checkpoints.is_empty());
+    }
 
     /// A field that went non-finite is contained: zeroed, stepping stops, the snapshot says
     /// so; a Reset (a rebuild) brings the wind back.

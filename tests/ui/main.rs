@@ -221,6 +221,8 @@ mod export;
 mod files;
 /// Shapes edited with handles, transforms, several points at once.
 mod shapes;
+/// The timeline: keys, scrubbing, a looping range.
+mod timeline;
 /// The map and the 3D view on the GPU.
 mod views;
 /// The window: snapshots, Xvfb, no display, idling.
