@@ -715,15 +715,7 @@ fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     }
     ui.menu_button("+ Add layer", |ui| {
         let id = app.doc.next_id();
-        let make = |name: &str, kind| doc::AmbientLayer {
-            id,
-            name: name.into(),
-            enabled: true,
-            kind,
-            locked: false,
-            hidden: false,
-            keys: Vec::new(),
-        };
+        let make = |name: &str, kind| doc::AmbientLayer::new(id, name, kind);
         let layer = if ui.button("Directional with gusts").clicked() {
             Some(make(
                 "Breeze",

@@ -13,15 +13,7 @@ pub const WIND: [&str; 5] = ["Breeze", "Gusty", "Storm", "Valley wind", "Swirl"]
 pub const GRASS: [&str; 4] = ["Lawn", "Meadow", "Wheat", "Tall grass"];
 
 fn layer(name: &str, kind: AmbientKind) -> AmbientLayer {
-    AmbientLayer {
-        id: 0,
-        name: name.into(),
-        enabled: true,
-        kind,
-        locked: false,
-        hidden: false,
-        keys: Vec::new(),
-    }
+    AmbientLayer::new(0, name, kind)
 }
 
 fn directional(

@@ -815,6 +815,21 @@ pub enum AmbientKind {
     },
 }
 
+impl AmbientLayer {
+    /// An enabled layer, shown, unlocked, without keyframes.
+    pub fn new(id: u32, name: &str, kind: AmbientKind) -> Self {
+        Self {
+            id,
+            name: name.into(),
+            enabled: true,
+            kind,
+            keys: Vec::new(),
+            locked: false,
+            hidden: false,
+        }
+    }
+}
+
 impl AmbientKind {
     pub fn type_name(&self) -> &'static str {
         match self {
