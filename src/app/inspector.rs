@@ -235,9 +235,10 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
 fn points_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     use crate::doc::transform;
     let items = super::handles::items(&app.selection);
+    let picked: std::collections::HashSet<doc::Item> = items.iter().copied().collect();
     let points: Vec<(f32, f32)> = (app.doc.trees.iter())
         .flat_map(|t| t.root.iter())
-        .filter(|n| items.contains(&doc::Item::Node(n.id)))
+        .filter(|n| picked.contains(&doc::Item::Node(n.id)))
         .map(|n| (n.strength, n.radius))
         .collect();
     let Some(&(mut strength, mut radius)) = points.first() else {
@@ -779,30 +780,15 @@ fn keys_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, own
                 }
                 ui.end_row();
                 for (k, key) in keys.iter_mut().enumerate() {
-                    changed |= ui
-                        .add(
-                            egui::DragValue::new(&mut key.time)
-                                .range(0.0..=1.0e7)
-                                .speed(0.05)
-                                .suffix(" s"),
-                        )
-                        .changed();
-                    changed |= ui
-                        .add(
-                            egui::DragValue::new(&mut key.strength)
-                                .range(0.0..=10.0)
-                                .speed(0.01)
-                                .prefix("×"),
-                        )
-                        .changed();
-                    changed |= ui
-                        .add(
-                            egui::DragValue::new(&mut key.rotation_deg)
-                                .range(-3600.0..=3600.0)
-                                .speed(1.0)
-                                .suffix("°"),
-                        )
-                        .changed();
+                    // Each held to its bound in `doc::bounds`, as `validate` holds it.
+                    let fields = [
+                        number(&mut key.time, bounds::WINDOW_TIME, 0.05, " s"),
+                        number(&mut key.strength, bounds::KEY_STRENGTH, 0.01, "").prefix("×"),
+                        number(&mut key.rotation_deg, bounds::KEY_ROTATION, 1.0, "°"),
+                    ];
+                    for field in fields {
+                        changed |= ui.add(field).changed();
+                    }
                     let smooth = key.ease == doc::Ease::Smooth;
                     if ui
                         .selectable_label(smooth, if smooth { "smooth" } else { "linear" })

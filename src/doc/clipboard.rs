@@ -7,7 +7,7 @@ use super::parse::{Diagnostics, parse, to_json};
 use super::types::*;
 
 /// Something a user can pick to copy.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Item {
     /// A whole tree.
     Tree(u32),
@@ -26,6 +26,7 @@ pub const CLIPBOARD_NAME: &str = "windloom clipboard";
 /// kept (without the files it names: the map, the terrain, the density map) so that the
 /// text reads back as a valid layout. `None` when nothing picked exists.
 pub fn copy(layout: &Layout, items: &[Item]) -> Option<Layout> {
+    let items: std::collections::HashSet<Item> = items.iter().copied().collect();
     let picked = |item: Item| items.contains(&item);
     let mut out = Layout::new(CLIPBOARD_NAME, layout.world.size, layout.world.grid);
     out.world.origin = layout.world.origin;

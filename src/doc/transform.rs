@@ -26,8 +26,16 @@ impl Transform {
     }
 }
 
+/// The items as a set: a box-selected chain of thousands of points is looked up once per
+/// point, not searched (the handles ask every frame of a drag).
+type Picked = std::collections::HashSet<Item>;
+
+fn picked(items: &[Item]) -> Picked {
+    items.iter().copied().collect()
+}
+
 /// The nodes the items move: a tree (or its root) all its nodes, a point itself.
-fn nodes_of<'a>(layout: &'a Layout, items: &[Item]) -> Vec<&'a Node> {
+fn nodes_of<'a>(layout: &'a Layout, items: &Picked) -> Vec<&'a Node> {
     let mut out: Vec<&Node> = Vec::new();
     for t in layout.trees.iter().filter(|t| t.pickable()) {
         if items.contains(&Item::Tree(t.id)) {
@@ -41,11 +49,11 @@ fn nodes_of<'a>(layout: &'a Layout, items: &[Item]) -> Vec<&'a Node> {
     out
 }
 
-fn obstacles_of<'a>(layout: &'a Layout, items: &[Item]) -> impl Iterator<Item = &'a Obstacle> {
+fn obstacles_of<'a>(layout: &'a Layout, items: &Picked) -> impl Iterator<Item = &'a Obstacle> {
     (layout.obstacles.iter()).filter(|o| o.pickable() && items.contains(&Item::Obstacle(o.id)))
 }
 
-fn probes_of<'a>(layout: &'a Layout, items: &[Item]) -> impl Iterator<Item = &'a Probe> {
+fn probes_of<'a>(layout: &'a Layout, items: &Picked) -> impl Iterator<Item = &'a Probe> {
     (layout.probes.iter()).filter(|p| items.contains(&Item::Probe(p.id)))
 }
 
@@ -59,6 +67,7 @@ pub fn pivot(layout: &Layout, items: &[Item]) -> Option<Vec2> {
 /// The items' bounding box on the map.
 pub fn extent(layout: &Layout, items: &[Item]) -> Option<(Vec2, Vec2)> {
     let bounds = layout.bounds();
+    let items = &picked(items);
     let mut pts: Vec<Vec2> = nodes_of(layout, items).iter().map(|n| n.pos).collect();
     pts.extend(probes_of(layout, items).map(|p| p.pos));
     for o in obstacles_of(layout, items) {
@@ -85,6 +94,7 @@ pub fn extent(layout: &Layout, items: &[Item]) -> Option<(Vec2, Vec2)> {
 /// its orientation, its rectangle moved and scaled about the pivot. Locked and hidden items
 /// stay. `None` when nothing moves.
 pub fn transform(layout: &Layout, items: &[Item], t: Transform) -> Option<Edit> {
+    let items = &picked(items);
     let mut edits = Vec::new();
     let radius = |r: f32| bounds::RADIUS.clamp(r * t.scale);
     for n in nodes_of(layout, items) {
@@ -153,7 +163,7 @@ pub fn set_points(
     strength: Option<f32>,
     radius: Option<f32>,
 ) -> Option<Edit> {
-    let edits: Vec<Edit> = (nodes_of(layout, items).iter())
+    let edits: Vec<Edit> = (nodes_of(layout, &picked(items)).iter())
         .map(|n| Edit::SetNode {
             id: n.id,
             strength: strength.unwrap_or(n.strength),

@@ -271,6 +271,13 @@ fn a_stroke_draws_an_arrow_chain_along_the_path() {
     assert!(h.state().doc.trees.is_empty());
 }
 
+/// The names of the editor's ambient layers, in order.
+fn ambient_names(h: &Harness<'_, EditorApp>) -> Vec<String> {
+    (h.state().doc.ambient.iter())
+        .map(|a| a.name.clone())
+        .collect()
+}
+
 /// Opens the Presets menu's `sub` menu.
 fn presets_submenu(h: &mut Harness<'_, EditorApp>, sub: &str) {
     h.get_by_label("Presets").click();
@@ -299,14 +306,7 @@ fn presets_apply_in_one_undo_step_and_the_user_s_own_are_kept() {
     presets_submenu(&mut h, "Wind");
     h.get_by_label("Storm").click();
     h.run_steps(2);
-    let names: Vec<String> = h
-        .state()
-        .doc
-        .ambient
-        .iter()
-        .map(|a| a.name.clone())
-        .collect();
-    assert_eq!(names, ["Storm", "Storm gusts"]);
+    assert_eq!(ambient_names(&h), ["Storm", "Storm gusts"]);
     assert_eq!(
         h.state().doc.history().undo_label(),
         Some("Apply wind preset")
@@ -357,14 +357,7 @@ fn presets_apply_in_one_undo_step_and_the_user_s_own_are_kept() {
     presets_submenu(&mut other, "Wind");
     other.get_by_label("Big storm").click();
     other.run_steps(2);
-    let names: Vec<String> = other
-        .state()
-        .doc
-        .ambient
-        .iter()
-        .map(|a| a.name.clone())
-        .collect();
-    assert_eq!(names, ["Storm", "Storm gusts"]);
+    assert_eq!(ambient_names(&other), ["Storm", "Storm gusts"]);
 }
 
 #[test]
