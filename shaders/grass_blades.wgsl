@@ -4,7 +4,8 @@
 // (`grass_shape.wgsl`'s `curve_point`) ending at the tip, the width pinched toward the tip with
 // per-blade variation and narrowed as distance culling fades the blade out (widened where
 // the field is thinned); a base-to-tip palette gradient with per-blade hue and brightness
-// variation, eq. 14's self-shadow, and sun and sky light. No per-blade mesh exists on the CPU.
+// variation, eq. 14's self-shadow, and the sun, sky and sheen of `blade_light` through the
+// haze. No per-blade mesh exists on the CPU.
 // CPU twins of the shape: `grass::cwd::centreline`, `grass::bezier::State::point`,
 // `grass::cull::distance_width`.
 
@@ -22,6 +23,12 @@ struct BladeOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) colour: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) world: vec3<f32>,
+    // The blade's width direction (the rounding of its normal across it).
+    @location(3) side: vec3<f32>,
+    // x: −1 at the left edge, 1 at the right; y: the height fraction (0 root, 1 tip); z: how
+    // far the blade lies over (`blade_lay`).
+    @location(4) at: vec3<f32>,
 }
 
 // Vertices a blade of `segments` rows takes (`2·segments + 1`: left and right up each row, the
@@ -52,6 +59,9 @@ fn blade_vertex(vi: u32, i: u32) -> BladeOut {
     let v = b.variation;
     let tint = vec3<f32>(1.0 + 0.08 * v, 1.0 + 0.04 * v, 1.0 - 0.10 * v) * (1.0 + 0.12 * v);
     out.colour = mix(base, tip, t) * tint * curve_shade(k, b, p.y - lift);
+    out.world = pos;
+    out.side = side;
+    out.at = vec3<f32>(across, t, blade_lay(curve_point(k, b, 1.0) - root, b.height));
     return out;
 }
 
@@ -66,14 +76,17 @@ struct ColouredOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) colour: vec3<f32>,
     @location(1) normal: vec3<f32>,
+    @location(2) world: vec3<f32>,
+    @location(3) side: vec3<f32>,
+    @location(4) at: vec3<f32>,
     // The speed colour of the blade's wind (its cell's).
-    @location(2) wind: vec3<f32>,
+    @location(5) wind: vec3<f32>,
 }
 
 fn coloured_vertex(vi: u32, i: u32) -> ColouredOut {
     let o = blade_vertex(vi, i);
     let w = wind_colour(blade_wind(blades[visible[i]]));
-    return ColouredOut(o.clip, o.colour, o.normal, w);
+    return ColouredOut(o.clip, o.colour, o.normal, o.world, o.side, o.at, w);
 }
 
 @vertex
@@ -95,27 +108,32 @@ fn vs_far_wind_colours(@builtin(vertex_index) vi: u32) -> ColouredOut {
     return coloured_vertex(vi % 3u, vi / 3u);
 }
 
-// Sun and sky on the side of the blade facing the camera; grass lets some light through.
-fn blade_light(normal: vec3<f32>, front: bool) -> f32 {
+// How far a blade's normal turns toward its edges: a blade is a shallow trough, not a flat
+// card, so its light and sheen change across it.
+const ROUNDING: f32 = 0.35;
+
+// The lit blade (`grass::light::blade`) on the side facing the camera, its normal rounded
+// across the width, seen through the haze.
+fn lit_blade(colour: vec3<f32>, normal: vec3<f32>, world: vec3<f32>, side: vec3<f32>, at: vec3<f32>, front: bool) -> vec3<f32> {
     var n = normalize(normal);
     if (!front) {
         n = -n;
     }
-    let l = normalize(S.sun.xyz);
-    let diffuse = max(dot(n, l), 0.0);
-    let through = 0.35 * max(dot(-n, l), 0.0);
-    let sky = S.sun.w * (0.6 + 0.4 * n.y);
-    return sky + (1.0 - S.sun.w) * (diffuse + through);
+    n = normalize(n + (ROUNDING * at.x) * side);
+    let to_eye = S.eye.xyz - world;
+    let d = length(to_eye);
+    let view = to_eye / max(d, 1e-6);
+    return hazed(blade_light(colour, n, view, at.y, at.z), d);
 }
 
 @fragment
 fn fs_main(in: BladeOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    return vec4<f32>(encode(in.colour * blade_light(in.normal, front)), 1.0);
+    return vec4<f32>(encode(lit_blade(in.colour, in.normal, in.world, in.side, in.at, front)), 1.0);
 }
 
 // The lit blade with the wind colours over it at their opacity.
 @fragment
 fn fs_wind_colours(in: ColouredOut, @builtin(front_facing) front: bool) -> @location(0) vec4<f32> {
-    let lit = in.colour * blade_light(in.normal, front);
+    let lit = lit_blade(in.colour, in.normal, in.world, in.side, in.at, front);
     return vec4<f32>(encode(mix(lit, in.wind, S.wind_colours)), 1.0);
 }

@@ -4,6 +4,8 @@
 
 struct Scene {
     view_proj: mat4x4<f32>,
+    // Its inverse (the sky pass's view rays).
+    inv_view_proj: mat4x4<f32>,
     // Camera position; w: the simulation time in seconds (the flutter's clock).
     eye: vec4<f32>,
     // Unit vector toward the sun; w: ambient (sky) light.
@@ -67,6 +69,10 @@ struct Scene {
     ground_nx: u32,
     ground_ny: u32,
     ground_quads: vec2<u32>,
+    // Distances (metres) over which the far plane fades into the horizon's colour
+    // (`light::haze`'s `fade`).
+    fade: vec2<f32>,
+    _pad_fade: vec2<f32>,
 }
 
 // The far field (`gpu::grass::FarUniform`; `grass::far`): a grid of texels over the world
@@ -93,6 +99,9 @@ struct Far {
     // The palettes' mean base and tip colours (linear, the mean tint applied).
     base: vec4<f32>,
     tip: vec4<f32>,
+    // The calm field's look beyond the level (`far::surround`): colour, and its optical depth
+    // seen straight down.
+    surround: vec4<f32>,
 }
 
 // A Bezier blade's control points (`gpu::grass::BezierState`): root, guide, tip.
@@ -317,4 +326,88 @@ fn encode(c: vec3<f32>) -> vec3<f32> {
         return c;
     }
     return select(1.055 * pow(c, vec3<f32>(1.0 / 2.4)) - 0.055, c * 12.92, c <= vec3<f32>(0.0031308));
+}
+
+// `far::MIN_VIEW_SINE`: the shallowest view elevation (its sine) the field's cover counts.
+const MIN_VIEW_SINE: f32 = 0.05;
+
+// The light (`grass::light`, its CPU twin, holds what each constant means).
+const SKY_ZENITH: vec3<f32> = vec3<f32>(0.20, 0.38, 0.72);
+const SKY_HORIZON: vec3<f32> = vec3<f32>(0.62, 0.70, 0.78);
+const SUN_GLOW: f32 = 0.35;
+const SUN_GLOW_POWER: f32 = 24.0;
+const GROUND_MIRROR: vec3<f32> = vec3<f32>(0.05, 0.06, 0.035);
+const SHEEN_F0: f32 = 0.2;
+const SHEEN: f32 = 1.0;
+const SHEEN_UPRIGHT: f32 = 0.3;
+const SPECULAR_POWER: f32 = 20.0;
+const SPECULAR: f32 = 0.5;
+const TRANSLUCENCY: f32 = 0.35;
+const FORWARD_SCATTER: f32 = 1.5;
+const SKY_AT_ROOT: f32 = 0.45;
+const HAZE_LENGTH: f32 = 2500.0;
+
+// `light::sky`: the sky's radiance in unit direction `dir`.
+fn sky_colour(dir: vec3<f32>) -> vec3<f32> {
+    let l = normalize(S.sun.xyz);
+    let up = max(dir.y, 0.0);
+    let base = mix(SKY_HORIZON, SKY_ZENITH, sqrt(up));
+    return base + vec3<f32>(SUN_GLOW * pow(max(dot(dir, l), 0.0), SUN_GLOW_POWER));
+}
+
+// `light::mirrored`.
+fn mirrored(r: vec3<f32>) -> vec3<f32> {
+    if (r.y >= 0.0) {
+        return sky_colour(r);
+    }
+    return GROUND_MIRROR;
+}
+
+// `light::haze`: the share of the horizon's colour over a surface `d` metres away.
+fn haze(d: f32) -> f32 {
+    let air = 1.0 - exp(-max(d, 0.0) / HAZE_LENGTH);
+    let x = clamp((d - S.fade.x) / max(S.fade.y - S.fade.x, 1e-3), 0.0, 1.0);
+    return max(air, x * x * (3.0 - 2.0 * x));
+}
+
+// A surface's lit colour seen from `d` metres through the haze.
+fn hazed(c: vec3<f32>, d: f32) -> vec3<f32> {
+    return mix(c, SKY_HORIZON, haze(d));
+}
+
+// `far::lay`: how far a blade of `height` whose tip stands `tip` from its root lies over.
+fn blade_lay(tip: vec3<f32>, height: f32) -> f32 {
+    return min(length(tip.xz) / max(height, 1e-6), 1.0);
+}
+
+// `light::blade`: the light on a blade of colour `albedo`, unit normal `n` toward the eye,
+// unit `view` toward the eye, at height fraction `t`, of a blade laid over by `lay`.
+fn blade_light(albedo: vec3<f32>, n: vec3<f32>, view: vec3<f32>, t0: f32, lay: f32) -> vec3<f32> {
+    let l = normalize(S.sun.xyz);
+    let a = S.sun.w;
+    let t = clamp(t0, 0.0, 1.0);
+    let open = SKY_AT_ROOT + (1.0 - SKY_AT_ROOT) * t;
+    let d = dot(n, l);
+    let toward_sun = max(dot(-view, l), 0.0);
+    let ts2 = toward_sun * toward_sun;
+    let through = TRANSLUCENCY * max(-d, 0.0) * (1.0 + FORWARD_SCATTER * ts2 * ts2);
+    let diffuse = a * (0.6 + 0.4 * n.y) * open + (1.0 - a) * (max(d, 0.0) + through);
+    // The glossy face, turned up by the lay (`light::blade`).
+    var m = mix(n, vec3<f32>(0.0, 1.0, 0.0), clamp(lay, 0.0, 1.0));
+    let ml = length(m);
+    if (ml > 0.0) {
+        m = m / ml;
+    }
+    let nv = clamp(dot(m, view), 0.0, 1.0);
+    let g = 1.0 - nv;
+    let fresnel = SHEEN_F0 + (1.0 - SHEEN_F0) * (g * g * g * g * g);
+    let r = 2.0 * dot(m, view) * m - view;
+    var h = l + view;
+    let hl = length(h);
+    if (hl > 0.0) {
+        h = h / hl;
+    }
+    let highlight = SPECULAR * (1.0 - a) * pow(max(dot(m, h), 0.0), SPECULAR_POWER) * select(0.0, 1.0, dot(m, l) > 0.0);
+    let sheen = SHEEN * fresnel * open * (SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * clamp(lay, 0.0, 1.0)) * (mirrored(r) + vec3<f32>(highlight));
+    return albedo * diffuse + sheen;
 }

@@ -12,13 +12,6 @@
 const PROBES: u32 = 4u;
 const POINTS: u32 = 4u;
 
-// `far::light`: the blade shader's light on a normal facing the eye.
-fn far_light(n: vec3<f32>) -> f32 {
-    let l = normalize(S.sun.xyz);
-    let d = dot(n, l);
-    return S.sun.w * (0.6 + 0.4 * n.y) + (1.0 - S.sun.w) * (max(d, 0.0) + 0.35 * max(-d, 0.0));
-}
-
 fn unit_or_zero(v: vec3<f32>) -> vec3<f32> {
     let l = length(v);
     if (l > 0.0) {
@@ -27,8 +20,6 @@ fn unit_or_zero(v: vec3<f32>) -> vec3<f32> {
     return v;
 }
 
-// `far::MIN_VIEW_SINE`.
-const MIN_VIEW_SINE: f32 = 0.05;
 
 // `far::texel`: the mean probe blades at `pos`, bent in their wind cell, each segment's colour
 // weighted by the area it shows the eye (rgb), and the share of the ground they hide (a).
@@ -44,6 +35,7 @@ fn far_texel(pos: vec2<f32>) -> vec4<f32> {
         let fr = blade_frame(b);
         let side = vec3<f32>(fr[1].x, 0.0, fr[1].y);
         var p0 = blade_point(b, pose, 0.0);
+        let laid = blade_lay(blade_point(b, pose, 1.0) - p0, b.height);
         for (var s = 0u; s < POINTS; s = s + 1u) {
             let p1 = blade_point(b, pose, f32(s + 1u) / f32(POINTS));
             let t = (f32(s) + 0.5) / f32(POINTS);
@@ -55,7 +47,7 @@ fn far_texel(pos: vec2<f32>) -> vec4<f32> {
                 n = -n;
             }
             let shade = 0.5 * (blade_shade(p0.y, pose) + blade_shade(p1.y, pose));
-            let colour = mix(F.base.rgb, F.tip.rgb, t) * (shade * far_light(n));
+            let colour = blade_light(mix(F.base.rgb, F.tip.rgb, t) * shade, n, view, t, laid);
             let w = (1.0 - pow(t, 1.4)) * length(ahead) * abs(toward);
             sum = sum + colour * w;
             plain = plain + colour;

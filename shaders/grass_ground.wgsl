@@ -5,7 +5,8 @@
 // fewer blades than the field holds (distance culling, a blade budget), the ground takes the
 // far field's look (`grass_far.wgsl`) by the share of coverage the blades no longer give.
 // With the wind colours on (`fs_wind_colours`), the map view's speed colour of the wind there
-// goes over it all.
+// goes over it all. Beyond the level the ground runs on to the horizon as the
+// calm field's look (`far::surround`, drawn by `vs_main` after the level's quads), and everything fades into the sky through the haze.
 
 @group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far_image: texture_2d<f32>;
@@ -17,21 +18,71 @@ struct GroundOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) uv: vec2<f32>,
     @location(1) world: vec2<f32>,
+    @location(2) height: f32,
 }
 
+const CORNERS: array<vec2<f32>, 6> = array<vec2<f32>, 6>(
+    vec2<f32>(0.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 0.0),
+    vec2<f32>(1.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 1.0),
+);
+
+fn ground_vertex(w: vec2<f32>, c: vec2<f32>) -> GroundOut {
+    let y = ground(w);
+    return GroundOut(S.view_proj * vec4<f32>(w.x, y, w.y, 1.0), c, w, y);
+}
+
+// Quad q of a qx × qz mesh over the level (one quad over flat ground), then the quads of the
+// ring beyond it (`surround_vertex`).
 @vertex
 fn vs_main(@builtin(vertex_index) k: u32) -> GroundOut {
-    let corner = array<vec2<f32>, 6>(
-        vec2<f32>(0.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 0.0),
-        vec2<f32>(1.0, 0.0), vec2<f32>(0.0, 1.0), vec2<f32>(1.0, 1.0),
-    )[k % 6u];
-    // Quad q of a qx × qz mesh (one quad over flat ground).
+    let corner = CORNERS[k % 6u];
     let qx = max(S.ground_quads.x, 1u);
     let qz = max(S.ground_quads.y, 1u);
     let q = k / 6u;
+    if (q >= qx * qz) {
+        return surround_vertex(k - 6u * qx * qz);
+    }
     let c = (vec2<f32>(f32(q % qx), f32(q / qx)) + corner) / vec2<f32>(f32(qx), f32(qz));
     let w = mix(S.world_min, S.world_max, c);
-    return GroundOut(S.view_proj * vec4<f32>(w.x, ground(w), w.y, 1.0), c, w);
+    return ground_vertex(w, c);
+}
+
+// One of a grid line's positions along an axis of `q` quads from `lo` to `hi`, with one more
+// line `reach` beyond each end: line 0 is `lo − reach`, lines 1..q+1 the mesh's, q+2 `hi + reach`.
+fn ring_line(a: u32, q: u32, lo: f32, hi: f32, reach: f32) -> f32 {
+    if (a == 0u) {
+        return lo - reach;
+    }
+    if (a > q + 1u) {
+        return hi + reach;
+    }
+    return mix(lo, hi, f32(a - 1u) / f32(q));
+}
+
+// The ground beyond the level: the ring of quads around the mesh's qx × qz, out past the far
+// plane — a row of qx + 2 quads on each side along x, and one at each end of every row
+// between. Its inner edge has the mesh's vertices (their heights), its outer edge those
+// heights carried outward (`ground` clamps at the terrain's edge), so no crack shows.
+fn surround_vertex(k: u32) -> GroundOut {
+    let qx = max(S.ground_quads.x, 1u);
+    let qz = max(S.ground_quads.y, 1u);
+    let q = k / 6u;
+    var cell = vec2<u32>(0u, 0u);
+    if (q < qx + 2u) {
+        cell = vec2<u32>(q, 0u);
+    } else if (q < 2u * (qx + 2u)) {
+        cell = vec2<u32>(q - (qx + 2u), qz + 1u);
+    } else {
+        let r = q - 2u * (qx + 2u);
+        cell = vec2<u32>(select(0u, qx + 1u, (r & 1u) == 1u), 1u + r / 2u);
+    }
+    let a = cell + vec2<u32>(CORNERS[k % 6u]);
+    let reach = 2.0 * S.fade.y;
+    let w = vec2<f32>(
+        ring_line(a.x, qx, S.world_min.x, S.world_max.x, reach),
+        ring_line(a.y, qz, S.world_min.y, S.world_max.y, reach),
+    );
+    return ground_vertex(w, (w - S.world_min) / (S.world_max - S.world_min));
 }
 
 // The ground's lit colour, the far field blended in.
@@ -58,11 +109,38 @@ fn ground_colour(in: GroundOut) -> vec3<f32> {
     }
     let light = S.sun.w + (1.0 - S.sun.w) * max(dot(n, l), 0.0);
     var colour = surface * light;
+    let pos = vec3<f32>(in.world.x, in.height, in.world.y);
     if ((F.flags & 1u) != 0u) {
-        // rgb: the blades from afar, lit; a: how much of the ground they take here.
-        colour = mix(colour, far.rgb, clamp(far.a, 0.0, 1.0));
+        // Where the map shows, it stays the ground; elsewhere the lower canopy covers it.
+        let shown = select(0.0, clamp(S.backdrop, 0.0, 1.0), inside);
+        if (outside_level(in.world)) {
+            // The calm field beyond the level: it hides the more ground the lower the view.
+            let v = normalize(S.eye.xyz - pos);
+            let hidden = 1.0 - exp(-F.surround.w / max(v.y, MIN_VIEW_SINE));
+            colour = far_ground(colour, F.surround.rgb, hidden, shown);
+        } else {
+            // rgb: the blades from afar, lit; a: how much of the ground they take here.
+            colour = far_ground(colour, far.rgb, clamp(far.a, 0.0, 1.0), shown);
+        }
     }
-    return colour;
+    return hazed(colour, distance(pos, S.eye.xyz));
+}
+
+
+// `far::UNDERSTOREY`, `far::UNDERSTOREY_SHADE`.
+const UNDERSTOREY: f32 = 0.85;
+const UNDERSTOREY_SHADE: f32 = 0.6;
+
+// `far::ground`: the lit ground `lit` under a field whose look from afar is `look`: the lower
+// canopy (the look, shaded) over all but the map's share `shown` of it, then the look itself
+// over the share `take` the drawn blades leave to it.
+fn far_ground(lit: vec3<f32>, look: vec3<f32>, take: f32, shown: f32) -> vec3<f32> {
+    let under = mix(lit, look * UNDERSTOREY_SHADE, UNDERSTOREY * (1.0 - shown));
+    return mix(under, look, take);
+}
+
+fn outside_level(p: vec2<f32>) -> bool {
+    return any(p < S.world_min) || any(p > S.world_max);
 }
 
 @fragment
@@ -76,5 +154,7 @@ fn fs_main(in: GroundOut) -> @location(0) vec4<f32> {
 @fragment
 fn fs_wind_colours(in: GroundOut) -> @location(0) vec4<f32> {
     let w = wind_colour(wind_between_cells(in.world));
-    return vec4<f32>(encode(mix(ground_colour(in), w, S.wind_colours)), 1.0);
+    // Beyond the level there is no wind to show.
+    let opacity = select(S.wind_colours, 0.0, outside_level(in.world));
+    return vec4<f32>(encode(mix(ground_colour(in), w, opacity)), 1.0);
 }

@@ -16,13 +16,14 @@ fn vs_main(@location(0) at: vec3<f32>, @location(1) colour: vec4<f32>) -> SceneO
     return SceneOut(S.view_proj * vec4<f32>(pos, 1.0), colour, pos);
 }
 
-// Solids: flat shading from the face normal (screen-space derivatives of the position).
+// Solids: flat shading from the face normal (screen-space derivatives of the position), seen
+// through the haze.
 @fragment
 fn fs_solid(in: SceneOut) -> @location(0) vec4<f32> {
     let n = normalize(cross(dpdx(in.world), dpdy(in.world)));
     let l = normalize(S.sun.xyz);
     let light = S.sun.w + (1.0 - S.sun.w) * abs(dot(n, l));
-    return vec4<f32>(encode(in.colour.rgb * light), 1.0);
+    return vec4<f32>(encode(hazed(in.colour.rgb * light, distance(in.world, S.eye.xyz))), 1.0);
 }
 
 // Lines: their own colour, unlit.

@@ -14,8 +14,8 @@
 //!   cell's velocity, bent by the CWD model with its flutter (phased by position as the
 //!   blades are, so gusts roll across the far field too) and the trail's crush. Each is cut
 //!   into [`POINTS`] segments, coloured and shaded as the blade shader colours and shades them
-//!   (base-to-tip gradient, eq. 14's self-shadow, the sun and sky on the side facing the
-//!   eye), and weighted by the area it shows the eye. The same areas give how much of the
+//!   (base-to-tip gradient, eq. 14's self-shadow, [`super::light::blade`]'s sun, sky and
+//!   sheen on the side facing the eye), and weighted by the area it shows the eye. The same areas give how much of the
 //!   ground the field hides along the line of sight (Beer–Lambert over the layout's density):
 //!   from above, more ground shows between upright blades than between bent ones.
 //! - [`cover`]: the share of the field's blade coverage the renderer still draws at a
@@ -109,12 +109,28 @@ pub fn probe(g: &GrassParams, pos: [f32; 2], m: usize) -> Blade {
     }
 }
 
-/// The blade shader's light on a surface of unit normal `n` facing the eye: the sky, the sun
-/// on the lit side, and a share of it through the blade.
-pub fn light(look: &Look, n: Vec3) -> f32 {
-    let d = n.dot(Vec3::from(look.sun));
-    let sky = look.ambient * (0.6 + 0.4 * n.y);
-    sky + (1.0 - look.ambient) * (d.max(0.0) + 0.35 * (-d).max(0.0))
+/// How far a blade of `height` whose tip stands `tip` from its root lies over: the tip's
+/// reach along the ground over the blade's length, 0 upright to 1 flat (`blade_lay` in
+/// `grass_common.wgsl`).
+pub fn lay(tip: Vec3, height: f32) -> f32 {
+    (tip.x.hypot(tip.z) / height.max(1e-6)).min(1.0)
+}
+
+/// The share of the ground between the drawn blades that the lower canopy covers, and how
+/// dark it is against the field's look (its own blades shade it). A layout's blade density
+/// is what the renderer can afford, not a real meadow's thousands of stems a square metre:
+/// drawn over bare soil, a field seen from afar was two-thirds soil, and neither its grass
+/// nor its wind showed.
+pub const UNDERSTOREY: f32 = 0.85;
+pub const UNDERSTOREY_SHADE: f32 = 0.6;
+
+/// The ground's colour under the far field (`far_ground` in `grass_ground.wgsl`): the lit
+/// ground `lit` (soil, or the map where it shows by `shown`), the lower canopy — the field's
+/// look `look`, shaded — over all of it but the map's share, then `look` itself over the
+/// share `take` the drawn blades leave to it (the texel's `hidden · (1 − cover)`).
+pub fn ground(lit: Vec3, look: Vec3, take: f32, shown: f32) -> Vec3 {
+    let under = lit.lerp(look * UNDERSTOREY_SHADE, UNDERSTOREY * (1.0 - shown));
+    under.lerp(look, take)
 }
 
 /// Shallowest view elevation (its sine) the ground coverage is computed for: nearer the
@@ -157,6 +173,10 @@ pub fn texel(
         let line = cwd::centreline_crushed(&b, wind, g, time, POINTS, crush);
         let (_, side) = cwd::frame(&b);
         let side = Vec3::new(side[0], 0.0, side[1]);
+        let laid = lay(
+            Vec3::from(line[POINTS].pos) - Vec3::from(line[0].pos),
+            b.height,
+        );
         for (s, pair) in line.windows(2).enumerate() {
             let (p0, p1) = (Vec3::from(pair[0].pos), Vec3::from(pair[1].pos));
             let t = (s as f32 + 0.5) / POINTS as f32;
@@ -166,7 +186,15 @@ pub fn texel(
             let facing = n.dot(view);
             let n = if facing < 0.0 { -n } else { n };
             let shade = 0.5 * (pair[0].shade + pair[1].shade);
-            let colour = base.lerp(tip, t) * (shade * light(look, n));
+            let colour = super::light::blade(
+                base.lerp(tip, t) * shade,
+                n,
+                view,
+                t,
+                laid,
+                Vec3::from(look.sun),
+                look.ambient,
+            );
             let w = (1.0 - t.powf(1.4)) * ahead.length() * facing.abs();
             sum += colour * w;
             plain += colour;
@@ -214,4 +242,31 @@ pub fn cover(distance: f32, cull: &CullParams, sample_reach: f32) -> f32 {
         1.0
     };
     (culled * sampled).clamp(0.0, 1.0)
+}
+
+/// The ground beyond the level, for an eye at `eye` (xyz; w the time): the calm field's look
+/// (a [`texel`] in still air at the level's centre `centre`) — rgb, and in w the field's
+/// optical depth seen straight down, `τ·max(v_y, MIN_VIEW_SINE)`, from which the ground shader
+/// works out how much of the ground it hides along each line of sight. The level sits in a
+/// meadow of its own grass, at rest, rather than on a plate in the sky.
+pub fn surround(g: &GrassParams, look: &Look, centre: [f32; 2], eye: [f32; 4]) -> [f32; 4] {
+    let t = texel(
+        g,
+        look,
+        [0.0, 0.0],
+        centre,
+        eye[3],
+        [eye[0], eye[1], eye[2]],
+        (0.0, [0.0, 0.0]),
+    );
+    let view_y = (Vec3::new(eye[0], eye[1], eye[2]) - Vec3::new(centre[0], 0.0, centre[1]))
+        .normalize_or_zero()
+        .y;
+    let tau = -(1.0 - t.hidden).max(1e-6).ln();
+    [
+        t.colour[0],
+        t.colour[1],
+        t.colour[2],
+        tau * view_y.max(MIN_VIEW_SINE),
+    ]
 }

@@ -12,12 +12,14 @@
 //! - [`bezier`]: Jahrmann & Wimmer's physics blades; [`cull`]: which blades a frame draws and
 //!   at what detail; [`trail`]: the path a pushing sphere leaves; [`sample`]: which blades a
 //!   renderer with a blade budget keeps for a view; [`far`]: what the ground shows where the
-//!   renderer draws fewer blades than the field holds.
+//!   renderer draws fewer blades than the field holds; [`light`]: the sun, sky, sheen and haze
+//!   they are drawn in.
 
 pub mod bezier;
 pub mod cull;
 pub mod cwd;
 pub mod far;
+pub mod light;
 pub mod sample;
 pub mod scene;
 pub mod trail;

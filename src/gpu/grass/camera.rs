@@ -98,8 +98,20 @@ impl Camera {
     /// World → clip space for a picture of `aspect` (width / height).
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
         let dist = (self.eye - self.target).length().max(0.01);
-        let proj = Mat4::perspective_rh(self.fov_y, aspect, (dist * 0.002).max(0.01), dist * 20.0);
+        let proj = Mat4::perspective_rh(
+            self.fov_y,
+            aspect,
+            (dist * 0.002).max(0.01),
+            self.far_plane(),
+        );
         proj * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
+    }
+
+    /// How far the camera sees (metres): far enough that the ground beyond the level reaches
+    /// nearly to the horizon (within a degree from a third of a kilometre up), where it fades
+    /// into the sky.
+    pub fn far_plane(&self) -> f32 {
+        (self.eye - self.target).length().max(0.01) * 50.0
     }
 }
 

@@ -1,5 +1,5 @@
-//! The grass's render pipelines: the ground, the obstacles' solids, the arrows' lines and the
-//! blades — the ground and the blades also with the wind colours over them, as pipelines of
+//! The grass's render pipelines, 4× multisampled: the sky, the ground, the obstacles' solids,
+//! the arrows' lines and the blades — the ground and the blades also with the wind colours over them, as pipelines of
 //! their own so the plain ones carry no trace of them (`GrassRenderer::set_wind_colours`).
 
 use crate::grass::scene::SceneVertex;
@@ -15,7 +15,13 @@ pub(super) struct DrawPipelines {
     coloured_far_blades: wgpu::RenderPipeline,
     pub(super) solids: wgpu::RenderPipeline,
     pub(super) lines: wgpu::RenderPipeline,
+    pub(super) sky: wgpu::RenderPipeline,
 }
+
+/// Samples a pixel of the grass's picture: 4× multisampling, which every WebGPU adapter
+/// offers for its colour and depth formats. Blades are thinner than a pixel a few metres
+/// away; one sample a pixel made them a speckle that crawled as they swayed.
+pub const SAMPLES: u32 = 4;
 
 impl DrawPipelines {
     /// Pipelines drawing into `format` with a [`super::DEPTH_FORMAT`] depth buffer. `module`
@@ -51,6 +57,7 @@ impl DrawPipelines {
                       buffers: &[Option<wgpu::VertexBufferLayout<'_>>]| {
             let m = module(name);
             let overlay = fs == "fs_line";
+            let sky = name == "grass_sky";
             device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
                 label: Some(name),
                 layout: Some(match name {
@@ -73,8 +80,8 @@ impl DrawPipelines {
                 // hide them wherever it is dense.
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: super::DEPTH_FORMAT,
-                    depth_write_enabled: Some(!overlay),
-                    depth_compare: Some(if overlay {
+                    depth_write_enabled: Some(!overlay && !sky),
+                    depth_compare: Some(if overlay || sky {
                         wgpu::CompareFunction::Always
                     } else {
                         wgpu::CompareFunction::Less
@@ -82,7 +89,10 @@ impl DrawPipelines {
                     stencil: Default::default(),
                     bias: Default::default(),
                 }),
-                multisample: wgpu::MultisampleState::default(),
+                multisample: wgpu::MultisampleState {
+                    count: SAMPLES,
+                    ..Default::default()
+                },
                 fragment: Some(wgpu::FragmentState {
                     module: &m,
                     entry_point: Some(fs),
@@ -132,6 +142,7 @@ impl DrawPipelines {
                 wgpu::PrimitiveTopology::LineList,
                 &[Some(scene_vertex)],
             ),
+            sky: render("grass_sky", ["vs_main", "fs_main"], TRIANGLES, &[]),
         }
     }
 

@@ -36,6 +36,9 @@ pub struct FarUniform {
     pub _pad1: [f32; 2],
     pub base: [f32; 4],
     pub tip: [f32; 4],
+    /// The calm field's look beyond the level ([`far::surround`]): colour, and the optical
+    /// depth of the field seen straight down.
+    pub surround: [f32; 4],
 }
 
 /// The far field's texels, uniform and pipeline, and the ground's view of them.
@@ -52,6 +55,9 @@ pub struct FarPass {
     pipeline: wgpu::ComputePipeline,
     /// The world rectangle the texels cover.
     world: ([f32; 2], [f32; 2]),
+    /// The grass and light the ground beyond the level is drawn with.
+    grass: crate::doc::GrassParams,
+    look: Look,
 }
 
 impl FarPass {
@@ -86,6 +92,7 @@ impl FarPass {
             _pad1: [0.0; 2],
             base: [look.base[0], look.base[1], look.base[2], 1.0],
             tip: [look.tip[0], look.tip[1], look.tip[2], 1.0],
+            surround: [0.0; 4],
         };
         let uniform_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("grass far"),
@@ -164,6 +171,8 @@ impl FarPass {
             ground_layout,
             pipeline,
             world: (min, max),
+            grass: g.clone(),
+            look,
         }
     }
 
@@ -193,14 +202,19 @@ impl FarPass {
     }
 
     /// Records this frame's texels for the cull settings `cull` (the scene uniform, group 0,
-    /// holds the eye, the time, the wind and the trail).
+    /// holds the eye, the time, the wind and the trail), and the look of the ground beyond the
+    /// level for the eye at `eye` (the scene's: xyz, w the time).
     pub fn record(
         &mut self,
         queue: &wgpu::Queue,
         enc: &mut wgpu::CommandEncoder,
         group0: &wgpu::BindGroup,
         cull: &CullParams,
+        eye: [f32; 4],
     ) {
+        let (min, max) = self.world;
+        let centre = [0.5 * (min[0] + max[0]), 0.5 * (min[1] + max[1])];
+        self.uniform.surround = far::surround(&self.grass, &self.look, centre, eye);
         self.uniform.flags = (self.uniform.flags & 1) | (u32::from(cull.distance) << 1);
         self.uniform.buckets = cull.buckets.max(1);
         self.uniform.max_distance = cull.max_distance.max(1e-3);

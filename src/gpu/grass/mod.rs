@@ -54,7 +54,7 @@ pub const SHAPE: &str = include_str!("../../../shaders/grass_shape.wgsl");
 
 /// Every grass pass's shader: `(name, source)`, each compiled after [`COMMON`] (and
 /// [`SHAPE`] for `grass_cull` and `grass_blades`).
-pub const SHADERS: [(&str, &str); 9] = [
+pub const SHADERS: [(&str, &str); 10] = [
     (
         "grass_cull",
         include_str!("../../../shaders/grass_cull.wgsl"),
@@ -88,6 +88,7 @@ pub const SHADERS: [(&str, &str); 9] = [
         include_str!("../../../shaders/grass_ground.wgsl"),
     ),
     ("grass_far", include_str!("../../../shaders/grass_far.wgsl")),
+    ("grass_sky", include_str!("../../../shaders/grass_sky.wgsl")),
 ];
 
 /// The full WGSL of grass pass `name` (the common header, then the pass; `grass_wind` alone:
@@ -119,6 +120,8 @@ pub(super) fn dispatch_blades(pass: &mut wgpu::ComputePass<'_>, blades: u32) {
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct Scene {
     pub view_proj: [[f32; 4]; 4],
+    /// Its inverse (the sky's view rays).
+    pub inv_view_proj: [[f32; 4]; 4],
     pub eye: [f32; 4],
     pub sun: [f32; 4],
     pub origin: [f32; 2],
@@ -172,6 +175,10 @@ pub struct Scene {
     pub ground_nx: u32,
     pub ground_ny: u32,
     pub ground_quads: [u32; 2],
+    /// Metres from the eye over which the far plane fades into the horizon's colour
+    /// ([`crate::grass::light::haze`]).
+    pub fade: [f32; 2],
+    pub _pad_fade: [f32; 2],
 }
 
 /// Quads along each side of the ground mesh over terrain, at most (one a height cell below
@@ -351,6 +358,7 @@ impl GrassRenderer {
         let ground = Ground::of(layout, terrain.as_deref());
         let scene = Scene {
             view_proj: Mat4::IDENTITY.to_cols_array_2d(),
+            inv_view_proj: Mat4::IDENTITY.to_cols_array_2d(),
             eye: [0.0; 4],
             sun: SUN,
             origin: min,
@@ -404,6 +412,8 @@ impl GrassRenderer {
             ground_nx: ground.grid[0],
             ground_ny: ground.grid[1],
             ground_quads: ground.quads,
+            fade: [1e6, 2e6],
+            _pad_fade: [0.0; 2],
         };
         let mut colours: Vec<[f32; 4]> = g
             .palettes
@@ -935,7 +945,11 @@ impl GrassRenderer {
         dt: f32,
     ) {
         let dt = dt.clamp(0.0, 0.25);
-        self.scene.view_proj = camera.view_proj(aspect).to_cols_array_2d();
+        let view_proj = camera.view_proj(aspect);
+        self.scene.view_proj = view_proj.to_cols_array_2d();
+        self.scene.inv_view_proj = view_proj.inverse().to_cols_array_2d();
+        let far = camera.far_plane();
+        self.scene.fade = [0.1 * far, 0.9 * far];
         self.scene.eye = [camera.eye.x, camera.eye.y, camera.eye.z, time];
         self.scene.dt = dt;
         let pushing = self.scene.sphere[3] > 0.0;
@@ -966,8 +980,13 @@ impl GrassRenderer {
             pass.set_bind_group(1, &self.group_deform, &[]);
             dispatch_blades(&mut pass, blades);
         }
-        self.far
-            .record(queue, encoder, &self.group0, &self.cull.params);
+        self.far.record(
+            queue,
+            encoder,
+            &self.group0,
+            &self.cull.params,
+            self.scene.eye,
+        );
         self.cull
             .record(queue, encoder, &self.group0, &self.group_shape, blades);
     }
@@ -977,11 +996,14 @@ impl GrassRenderer {
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group0, &[]);
         let coloured = self.scene.wind_colours > 0.0;
+        pass.set_pipeline(&self.draw.sky);
+        pass.draw(0..3, 0..1);
         pass.set_pipeline(self.draw.ground(coloured));
         pass.set_bind_group(1, &self.far.ground_group, &[]);
         pass.set_bind_group(2, &self.backdrop_group, &[]);
-        let [qx, qz] = self.scene.ground_quads;
-        pass.draw(0..6 * (qx * qz).max(1), 0..1);
+        // The level's quads, then the ring of quads beyond it (`grass_ground.wgsl`).
+        let [qx, qz] = self.scene.ground_quads.map(|q| q.max(1));
+        pass.draw(0..6 * (qx * qz + 2 * (qx + 2) + 2 * qz), 0..1);
         if let Some((b, n)) = &self.solids {
             pass.set_pipeline(&self.draw.solids);
             pass.set_vertex_buffer(0, b.slice(..));

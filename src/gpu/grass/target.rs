@@ -1,9 +1,10 @@
 //! The colour and depth target the grass draws into, and whole frames into it.
 
+use super::draw::SAMPLES;
 use super::{Camera, DEPTH_FORMAT, GrassRenderer};
 use crate::gpu::GpuError;
 
-/// Sky colour behind the grass (linear).
+/// The colour the frame is cleared to before the sky pass paints over it (linear).
 const SKY: wgpu::Color = wgpu::Color {
     r: 0.50,
     g: 0.66,
@@ -23,6 +24,8 @@ pub struct Target {
     /// `DownlevelFlags::VIEW_FORMATS`), a plain `Rgba8Unorm` copy of the colour texture that
     /// each frame ends by filling, and `encoded_view` views that instead.
     encoded_copy: Option<wgpu::Texture>,
+    /// The multisampled colour the pass draws into, resolved into `texture` at its end.
+    msaa_view: wgpu::TextureView,
     depth_view: wgpu::TextureView,
     pub size: [u32; 2],
 }
@@ -42,18 +45,19 @@ impl Target {
             height: h.max(1),
             depth_or_array_layers: 1,
         };
-        let texture = |format, usage, view_formats: &'static [wgpu::TextureFormat]| {
+        let sampled = |samples, format, usage, view_formats: &'static [wgpu::TextureFormat]| {
             device.create_texture(&wgpu::TextureDescriptor {
                 label: Some("grass target"),
                 size: extent,
                 mip_level_count: 1,
-                sample_count: 1,
+                sample_count: samples,
                 dimension: wgpu::TextureDimension::D2,
                 format,
                 usage,
                 view_formats,
             })
         };
+        let texture = |format, usage, view_formats| sampled(1, format, usage, view_formats);
         let colour = texture(
             Self::FORMAT,
             wgpu::TextureUsages::RENDER_ATTACHMENT
@@ -61,7 +65,9 @@ impl Target {
                 | wgpu::TextureUsages::TEXTURE_BINDING,
             if views { &[Self::ENCODED] } else { &[] },
         );
-        let depth = texture(DEPTH_FORMAT, wgpu::TextureUsages::RENDER_ATTACHMENT, &[]);
+        let attachment = wgpu::TextureUsages::RENDER_ATTACHMENT;
+        let depth = sampled(SAMPLES, DEPTH_FORMAT, attachment, &[]);
+        let msaa = sampled(SAMPLES, Self::FORMAT, attachment, &[]);
         let encoded_copy = (!views).then(|| {
             texture(
                 Self::ENCODED,
@@ -82,6 +88,7 @@ impl Target {
             view: colour.create_view(&Default::default()),
             encoded_view,
             encoded_copy,
+            msaa_view: msaa.create_view(&Default::default()),
             depth_view: depth.create_view(&Default::default()),
             texture: colour,
             size: [extent.width, extent.height],
@@ -129,12 +136,12 @@ impl GrassRenderer {
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("grass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: &target.view,
+                view: &target.msaa_view,
                 depth_slice: None,
-                resolve_target: None,
+                resolve_target: Some(&target.view),
                 ops: wgpu::Operations {
                     load: wgpu::LoadOp::Clear(SKY),
-                    store: wgpu::StoreOp::Store,
+                    store: wgpu::StoreOp::Discard,
                 },
             })],
             depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {

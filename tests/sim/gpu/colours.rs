@@ -85,7 +85,8 @@ fn linear(c: u8) -> f32 {
 /// view's colours: in three bands of 0, 3 and 6 m/s on a 6 m/s scale, every pixel of blade
 /// and ground at a band's centre is the map's speed colour (`colour::speed_rgb` at 0, ½, 1)
 /// within 2/255 at full opacity, for both blade models; at half opacity each is the plain
-/// picture's pixel half-way (in linear light) to that colour, within 2/255; at opacity 0 the
+/// picture's pixel half-way (in linear light) to that colour, within 3/255 (a blade's edge
+/// pixel is the mean of its four samples: the mix of means is not exactly the mean of mixes); at opacity 0 the
 /// picture is the plain one, byte for byte.
 #[test]
 fn the_wind_colours_are_the_map_view_s_speed_scale() {
@@ -127,7 +128,7 @@ fn the_wind_colours_are_the_map_view_s_speed_scale() {
                     );
                     let mixed = srgb(0.5 * (linear(p[c]) + step[c]));
                     assert!(
-                        (f64::from(h[c]) - mixed).abs() <= 2.0,
+                        (f64::from(h[c]) - mixed).abs() <= 3.0,
                         "{model:?} at x = {x} m, half opacity: {h:?} from {p:?}, want {mixed:.1}"
                     );
                 }

@@ -700,37 +700,46 @@ fn grass_pictures_match_their_references_and_a_gale_stays_lit() {
 }
 
 /// `render --view grass` with no `--camera` shows the whole level, as the editor's "frame
-/// all" does (it used to crop the world's corners): for every example, every pixel on the
-/// picture's border is sky, and the level fills over a fifth of the picture.
+/// all" does (it used to crop the world's corners): for every example, no pixel on the
+/// picture's border is the level, and the level fills over a fifth of the picture. The level
+/// is told from the world around it (the calm field to the horizon, the sky) by the wind
+/// colours, which only the level takes.
 #[test]
 fn the_default_grass_picture_shows_the_whole_level() {
     let Some(ctx) = context() else { return };
     let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts");
     let (w, h) = (160u32, 100u32);
-    let options = windloom::gpu::grass::PictureOptions {
+    let plain = windloom::gpu::grass::PictureOptions {
         size: [w, h],
         time: 0.5,
+        arrows: false,
         ..Default::default()
+    };
+    let coloured = windloom::gpu::grass::PictureOptions {
+        wind_colours: Some(1.0),
+        ..plain
     };
     for name in ["meadow.json", "obstacles.json", "branching.json"] {
         let mut l = example(name);
         // Fewer blades: the framing, not the grass, is under test.
         l.grass.density = l.grass.density.min(4.0);
-        let px =
-            windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, &dir).as_ref(), &options).unwrap();
-        let at = |x: u32, y: u32| &px[((y * w + x) * 4) as usize..][..3];
-        let sky = at(0, 0).to_vec();
-        let is_sky = |p: &[u8]| p.iter().zip(&sky).all(|(a, b)| a.abs_diff(*b) <= 3);
+        let shot =
+            |o| windloom::gpu::grass::picture(&ctx, &l, backdrop(&l, &dir).as_ref(), o).unwrap();
+        let (a, b) = (shot(&plain), shot(&coloured));
+        let level = |x: u32, y: u32| {
+            let k = ((y * w + x) * 4) as usize;
+            (0..3).any(|c| a[k + c].abs_diff(b[k + c]) > 3)
+        };
         let border = (0..w)
             .flat_map(|x| [(x, 0), (x, h - 1)])
             .chain((0..h).flat_map(|y| [(0, y), (w - 1, y)]));
         for (x, y) in border {
             assert!(
-                is_sky(at(x, y)),
+                !level(x, y),
                 "{name}: the level reaches the edge at ({x}, {y})"
             );
         }
-        let ground = (0..w * h).filter(|k| !is_sky(at(k % w, k / w))).count();
+        let ground = (0..w * h).filter(|k| level(k % w, k / w)).count();
         println!("{name}: the level covers {ground} of {} pixels", w * h);
         assert!(
             ground * 5 > (w * h) as usize,

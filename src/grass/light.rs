@@ -1,0 +1,158 @@
+//! The light the grass is drawn in: the sun, the sky, a view-dependent sheen on the blades, the
+//! shade toward their roots and the haze of the air — the CPU twin of `grass_common.wgsl`'s
+//! `sky_colour`, `haze` and `blade_light` (the blades, the far field and the sky pass all
+//! light with them; `tests/sim/gpu/far.rs` compares the far field, which uses the same
+//! function the blade shader does, texel for texel).
+//!
+//! Why a sheen: a blade is a thin waxy leaf. Upright, its faces look sideways and mirror the
+//! ground and the horizon; bent away from the eye, its upper face turns toward the sky and
+//! mirrors it, and near grazing it mirrors most of what falls on it (Fresnel). That is how a
+//! field shows the wind from afar — bands of light where gusts lay it over — and it is what
+//! the diffuse-only light lacked: a calm meadow and one in a gale were the same picture.
+
+use glam::Vec3;
+
+/// The sky straight up, and at the horizon (linear RGB). The horizon colour is also the
+/// haze's: far ground fades into the sky where they meet.
+pub const SKY_ZENITH: [f32; 3] = [0.20, 0.38, 0.72];
+pub const SKY_HORIZON: [f32; 3] = [0.62, 0.70, 0.78];
+/// How much the sky brightens toward the sun, and how tight that glow is.
+pub const SUN_GLOW: f32 = 0.35;
+pub const SUN_GLOW_POWER: f32 = 24.0;
+/// What a blade mirrors below the horizon: the ground's light (linear, grey-green).
+pub const GROUND_MIRROR: [f32; 3] = [0.05, 0.06, 0.035];
+/// The blade's cuticle: reflectance seen face-on (Schlick's `F0`), how much of the mirrored
+/// light a blade keeps (its surface is rough and not a mirror everywhere), and the sun's
+/// highlight sharpness (a Blinn–Phong power) and strength.
+pub const SHEEN_F0: f32 = 0.2;
+pub const SHEEN: f32 = 1.0;
+/// The share of the sheen an upright blade keeps: a bent blade's face is stretched and
+/// smoothed toward the sky, an upright one's is the rougher edge-lit surface.
+pub const SHEEN_UPRIGHT: f32 = 0.3;
+
+/// The sheen's weight for a blade laid over by `lay`.
+fn lay_weight(lay: f32) -> f32 {
+    SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * lay.clamp(0.0, 1.0)
+}
+pub const SPECULAR_POWER: f32 = 20.0;
+pub const SPECULAR: f32 = 0.5;
+/// Light through a blade: its share of the sun on the far side, and how much more of it
+/// shows looking toward the sun (forward scattering).
+pub const TRANSLUCENCY: f32 = 0.35;
+pub const FORWARD_SCATTER: f32 = 1.5;
+/// The sky a blade's root still sees among its neighbours (its tip sees all of it): the
+/// occlusion toward the root, on the sky's light.
+pub const SKY_AT_ROOT: f32 = 0.45;
+/// Metres of air that dim a surface to `1/e` and put the horizon's colour over it instead.
+pub const HAZE_LENGTH: f32 = 2500.0;
+
+/// The sky's radiance in direction `dir` (unit, y up) with the sun toward `sun` (unit): from
+/// the horizon's colour to the zenith's, brighter around the sun; below the horizon, the
+/// horizon's colour (the haze hides the ground there).
+pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
+    let up = dir.y.max(0.0);
+    let base = Vec3::from(SKY_HORIZON).lerp(Vec3::from(SKY_ZENITH), up.sqrt());
+    let glow = SUN_GLOW * dir.dot(sun).max(0.0).powf(SUN_GLOW_POWER);
+    base + Vec3::splat(glow)
+}
+
+/// What a blade mirrors in direction `r`: the sky above the horizon, the ground below it.
+pub fn mirrored(r: Vec3, sun: Vec3) -> Vec3 {
+    if r.y >= 0.0 {
+        sky(r, sun)
+    } else {
+        Vec3::from(GROUND_MIRROR)
+    }
+}
+
+/// The share of the horizon's colour over a surface `distance` metres away: the air's haze,
+/// and toward the far plane (`[start, end]`, metres) all of it, so the ground meets the sky
+/// without an edge.
+pub fn haze(distance: f32, fade: [f32; 2]) -> f32 {
+    let air = 1.0 - (-distance.max(0.0) / HAZE_LENGTH).exp();
+    let x = ((distance - fade[0]) / (fade[1] - fade[0]).max(1e-3)).clamp(0.0, 1.0);
+    air.max(x * x * (3.0 - 2.0 * x))
+}
+
+/// The light on a blade (linear RGB) of colour `albedo` (eq. 14's shade applied), unit normal
+/// `n` turned toward the eye, unit vector `view` toward the eye, at height fraction `t` (0
+/// root, 1 tip), under `sun` (unit) with the sky's share `ambient`:
+///
+/// - the sky, `ambient·(0.6 + 0.4 n_y)`, dimmed toward the root ([`SKY_AT_ROOT`]);
+/// - the sun on the lit face, and [`TRANSLUCENCY`] of it through the blade, more so looking
+///   toward the sun;
+/// - the sheen, not tinted by the blade: the sky (or ground) mirrored by the blade's glossy
+///   face, times Schlick's Fresnel, plus the sun's highlight, dimmed toward the root like the
+///   sky. The mirroring face is the blade's own, turned up toward the sky by how far the blade
+///   lies over, `lay` (its tip's reach along the ground over its length, 0–1): a blade bending
+///   in the wind twists to meet it face-on and turns a face up, whichever way it leans from
+///   the eye, so a field laid over by a gust shines from every side — the travelling bands of
+///   light that show wind across a whole level.
+pub fn blade(albedo: Vec3, n: Vec3, view: Vec3, t: f32, lay: f32, sun: Vec3, ambient: f32) -> Vec3 {
+    let t = t.clamp(0.0, 1.0);
+    let open = SKY_AT_ROOT + (1.0 - SKY_AT_ROOT) * t;
+    let d = n.dot(sun);
+    let toward_sun = (-view).dot(sun).max(0.0);
+    let through = TRANSLUCENCY * (-d).max(0.0) * (1.0 + FORWARD_SCATTER * toward_sun.powi(4));
+    let diffuse = ambient * (0.6 + 0.4 * n.y) * open + (1.0 - ambient) * (d.max(0.0) + through);
+    let m = n.lerp(Vec3::Y, lay.clamp(0.0, 1.0)).normalize_or_zero();
+    let nv = m.dot(view).clamp(0.0, 1.0);
+    let fresnel = SHEEN_F0 + (1.0 - SHEEN_F0) * (1.0 - nv).powi(5);
+    let r = 2.0 * m.dot(view) * m - view;
+    let h = (sun + view).normalize_or_zero();
+    let highlight = if m.dot(sun) > 0.0 {
+        SPECULAR * (1.0 - ambient) * m.dot(h).max(0.0).powf(SPECULAR_POWER)
+    } else {
+        0.0
+    };
+    let sheen =
+        SHEEN * fresnel * open * lay_weight(lay) * (mirrored(r, sun) + Vec3::splat(highlight));
+    albedo * diffuse + sheen
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SUN: Vec3 = Vec3::new(0.42, 0.80, 0.43);
+
+    fn sun() -> Vec3 {
+        SUN.normalize()
+    }
+
+    /// A blade laid over away from the eye mirrors the sky and is brighter than an upright
+    /// one seen from the same place: the sheen that shows the wind.
+    #[test]
+    fn a_blade_bent_away_from_the_eye_shines() {
+        let albedo = Vec3::new(0.1, 0.25, 0.05);
+        // The eye 38° up, looking along +z; blades face along z.
+        let view = Vec3::new(0.0, 38f32.to_radians().sin(), -38f32.to_radians().cos());
+        let upright = Vec3::new(0.0, 0.0, -1.0);
+        let bent = Vec3::new(0.0, 0.6f32.sin(), -0.6f32.cos());
+        let a = blade(albedo, upright, view, 0.7, 0.0, sun(), 0.32);
+        let b = blade(albedo, bent, view, 0.7, 0.6f32.sin(), sun(), 0.32);
+        assert!(b.length() > 1.3 * a.length(), "{a} → {b}");
+        // Laid over across the line of sight (its face still looking sideways), it shines too.
+        let side = Vec3::new(-1.0, 0.0, 0.0);
+        let c = blade(albedo, side, view, 0.7, 0.6f32.sin(), sun(), 0.32);
+        let d = blade(albedo, side, view, 0.7, 0.0, sun(), 0.32);
+        assert!(c.length() > 1.3 * d.length(), "{d} → {c}");
+    }
+
+    #[test]
+    fn the_root_is_darker_than_the_tip_and_haze_reaches_the_horizon() {
+        let albedo = Vec3::new(0.1, 0.25, 0.05);
+        let view = Vec3::new(0.0, 0.6, -0.8);
+        let n = Vec3::new(0.0, 0.0, -1.0);
+        let at = |t| blade(albedo, n, view, t, 0.0, sun(), 0.32).y;
+        assert!(at(0.0) < at(1.0));
+        assert!(haze(100.0, [5e3, 1e4]) < 0.05);
+        assert_eq!(haze(1e4, [5e3, 1e4]), 1.0);
+        let up = sky(Vec3::Y, sun());
+        let flat = sky(Vec3::new(1.0, 0.0, 0.0), sun());
+        assert!(
+            up.z / up.x > flat.z / flat.x,
+            "the zenith is bluer: {up} {flat}"
+        );
+    }
+}
