@@ -338,8 +338,9 @@ const SUN_GLOW: f32 = 0.35;
 const SUN_GLOW_POWER: f32 = 24.0;
 const GROUND_MIRROR: vec3<f32> = vec3<f32>(0.05, 0.06, 0.035);
 const SHEEN_F0: f32 = 0.2;
-const SHEEN: f32 = 1.0;
-const SHEEN_UPRIGHT: f32 = 0.3;
+const SHEEN: f32 = 1.3;
+const SHEEN_UPRIGHT: f32 = 0.15;
+const SHEEN_GREY: f32 = 0.5;
 const SPECULAR_POWER: f32 = 20.0;
 const SPECULAR: f32 = 0.5;
 const TRANSLUCENCY: f32 = 0.35;
@@ -408,6 +409,9 @@ fn blade_light(albedo: vec3<f32>, n: vec3<f32>, view: vec3<f32>, t0: f32, lay: f
         h = h / hl;
     }
     let highlight = SPECULAR * (1.0 - a) * pow(max(dot(m, h), 0.0), SPECULAR_POWER) * select(0.0, 1.0, dot(m, l) > 0.0);
-    let sheen = SHEEN * fresnel * open * (SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * clamp(lay, 0.0, 1.0)) * (mirrored(r) + vec3<f32>(highlight));
+    let weight = SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * sqrt(clamp(lay, 0.0, 1.0));
+    let c = mirrored(r);
+    let grey = mix(c, vec3<f32>(dot(c, vec3<f32>(0.2126, 0.7152, 0.0722))), SHEEN_GREY);
+    let sheen = SHEEN * fresnel * open * weight * (grey + vec3<f32>(highlight));
     return albedo * diffuse + sheen;
 }

@@ -149,7 +149,7 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = RenderView::Map)]
         view: RenderView,
         /// The 3D view's camera, "eye_x,eye_y,eye_z,target_x,target_y,target_z" in metres
-        /// (y up); default: the whole world from the south-west, above it, framed as the editor's
+        /// (y up); default: the whole world from the south, above it, framed as the editor's
         /// "frame all" frames it.
         #[arg(long, value_parser = parse_camera, allow_hyphen_values = true)]
         camera: Option<[f32; 6]>,

@@ -25,14 +25,28 @@ pub const GROUND_MIRROR: [f32; 3] = [0.05, 0.06, 0.035];
 /// light a blade keeps (its surface is rough and not a mirror everywhere), and the sun's
 /// highlight sharpness (a Blinn–Phong power) and strength.
 pub const SHEEN_F0: f32 = 0.2;
-pub const SHEEN: f32 = 1.0;
+pub const SHEEN: f32 = 1.3;
 /// The share of the sheen an upright blade keeps: a bent blade's face is stretched and
 /// smoothed toward the sky, an upright one's is the rougher edge-lit surface.
-pub const SHEEN_UPRIGHT: f32 = 0.3;
+pub const SHEEN_UPRIGHT: f32 = 0.15;
 
-/// The sheen's weight for a blade laid over by `lay`.
+/// How much of the mirrored light's colour a blade's sheen loses to its waxy, scattering
+/// surface (0: a mirror's colour, 1: grey): a field shines silver, not sky-blue.
+pub const SHEEN_GREY: f32 = 0.5;
+
+/// The sheen's weight for a blade laid over by `lay`: it rises fast as a blade starts to
+/// bend (the face turns up and flattens), and slower as it lies down.
 fn lay_weight(lay: f32) -> f32 {
-    SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * lay.clamp(0.0, 1.0)
+    SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * lay.clamp(0.0, 1.0).sqrt()
+}
+
+/// The light a blade's face mirrors in direction `r`, greyed by [`SHEEN_GREY`].
+fn sheen_colour(r: Vec3, sun: Vec3) -> Vec3 {
+    let c = mirrored(r, sun);
+    c.lerp(
+        Vec3::splat(c.dot(Vec3::new(0.2126, 0.7152, 0.0722))),
+        SHEEN_GREY,
+    )
 }
 pub const SPECULAR_POWER: f32 = 20.0;
 pub const SPECULAR: f32 = 0.5;
@@ -106,7 +120,7 @@ pub fn blade(albedo: Vec3, n: Vec3, view: Vec3, t: f32, lay: f32, sun: Vec3, amb
         0.0
     };
     let sheen =
-        SHEEN * fresnel * open * lay_weight(lay) * (mirrored(r, sun) + Vec3::splat(highlight));
+        SHEEN * fresnel * open * lay_weight(lay) * (sheen_colour(r, sun) + Vec3::splat(highlight));
     albedo * diffuse + sheen
 }
 

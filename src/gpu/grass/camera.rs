@@ -130,7 +130,9 @@ pub struct Orbit {
 }
 
 impl Orbit {
-    /// Looking at the middle of the world from its south-west, from the nearest distance that
+    /// Looking at the middle of the world from its south (+z), 35° up, as the map view shows it
+    /// (x to the right, −z up the picture: *Map + 3D* side by side read alike, and a level wider
+    /// than deep fills the picture), from the nearest distance that
     /// shows the whole world in a view of `aspect` (width / height): its corners, on the ground
     /// and as high as the tallest blade or obstacle, inside `FRAME_MARGIN` of the picture.
     pub fn frame_all(doc: &crate::doc::Layout, aspect: f32) -> Self {
@@ -138,8 +140,8 @@ impl Orbit {
         let r = (max[0] - min[0]).hypot(max[1] - min[1]) / 2.0;
         let mut orbit = Self {
             target: glam::Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0),
-            yaw: 2.07,
-            pitch: 0.55,
+            yaw: std::f32::consts::FRAC_PI_2,
+            pitch: 0.62,
             distance: r,
         };
         let top = doc.grass.height[1].max(crate::grass::scene::OBSTACLE_HEIGHT);
