@@ -346,7 +346,8 @@ const SPECULAR: f32 = 0.5;
 const TRANSLUCENCY: f32 = 0.35;
 const FORWARD_SCATTER: f32 = 1.5;
 const SKY_AT_ROOT: f32 = 0.45;
-const HAZE_LENGTH: f32 = 2500.0;
+const HAZE_DENSITY: f32 = 1.0 / 300.0;
+const HAZE_HEIGHT: f32 = 20.0;
 
 // `light::sky`: the sky's radiance in unit direction `dir`.
 fn sky_colour(dir: vec3<f32>) -> vec3<f32> {
@@ -364,16 +365,24 @@ fn mirrored(r: vec3<f32>) -> vec3<f32> {
     return GROUND_MIRROR;
 }
 
-// `light::haze`: the share of the horizon's colour over a surface `d` metres away.
-fn haze(d: f32) -> f32 {
-    let air = 1.0 - exp(-max(d, 0.0) / HAZE_LENGTH);
+// `light::haze`: the share of the horizon's colour over a surface at `p` seen from the eye.
+fn haze(p: vec3<f32>) -> f32 {
+    let e = S.eye.xyz;
+    let d = distance(e, p);
+    let ye = e.y / HAZE_HEIGHT;
+    let yp = p.y / HAZE_HEIGHT;
+    var mean = exp(-0.5 * (ye + yp));
+    if (abs(ye - yp) > 1e-3) {
+        mean = (exp(-yp) - exp(-ye)) / (ye - yp);
+    }
+    let air = 1.0 - exp(-HAZE_DENSITY * d * mean);
     let x = clamp((d - S.fade.x) / max(S.fade.y - S.fade.x, 1e-3), 0.0, 1.0);
     return max(air, x * x * (3.0 - 2.0 * x));
 }
 
-// A surface's lit colour seen from `d` metres through the haze.
-fn hazed(c: vec3<f32>, d: f32) -> vec3<f32> {
-    return mix(c, SKY_HORIZON, haze(d));
+// A surface's lit colour at `p`, seen through the haze.
+fn hazed(c: vec3<f32>, p: vec3<f32>) -> vec3<f32> {
+    return mix(c, SKY_HORIZON, haze(p));
 }
 
 // `far::lay`: how far a blade of `height` whose tip stands `tip` from its root lies over.

@@ -11,8 +11,8 @@
 @group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far_image: texture_2d<f32>;
 @group(1) @binding(2) var far_sampler: sampler;
-@group(2) @binding(0) var backdrop_image: texture_2d<f32>;
-@group(2) @binding(1) var backdrop_sampler: sampler;
+@group(1) @binding(3) var backdrop_image: texture_2d<f32>;
+@group(1) @binding(4) var backdrop_sampler: sampler;
 
 struct GroundOut {
     @builtin(position) clip: vec4<f32>,
@@ -123,7 +123,7 @@ fn ground_colour(in: GroundOut) -> vec3<f32> {
             colour = far_ground(colour, far.rgb, clamp(far.a, 0.0, 1.0), shown);
         }
     }
-    return hazed(colour, distance(pos, S.eye.xyz));
+    return hazed(colour, pos);
 }
 
 

@@ -23,7 +23,7 @@ fn fs_solid(in: SceneOut) -> @location(0) vec4<f32> {
     let n = normalize(cross(dpdx(in.world), dpdy(in.world)));
     let l = normalize(S.sun.xyz);
     let light = S.sun.w + (1.0 - S.sun.w) * abs(dot(n, l));
-    return vec4<f32>(encode(hazed(in.colour.rgb * light, distance(in.world, S.eye.xyz))), 1.0);
+    return vec4<f32>(encode(hazed(in.colour.rgb * light, in.world)), 1.0);
 }
 
 // Lines: their own colour, unlit.

@@ -101,9 +101,11 @@ impl LiveResources {
 }
 
 /// Bind-group-layout entries for a filterable 2D float texture at `binding` and a filtering
-/// sampler at `binding + 1`, for fragment shaders (the grass ground's images).
-pub(crate) fn sampled_texture_entries(binding: u32) -> [wgpu::BindGroupLayoutEntry; 2] {
-    let visibility = wgpu::ShaderStages::FRAGMENT;
+/// sampler at `binding + 1`, seen by the `visibility` stages (the grass ground's and blades' images).
+pub(crate) fn sampled_texture_entries(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> [wgpu::BindGroupLayoutEntry; 2] {
     [
         wgpu::BindGroupLayoutEntry {
             binding,

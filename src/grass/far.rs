@@ -133,6 +133,19 @@ pub fn ground(lit: Vec3, look: Vec3, take: f32, shown: f32) -> Vec3 {
     under.lerp(look, take)
 }
 
+/// The share of the far field's look a drawn blade `distance` metres away takes instead of
+/// its own colour (`prefilter` in `grass_blades.wgsl`): none within 0.7× the cull's far LOD
+/// boundary (a blade ~37 px tall at 1080 lines), all past 3× it (~9 px), smoothstep between.
+/// A blade a few pixels tall cannot show its own colour, shade and sheen, only add noise to
+/// the field's mean: drawn in its own colours, the mid distance was a salt-and-pepper
+/// speckle that crawled as the blades swayed. This is a level of detail for the shading, as
+/// the segments are for the shape.
+pub fn prefilter(distance: f32, cull: &CullParams) -> f32 {
+    let (a, b) = (0.7 * cull.lod_far, 3.0 * cull.lod_far);
+    let x = ((distance - a) / (b - a).max(1e-6)).clamp(0.0, 1.0);
+    x * x * (3.0 - 2.0 * x)
+}
+
 /// Shallowest view elevation (its sine) the ground coverage is computed for: nearer the
 /// horizon the field counts as fully covered.
 pub const MIN_VIEW_SINE: f32 = 0.05;

@@ -57,9 +57,12 @@ pub const FORWARD_SCATTER: f32 = 1.5;
 /// The sky a blade's root still sees among its neighbours (its tip sees all of it): the
 /// occlusion toward the root, on the sky's light.
 pub const SKY_AT_ROOT: f32 = 0.45;
-/// Metres of air that dim a surface to `1/e` and put the horizon's colour over it instead.
-pub const HAZE_LENGTH: f32 = 2500.0;
-
+/// The ground haze: its density at the ground (per metre of view ray: `1/e` over 300 m, a hazy summer day)
+/// and the height over which it thins by `1/e`. Thick near the ground and thin above, it
+/// veils the far ground of a low view — so the ground beyond the level melts into the sky
+/// at the horizon — and barely touches the level seen from above.
+pub const HAZE_DENSITY: f32 = 1.0 / 300.0;
+pub const HAZE_HEIGHT: f32 = 20.0;
 /// The sky's radiance in direction `dir` (unit, y up) with the sun toward `sun` (unit): from
 /// the horizon's colour to the zenith's, brighter around the sun; below the horizon, the
 /// horizon's colour (the haze hides the ground there).
@@ -79,12 +82,21 @@ pub fn mirrored(r: Vec3, sun: Vec3) -> Vec3 {
     }
 }
 
-/// The share of the horizon's colour over a surface `distance` metres away: the air's haze,
-/// and toward the far plane (`[start, end]`, metres) all of it, so the ground meets the sky
-/// without an edge.
-pub fn haze(distance: f32, fade: [f32; 2]) -> f32 {
-    let air = 1.0 - (-distance.max(0.0) / HAZE_LENGTH).exp();
-    let x = ((distance - fade[0]) / (fade[1] - fade[0]).max(1e-3)).clamp(0.0, 1.0);
+/// The share of the horizon's colour over a surface at `point` seen from `eye` (metres, y
+/// up): the ground haze's optical depth along the ray, `σ·d·H·(e^(−y_p/H) − e^(−y_e/H))/(y_e −
+/// y_p)` (density `σ·e^(−y/H)` integrated along the straight ray, [`HAZE_DENSITY`],
+/// [`HAZE_HEIGHT`]), and toward the far plane (`fade`: `[start, end]` metres) all of it, so
+/// the ground meets the sky without an edge.
+pub fn haze(eye: Vec3, point: Vec3, fade: [f32; 2]) -> f32 {
+    let d = eye.distance(point);
+    let (ye, yp) = (eye.y / HAZE_HEIGHT, point.y / HAZE_HEIGHT);
+    let mean = if (ye - yp).abs() > 1e-3 {
+        ((-yp).exp() - (-ye).exp()) / (ye - yp)
+    } else {
+        (-0.5 * (ye + yp)).exp()
+    };
+    let air = 1.0 - (-HAZE_DENSITY * d * mean).exp();
+    let x = ((d - fade[0]) / (fade[1] - fade[0]).max(1e-3)).clamp(0.0, 1.0);
     air.max(x * x * (3.0 - 2.0 * x))
 }
 
@@ -160,8 +172,14 @@ mod tests {
         let n = Vec3::new(0.0, 0.0, -1.0);
         let at = |t| blade(albedo, n, view, t, 0.0, sun(), 0.32).y;
         assert!(at(0.0) < at(1.0));
-        assert!(haze(100.0, [5e3, 1e4]) < 0.05);
-        assert_eq!(haze(1e4, [5e3, 1e4]), 1.0);
+        let fade = [5e3, 1e4];
+        // From 150 m up, a level 250 m off is hardly veiled; from 2 m up, ground 2 km off is.
+        let high = Vec3::new(0.0, 150.0, 0.0);
+        assert!(haze(high, Vec3::new(200.0, 0.0, 0.0), fade) < 0.15);
+        let low = Vec3::new(0.0, 2.0, 0.0);
+        assert!(haze(low, Vec3::new(2000.0, 0.0, 0.0), fade) > 0.9);
+        assert!(haze(low, Vec3::new(30.0, 0.0, 0.0), fade) < 0.1);
+        assert_eq!(haze(low, Vec3::new(1e4, 0.0, 0.0), fade), 1.0);
         let up = sky(Vec3::Y, sun());
         let flat = sky(Vec3::new(1.0, 0.0, 0.0), sun());
         assert!(

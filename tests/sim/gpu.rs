@@ -694,3 +694,7 @@ mod grass;
 
 /// The map view's passes (`shaders/map_*.wgsl`) against their CPU twins in `app::view`.
 mod map;
+
+/// How the grass looks: the wind from afar, a gust's band, the horizon, a steady picture and
+/// the map under the blades.
+mod look;

@@ -1,4 +1,5 @@
-//! The map backdrop laid over the grass's ground: its texture and bind group.
+//! The map backdrop laid over the grass's ground and tinting the blades' bases, and the
+//! group the ground and the blades read it and the far field through.
 
 pub(super) fn backdrop_texture(device: &wgpu::Device, [w, h]: [u32; 2]) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
@@ -17,10 +18,37 @@ pub(super) fn backdrop_texture(device: &wgpu::Device, [w, h]: [u32; 2]) -> wgpu:
     })
 }
 
-pub(super) fn backdrop_group(
+/// The layout of the group the ground (group 1) and the blades (group 3) read the far field
+/// and the map backdrop through: the far field's uniform (0), its texels (1) and sampler
+/// (2), the backdrop image (3) and its sampler (4), seen by both stages (the blades sample
+/// them at their roots, in the vertex stage).
+pub(super) fn look_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
+    use wgpu::ShaderStages as S;
+    let both = S::VERTEX | S::FRAGMENT;
+    let [far_texels, far_sampler] = super::super::sampled_texture_entries(1, both);
+    let [image, image_sampler] = super::super::sampled_texture_entries(3, both);
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("grass look"),
+        entries: &[
+            super::super::buffer_entry(
+                0,
+                both,
+                wgpu::BufferBindingType::Storage { read_only: true },
+            ),
+            far_texels,
+            far_sampler,
+            image,
+            image_sampler,
+        ],
+    })
+}
+
+/// The group of [`look_layout`] over the far field's uniform and texels and the backdrop.
+pub(super) fn look_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
-    texture: &wgpu::Texture,
+    far: &super::FarPass,
+    backdrop: &wgpu::Texture,
 ) -> wgpu::BindGroup {
     let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
         label: Some("grass backdrop"),
@@ -29,17 +57,31 @@ pub(super) fn backdrop_group(
         ..Default::default()
     });
     device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("grass backdrop"),
+        label: Some("grass look"),
         layout,
         entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,
-                resource: wgpu::BindingResource::TextureView(
-                    &texture.create_view(&Default::default()),
-                ),
+                resource: far.uniform_buf.as_entire_binding(),
             },
             wgpu::BindGroupEntry {
                 binding: 1,
+                resource: wgpu::BindingResource::TextureView(
+                    &far.texels.create_view(&Default::default()),
+                ),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::Sampler(&far.sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(
+                    &backdrop.create_view(&Default::default()),
+                ),
+            },
+            wgpu::BindGroupEntry {
+                binding: 4,
                 resource: wgpu::BindingResource::Sampler(&sampler),
             },
         ],

@@ -27,13 +27,13 @@ impl DrawPipelines {
     /// Pipelines drawing into `format` with a [`super::DEPTH_FORMAT`] depth buffer. `module`
     /// compiles a listed grass shader; `[scene, shape, level]` are the scene group's (0), the
     /// poses and Bezier states' (1) and the cull pass's LOD level (2) layouts the blades bind;
-    /// `[far, backdrop]` the ground's groups 1 and 2.
+    /// `look` the far field and backdrop group the ground binds as 1 and the blades as 3.
     pub(super) fn new(
         device: &wgpu::Device,
         format: wgpu::TextureFormat,
         module: &dyn Fn(&str) -> wgpu::ShaderModule,
         [scene, shape, level]: [&wgpu::BindGroupLayout; 3],
-        [far, backdrop]: [&wgpu::BindGroupLayout; 2],
+        look: &wgpu::BindGroupLayout,
     ) -> Self {
         let layout = |label: &str, groups: &[&wgpu::BindGroupLayout]| {
             let groups: Vec<_> = groups.iter().map(|g| Some(*g)).collect();
@@ -44,8 +44,8 @@ impl DrawPipelines {
             })
         };
         let draw_layout = layout("grass draw", &[scene]);
-        let blade_layout = layout("grass blades", &[scene, shape, level]);
-        let ground_layout = layout("grass ground", &[scene, far, backdrop]);
+        let blade_layout = layout("grass blades", &[scene, shape, level, look]);
+        let ground_layout = layout("grass ground", &[scene, look]);
         let scene_vertex = wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<SceneVertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,

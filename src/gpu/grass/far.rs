@@ -1,7 +1,7 @@
 //! The far field on the GPU (`shaders/grass_far.wgsl`; CPU twin [`crate::grass::far`]): an
 //! `rgba16float` texture over the world, each texel the blades' look from afar (rgb) and how
 //! much of the ground takes it (a), recomputed each frame (the wind, the eye and the cull
-//! change) and sampled, filtered, by the ground (`shaders/grass_ground.wgsl`, group 1). A
+//! change) and sampled, filtered, by the ground and the blades ([`super::look`]). A
 //! texture rather than a buffer: on a software rasteriser the ground's four buffer loads
 //! and its own interpolation per pixel cost about 100 ms a 1080p frame, one filtered sample
 //! does not.
@@ -44,14 +44,11 @@ pub struct FarUniform {
 /// The far field's texels, uniform and pipeline, and the ground's view of them.
 pub struct FarPass {
     pub(super) uniform: FarUniform,
-    uniform_buf: wgpu::Buffer,
-    texels: wgpu::Texture,
-    sampler: wgpu::Sampler,
+    pub(super) uniform_buf: wgpu::Buffer,
+    pub(super) texels: wgpu::Texture,
+    pub(super) sampler: wgpu::Sampler,
     compute_layout: wgpu::BindGroupLayout,
     compute_group: wgpu::BindGroup,
-    /// Group 1 of the ground pipeline: the uniform and the texels, read-only.
-    pub(super) ground_layout: wgpu::BindGroupLayout,
-    pub(super) ground_group: wgpu::BindGroup,
     pipeline: wgpu::ComputePipeline,
     /// The world rectangle the texels cover.
     world: ([f32; 2], [f32; 2]),
@@ -127,19 +124,6 @@ impl FarPass {
                 },
             ],
         });
-        let [image, filter] = super::super::sampled_texture_entries(1);
-        let ground_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("grass far (ground)"),
-            entries: &[
-                entry(
-                    0,
-                    S::FRAGMENT,
-                    wgpu::BufferBindingType::Storage { read_only: true },
-                ),
-                image,
-                filter,
-            ],
-        });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("grass far"),
             bind_group_layouts: &[Some(layout0), Some(&compute_layout)],
@@ -153,22 +137,14 @@ impl FarPass {
             compilation_options: Default::default(),
             cache: None,
         });
-        let (compute_group, ground_group) = groups(
-            device,
-            (&compute_layout, &ground_layout),
-            &uniform_buf,
-            &texels,
-            &sampler,
-        );
+        let compute_group = group(device, &compute_layout, &uniform_buf, &texels);
         Self {
             uniform,
             compute_group,
-            ground_group,
             uniform_buf,
             texels,
             sampler,
             compute_layout,
-            ground_layout,
             pipeline,
             world: (min, max),
             grass: g.clone(),
@@ -176,24 +152,25 @@ impl FarPass {
         }
     }
 
-    /// Sizes the texels for a wind grid of `nx × ny` cells ([`far::grid`]).
-    pub fn resize(&mut self, device: &wgpu::Device, (nx, ny): (usize, usize)) {
+    /// Sizes the texels for a wind grid of `nx × ny` cells ([`far::grid`]); whether they
+    /// changed (the groups that read them must then be made again).
+    pub fn resize(&mut self, device: &wgpu::Device, (nx, ny): (usize, usize)) -> bool {
         let (fx, fy) = far::grid(nx, ny);
         if (fx as u32, fy as u32) == (self.uniform.nx, self.uniform.ny) {
-            return;
+            return false;
         }
         let (min, max) = self.world;
         self.uniform.nx = fx as u32;
         self.uniform.ny = fy as u32;
         self.uniform.cell = [(max[0] - min[0]) / fx as f32, (max[1] - min[1]) / fy as f32];
         self.texels = texel_texture(device, (fx as u32, fy as u32));
-        (self.compute_group, self.ground_group) = groups(
+        self.compute_group = group(
             device,
-            (&self.compute_layout, &self.ground_layout),
+            &self.compute_layout,
             &self.uniform_buf,
             &self.texels,
-            &self.sampler,
         );
+        true
     }
 
     /// Whether the ground shows the far field (never for a layout with no blades).
@@ -270,37 +247,28 @@ fn texel_texture(device: &wgpu::Device, (w, h): (u32, u32)) -> wgpu::Texture {
     })
 }
 
-/// The compute pass's and the ground's bind groups over the uniform and the texels.
-fn groups(
+/// The compute pass's bind group over the uniform and the texels (the ground and the blades
+/// read them through [`super::look`]).
+fn group(
     device: &wgpu::Device,
-    (compute, ground): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
+    layout: &wgpu::BindGroupLayout,
     uniform: &wgpu::Buffer,
     texels: &wgpu::Texture,
-    sampler: &wgpu::Sampler,
-) -> (wgpu::BindGroup, wgpu::BindGroup) {
-    let view = texels.create_view(&Default::default());
-    let make = |layout, with_sampler: bool| {
-        let mut entries = vec![
+) -> wgpu::BindGroup {
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("grass far"),
+        layout,
+        entries: &[
             wgpu::BindGroupEntry {
                 binding: 0,
                 resource: uniform.as_entire_binding(),
             },
             wgpu::BindGroupEntry {
                 binding: 1,
-                resource: wgpu::BindingResource::TextureView(&view),
+                resource: wgpu::BindingResource::TextureView(
+                    &texels.create_view(&Default::default()),
+                ),
             },
-        ];
-        if with_sampler {
-            entries.push(wgpu::BindGroupEntry {
-                binding: 2,
-                resource: wgpu::BindingResource::Sampler(sampler),
-            });
-        }
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("grass far"),
-            layout,
-            entries: &entries,
-        })
-    };
-    (make(compute, false), make(ground, true))
+        ],
+    })
 }

@@ -26,7 +26,7 @@ mod headless;
 mod target;
 mod trail;
 
-use backdrop::{backdrop_group, backdrop_texture};
+use backdrop::{backdrop_texture, look_group, look_layout};
 pub use bezier::{BezierPass, BezierState};
 pub use camera::{Camera, FRAME_MARGIN, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
@@ -281,8 +281,12 @@ pub struct GrassRenderer {
     wind_grid: wgpu::Buffer,
     wind_group: Option<(super::mapview::FieldBuffers, wgpu::BindGroup)>,
     /// The map backdrop laid over the ground (a blank 1×1 until one is set).
-    backdrop_layout: wgpu::BindGroupLayout,
-    backdrop_group: wgpu::BindGroup,
+    /// The map backdrop's image (1 × 1 until one is set).
+    backdrop: wgpu::Texture,
+    /// What the ground (group 1) and the blades (group 3) read the far field and the backdrop
+    /// through (`backdrop::look_layout`), made again when either changes.
+    look_layout: wgpu::BindGroupLayout,
+    look_group: wgpu::BindGroup,
 }
 
 /// Group 0: the scene, blades, wind and palettes, and the trail.
@@ -547,16 +551,15 @@ impl GrassRenderer {
             compilation_options: Default::default(),
             cache: None,
         });
-        let backdrop_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("grass backdrop"),
-            entries: &super::sampled_texture_entries(0),
-        });
+        let look_layout = look_layout(device);
+        let backdrop = backdrop_texture(device, [1, 1]);
+        let look_group = look_group(device, &look_layout, &far, &backdrop);
         let draw = draw::DrawPipelines::new(
             device,
             format,
             &module,
             [&layout0, &layout_shape, &cull.level_layout],
-            [&far.ground_layout, &backdrop_layout],
+            &look_layout,
         );
         Self {
             total: scene.blades,
@@ -598,12 +601,9 @@ impl GrassRenderer {
                 mapped_at_creation: false,
             }),
             wind_group: None,
-            backdrop_group: backdrop_group(
-                device,
-                &backdrop_layout,
-                &backdrop_texture(device, [1, 1]),
-            ),
-            backdrop_layout,
+            backdrop,
+            look_layout,
+            look_group,
         }
     }
 
@@ -670,7 +670,8 @@ impl GrassRenderer {
             },
             texture.size(),
         );
-        self.backdrop_group = backdrop_group(device, &self.backdrop_layout, &texture);
+        self.look_group = look_group(device, &self.look_layout, &self.far, &texture);
+        self.backdrop = texture;
         self.scene.backdrop = opacity;
     }
 
@@ -746,7 +747,9 @@ impl GrassRenderer {
                 &self.ground,
             );
         }
-        self.far.resize(device, (nx, ny));
+        if self.far.resize(device, (nx, ny)) {
+            self.look_group = look_group(device, &self.look_layout, &self.far, &self.backdrop);
+        }
         self.scene.nx = nx as u32;
         self.scene.ny = ny as u32;
         self.scene.origin = origin;
@@ -999,8 +1002,7 @@ impl GrassRenderer {
         pass.set_pipeline(&self.draw.sky);
         pass.draw(0..3, 0..1);
         pass.set_pipeline(self.draw.ground(coloured));
-        pass.set_bind_group(1, &self.far.ground_group, &[]);
-        pass.set_bind_group(2, &self.backdrop_group, &[]);
+        pass.set_bind_group(1, &self.look_group, &[]);
         // The level's quads, then the ring of quads beyond it (`grass_ground.wgsl`).
         let [qx, qz] = self.scene.ground_quads.map(|q| q.max(1));
         pass.draw(0..6 * (qx * qz + 2 * (qx + 2) + 2 * qz), 0..1);
@@ -1011,6 +1013,7 @@ impl GrassRenderer {
         }
         if self.scene.blades > 0 {
             pass.set_bind_group(1, &self.group_shape, &[]);
+            pass.set_bind_group(3, &self.look_group, &[]);
             self.cull.draw(pass, self.draw.blades(coloured));
         }
         // Last, over the blades (the lines' pipeline has no depth test).

@@ -237,7 +237,9 @@ fn a_far_view_of_the_meadow_is_the_grass_its_cpu_twin_predicts() {
         let share = t.hidden * (1.0 - far::cover(d, &cull, 0.0));
         // The lower canopy under it all, the far field over its share, seen through the haze.
         let fade = [0.1 * camera.far_plane(), 0.9 * camera.far_plane()];
-        let hazed = |c: Vec3| c.lerp(Vec3::from(light::SKY_HORIZON), light::haze(d, fade));
+        let point = Vec3::new(at.0, 0.0, at.1);
+        let seen = light::haze(camera.eye, point, fade);
+        let hazed = |c: Vec3| c.lerp(Vec3::from(light::SKY_HORIZON), seen);
         let want = hazed(far::ground(soil, Vec3::from(t.colour), share, 0.0))
             .to_array()
             .map(srgb);

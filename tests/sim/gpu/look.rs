@@ -1,0 +1,352 @@
+//! How the grass looks as a designer judges it (docs/GRASS.md, "Light"): the wind read from
+//! afar, a gust as a moving band, the world running on to the horizon, a steady picture with
+//! no speckle, and the map under the blades — measured on `render --view grass`'s pictures.
+
+use super::{context, example};
+use glam::Vec3;
+use windloom::doc::{Layout, MapBackdrop};
+use windloom::gpu::GpuContext;
+use windloom::gpu::grass::{Camera, PictureOptions, picture};
+
+fn shot(ctx: &GpuContext, l: &Layout, o: &PictureOptions) -> Vec<u8> {
+    picture(ctx, l, None, o).unwrap()
+}
+
+fn options(size: [u32; 2], time: f32, camera: Option<Camera>) -> PictureOptions {
+    PictureOptions {
+        size,
+        time,
+        camera,
+        arrows: false,
+        ..Default::default()
+    }
+}
+
+fn camera(eye: [f32; 3], target: [f32; 3]) -> Camera {
+    Camera {
+        eye: Vec3::from(eye),
+        target: Vec3::from(target),
+        fov_y: 45f32.to_radians(),
+    }
+}
+
+/// Mean absolute difference per RGB channel (0–255).
+fn mae(a: &[u8], b: &[u8]) -> f64 {
+    let (sum, n) = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .fold((0u64, 0u64), |(s, n), (p, q)| {
+            let d: u64 = (0..3).map(|c| u64::from(p[c].abs_diff(q[c]))).sum();
+            (s + d, n + 3)
+        });
+    sum as f64 / n as f64
+}
+
+/// The picture as the means of `k × k` blocks (RGB): what it shows at a glance, the
+/// blade-by-blade noise averaged out.
+fn blocks(px: &[u8], [w, h]: [u32; 2], k: u32) -> Vec<[f64; 3]> {
+    let mut out = Vec::new();
+    for by in 0..h / k {
+        for bx in 0..w / k {
+            let mut s = [0.0; 3];
+            for y in by * k..(by + 1) * k {
+                for x in bx * k..(bx + 1) * k {
+                    let p = &px[((y * w + x) * 4) as usize..];
+                    for c in 0..3 {
+                        s[c] += f64::from(p[c]);
+                    }
+                }
+            }
+            out.push(s.map(|v| v / f64::from(k * k)));
+        }
+    }
+    out
+}
+
+fn blocks_mae(a: &[[f64; 3]], b: &[[f64; 3]]) -> f64 {
+    let sum: f64 = a
+        .iter()
+        .zip(b)
+        .map(|(p, q)| (0..3).map(|c| (p[c] - q[c]).abs()).sum::<f64>())
+        .sum();
+    sum / (3 * a.len()) as f64
+}
+
+/// The meadow with every arrow's strength scaled by `k` (0: no trees and no ambient wind).
+fn meadow(k: f32) -> Layout {
+    let mut l = example("meadow.json");
+    if k == 0.0 {
+        l.trees.clear();
+        l.ambient.clear();
+    }
+    fn scale(a: &mut windloom::doc::Node, k: f32) {
+        a.strength *= k;
+        for c in &mut a.children {
+            scale(c, k);
+        }
+    }
+    for t in &mut l.trees {
+        scale(&mut t.root, k);
+    }
+    l
+}
+
+/// At the default framing (the whole level), the meadow in calm air and with its arrows four
+/// times stronger are different pictures at a glance: their 8 × 8-pixel block means differ
+/// by over 1.2/255 on average (before the sheen and the lower canopy: 0.4), and the gale's
+/// band along the arrows is lighter than the same place in calm air.
+#[test]
+fn the_wind_reads_from_afar() {
+    let Some(ctx) = context() else { return };
+    let size = [800, 500];
+    let o = options(size, 6.0, None);
+    let (calm, gale) = (shot(&ctx, &meadow(0.0), &o), shot(&ctx, &meadow(4.0), &o));
+    let (bc, bg) = (blocks(&calm, size, 8), blocks(&gale, size, 8));
+    let glance = blocks_mae(&bc, &bg);
+    println!(
+        "calm against the 4x gale: {:.2}/255 a channel, {glance:.2}/255 at a glance",
+        mae(&calm, &gale)
+    );
+    assert!(
+        glance > 1.2,
+        "a gale and a calm look alike from afar: {glance}"
+    );
+    // The arrows run along z = 38–44 m; at the default framing that is the picture's middle.
+    let row = |b: &[[f64; 3]], y: u32| -> f64 {
+        (20..80)
+            .map(|x| b[(y * 100 + x) as usize].iter().sum::<f64>())
+            .sum::<f64>()
+            / 60.0
+    };
+    let mid = (size[1] / 8) / 2;
+    let lighter = (mid - 3..mid + 3)
+        .map(|y| row(&bg, y) - row(&bc, y))
+        .sum::<f64>()
+        / 6.0;
+    assert!(lighter > 6.0, "the gale's band is not lighter: {lighter}");
+}
+
+/// A pulsed tree's gust front runs along its arrows at the tree's propagation speed; drawn a
+/// second apart, the grass shows it as a band of light whose front moves downwind.
+#[test]
+fn a_gust_travels_as_a_moving_band() {
+    let Some(ctx) = context() else { return };
+    let mut l = example("meadow.json");
+    l.world.size = [100.0, 24.0];
+    l.world.grid = [200, 48];
+    l.ambient.clear();
+    let tree = &mut l.trees[0];
+    tree.emission = windloom::doc::Emission::Pulsed {
+        period: 20.0,
+        duty: 0.2,
+    };
+    tree.propagation_speed = 15.0;
+    let mut arrow = tree.root.clone();
+    arrow.children.clear();
+    arrow.strength = 9.0;
+    arrow.radius = 6.0;
+    let mut chain: Option<windloom::doc::Node> = None;
+    for (i, x) in [98.0f32, 84.0, 68.0, 52.0, 36.0, 20.0, 4.0]
+        .into_iter()
+        .enumerate()
+    {
+        let mut a = arrow.clone();
+        a.id = 200 + i as u32;
+        a.pos = [x, 12.0];
+        a.children = chain.take().into_iter().collect();
+        chain = Some(a);
+    }
+    tree.root = chain.unwrap();
+    let size = [400u32, 150u32];
+    let cam = camera([50.0, 60.0, 40.0], [50.0, 0.0, 12.0]);
+    // Each column's brightness along the middle rows; the front is the last column (from the
+    // left) brighter than half-way between the calm end and the gust.
+    let front = |t: f32| -> usize {
+        let px = shot(&ctx, &l, &options(size, t, Some(cam)));
+        let (w, h) = (size[0] as usize, size[1] as usize);
+        let col: Vec<f64> = (0..w)
+            .map(|x| {
+                (h / 2 - 10..h / 2 + 10)
+                    .map(|y| {
+                        px[(y * w + x) * 4..][..3]
+                            .iter()
+                            .map(|&v| f64::from(v))
+                            .sum::<f64>()
+                    })
+                    .sum::<f64>()
+            })
+            .collect();
+        let inner = &col[w / 8..w * 7 / 8];
+        let (lo, hi) = inner
+            .iter()
+            .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
+        let half = 0.5 * (lo + hi);
+        w / 8 + inner.iter().rposition(|&v| v > half).unwrap_or(0)
+    };
+    let fronts: Vec<usize> = [2.0, 3.0, 4.0].into_iter().map(front).collect();
+    println!(
+        "the gust's front at t = 2, 3, 4 s: columns {fronts:?} of {}",
+        size[0]
+    );
+    for pair in fronts.windows(2) {
+        assert!(
+            pair[1] > pair[0] + 20,
+            "the gust's band does not move downwind: {fronts:?}"
+        );
+    }
+}
+
+/// Seen from 2 m up across the level's edge, the ground runs on past the level to the
+/// horizon (not sky below it, as when the level was a plate in the sky), fades into the
+/// sky's colour toward it through the haze, and the sky is bluer overhead than at the
+/// horizon.
+#[test]
+fn the_ground_runs_to_the_horizon_and_meets_the_sky() {
+    let Some(ctx) = context() else { return };
+    let l = meadow(1.0);
+    let size = [320u32, 180u32];
+    // Looking north, level, from 40 m inside the level's north edge (z = 0).
+    let px = shot(
+        &ctx,
+        &l,
+        &options(
+            size,
+            2.0,
+            Some(camera([60.0, 2.0, 40.0], [60.0, 2.0, -60.0])),
+        ),
+    );
+    let w = size[0] as usize;
+    let row = |y: usize| -> [f64; 3] {
+        let mut s = [0.0; 3];
+        for x in 0..w {
+            for c in 0..3 {
+                s[c] += f64::from(px[(y * w + x) * 4 + c]);
+            }
+        }
+        s.map(|v| v / w as f64)
+    };
+    let horizon = size[1] as usize / 2;
+    let sky = row(horizon - 2);
+    // 2 m up, the level's edge 40 m off is 2.9° down, ~11 rows; beyond it, ground.
+    for y in horizon + 3..horizon + 8 {
+        let r = row(y);
+        println!("row {y}: {r:.1?} (sky at the horizon {sky:.1?})");
+        assert!(
+            (0..3).any(|c| (r[c] - sky[c]).abs() > 12.0),
+            "row {y} below the horizon, beyond the level, is sky: {r:?}"
+        );
+    }
+    // Toward the horizon the haze takes the ground to the sky's colour: a row under the
+    // horizon is less than half as far from it as one 8 rows down.
+    let gap = |r: [f64; 3]| (0..3).map(|c| (r[c] - sky[c]).abs()).fold(0.0, f64::max);
+    let (near, far) = (gap(row(horizon + 1)), gap(row(horizon + 8)));
+    println!("off the sky's colour: {near:.1} just under the horizon, {far:.1} 8 rows down");
+    assert!(
+        near < 0.5 * far,
+        "the ground does not fade into the sky: {near} against {far}"
+    );
+    let top = row(0);
+    assert!(
+        top[2] - top[0] > sky[2] - sky[0] + 10.0,
+        "the sky is no bluer overhead: {top:?} against {sky:?}"
+    );
+}
+
+/// At a fixed camera a frame apart, calm air draws the same picture byte for byte, and the
+/// meadow's light breeze changes under 1 % of the pixels by more than 24/255 (one sample a
+/// pixel changed 1.5 %: thin blades aliased as they swayed). At mid distance the picture is
+/// smooth: its mean difference from itself blurred by 2 pixels is under 10/255 (it was 16).
+#[test]
+fn a_fixed_view_is_steady_and_free_of_speckle() {
+    let Some(ctx) = context() else { return };
+    let size = [640u32, 360u32];
+    let cam = camera([20.0, 5.0, 70.0], [60.0, 0.5, 40.0]);
+    let frames = |l: &Layout| {
+        let a = shot(&ctx, l, &options(size, 6.0, Some(cam)));
+        let b = shot(&ctx, l, &options(size, 6.0 + 1.0 / 60.0, Some(cam)));
+        (a, b)
+    };
+    let (a, b) = frames(&meadow(0.0));
+    assert!(a == b, "calm air flickers");
+    let (a, b) = frames(&meadow(1.0));
+    let changed = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .filter(|(p, q)| (0..3).any(|c| p[c].abs_diff(q[c]) > 24))
+        .count();
+    let share = changed as f64 / (size[0] * size[1]) as f64;
+    println!(
+        "a frame apart in the breeze: {:.2} % of pixels change by over 24/255",
+        100.0 * share
+    );
+    assert!(share < 0.01, "the picture flickers: {share}");
+    // The mid distance: the rows between 100 and 30 m off (just under the horizon's haze).
+    let w = size[0] as usize;
+    let luma = |x: usize, y: usize| {
+        let p = &a[(y * w + x) * 4..];
+        0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+    };
+    let (mut sum, mut n) = (0.0, 0.0);
+    for y in 182..240 {
+        for x in 2..w - 2 {
+            let mut blur = 0.0;
+            for dy in 0..5 {
+                for dx in 0..5 {
+                    blur += luma(x + dx - 2, y + dy - 2);
+                }
+            }
+            sum += (luma(x, y) - blur / 25.0).abs();
+            n += 1.0;
+        }
+    }
+    let speckle = sum / n;
+    println!("speckle at mid distance: {speckle:.2}/255");
+    assert!(speckle < 10.0, "the mid distance speckles: {speckle}");
+}
+
+/// A map image tints the blades' bases as well as the ground: over a half-red, half-blue map,
+/// the blades near the camera (hiding the ground) are redder on the red half.
+#[test]
+fn the_map_tints_the_blades_bases() {
+    let Some(ctx) = context() else { return };
+    let mut l = meadow(0.0);
+    l.world.size = [24.0, 16.0];
+    l.world.grid = [48, 32];
+    l.world.map = Some(MapBackdrop {
+        image: "unused.png".into(),
+        opacity: 1.0,
+        rect: None,
+    });
+    let (iw, ih) = (64u32, 32u32);
+    let img = image::RgbaImage::from_fn(iw, ih, |x, _| {
+        if x < iw / 2 {
+            image::Rgba([200, 40, 40, 255])
+        } else {
+            image::Rgba([40, 40, 200, 255])
+        }
+    });
+    let size = [320u32, 180u32];
+    // Low over the middle, looking along the boundary (x = 12 m): red half left, blue right.
+    let o = options(size, 0.5, Some(camera([12.0, 0.6, 15.0], [12.0, 0.2, 8.0])));
+    let with = picture(&ctx, &l, Some(&img), &o).unwrap();
+    let w = size[0] as usize;
+    let mean = |x0: usize, x1: usize| -> [f64; 3] {
+        let mut s = [0.0; 3];
+        let mut n = 0.0;
+        for y in 120..170 {
+            for x in x0..x1 {
+                for c in 0..3 {
+                    s[c] += f64::from(with[(y * w + x) * 4 + c]);
+                }
+                n += 1.0;
+            }
+        }
+        s.map(|v| v / n)
+    };
+    let (left, right) = (mean(20, 120), mean(200, 300));
+    println!("blades over red {left:.1?}, over blue {right:.1?}");
+    assert!(
+        left[0] - left[2] > right[0] - right[2] + 15.0,
+        "the blades do not take the map's colour: {left:?} against {right:?}"
+    );
+}
