@@ -95,7 +95,9 @@ struct Far {
     stiffness: f32,
     // Blades a square metre.
     density: f32,
-    _pad1: vec2<f32>,
+    // The cull's density thinning (`CullParams::thin_distance`; 0: none).
+    thin_distance: f32,
+    _pad1: f32,
     // The palettes' mean base and tip colours (linear, the mean tint applied).
     base: vec4<f32>,
     tip: vec4<f32>,

@@ -63,6 +63,9 @@ fn far_texel(pos: vec2<f32>) -> vec4<f32> {
     return vec4<f32>(colour, 1.0 - exp(-max(F.density, 0.0) * depth / f32(PROBES)));
 }
 
+// `far::THIN_DRAWS`.
+const THIN_DRAWS: u32 = 16u;
+
 // `far::cover`: the share of the field's coverage drawn as blades at distance `d`.
 fn far_cover(d0: f32) -> f32 {
     let d = max(d0, 0.0);
@@ -70,13 +73,29 @@ fn far_cover(d0: f32) -> f32 {
     if ((F.flags & 2u) != 0u) {
         let n = max(F.buckets, 1u);
         let top = max(F.max_distance, 1e-3);
+        let thin = F.thin_distance;
+        var draws = 1u;
+        if (thin > 0.0) {
+            draws = THIN_DRAWS;
+        }
         var kept = 0.0;
         for (var b = 0u; b < n; b = b + 1u) {
-            let r = top * (1.0 - f32(b) / f32(n));
-            let x = clamp((r - d) / (0.2 * r), 0.0, 1.0);
-            kept = kept + x * x * (3.0 - 2.0 * x);
+            let bucket = top * (1.0 - f32(b) / f32(n));
+            for (var j = 0u; j < draws; j = j + 1u) {
+                var r = bucket;
+                if (thin > 0.0) {
+                    r = min(bucket, thin / sqrt((f32(j) + 0.5) / f32(draws)));
+                }
+                let x = clamp((r - d) / (0.2 * r), 0.0, 1.0);
+                kept = kept + x * x * (3.0 - 2.0 * x);
+            }
         }
-        culled = kept / f32(n) / max(1.0 - d / top, 1.0 / 3.0);
+        // `cull::kept_share`.
+        var share = max(1.0 - d / top, 0.0);
+        if (thin > 0.0 && d > thin) {
+            share = share * (thin / d) * (thin / d);
+        }
+        culled = kept / f32(n * draws) / max(share, 1.0 / 3.0);
     }
     var sampled = 1.0;
     if (F.sample_reach > 0.0 && d > 0.0) {

@@ -40,7 +40,8 @@ struct Cull {
     lod_far: f32,
     dither: f32,
     hysteresis: f32,
-    _pad1: f32,
+    // Past it the field thins with the square of the distance (0: not at all).
+    thin_distance: f32,
 }
 
 // `cull::pcg01`.
@@ -54,7 +55,22 @@ fn pcg01(k: u32) -> f32 {
 fn reach(c: Cull, k: u32) -> f32 {
     let n = max(c.buckets, 1u);
     let bucket = min(u32(pcg01(k ^ 0x9e3779b9u) * f32(n)), n - 1u);
-    return c.max_distance * (1.0 - f32(bucket) / f32(n));
+    let r = c.max_distance * (1.0 - f32(bucket) / f32(n));
+    if (c.thin_distance > 0.0) {
+        // `cull::thin_draw`.
+        return min(r, c.thin_distance / sqrt(max(pcg01(k ^ 0x85ebca6bu), 1e-12)));
+    }
+    return r;
+}
+
+// `cull::kept_share`.
+fn kept_share(c: Cull, d: f32) -> f32 {
+    let buckets = max(1.0 - d / c.max_distance, 0.0);
+    if (c.thin_distance > 0.0 && d > c.thin_distance) {
+        let q = c.thin_distance / d;
+        return buckets * q * q;
+    }
+    return buckets;
 }
 
 // `cull::distance_width`: fade-in over the last `FADE` of the reach, and the widening.
@@ -64,6 +80,6 @@ fn distance_width(c: Cull, k: u32, d: f32) -> f32 {
     }
     let r = reach(c, k);
     let fade = clamp((r - d) / (0.2 * r), 0.0, 1.0);
-    let kept = max(1.0 - d / c.max_distance, 1.0 / 3.0);
+    let kept = max(kept_share(c, d), 1.0 / 3.0);
     return fade * fade * (3.0 - 2.0 * fade) / kept;
 }

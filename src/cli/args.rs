@@ -264,6 +264,11 @@ pub enum Command {
         /// With --grass: draw the wind colours at this opacity (0 to 1), to time them.
         #[arg(long, value_parser = parse_opacity)]
         wind_colours: Option<f32>,
+        /// With --grass: no GPU, only what the cull would draw of the N blades at the camera
+        /// (blades per LOD level and triangles a frame), estimated by its CPU twin from a
+        /// sample of them: the cost of a field bigger than this device holds.
+        #[arg(long, requires = "grass")]
+        estimate: bool,
     },
 }
 

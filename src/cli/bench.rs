@@ -70,6 +70,7 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         camera,
         size,
         wind_colours,
+        estimate,
     } = command
     else {
         unreachable!("bench::run is called with a bench command");
@@ -84,6 +85,9 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
                 "--grass: at most {} blades",
                 crate::grass::MAX_BLADES
             )));
+        }
+        if estimate {
+            return grass_estimate(&l, blades, camera.map(camera_from), size, json);
         }
         let options = crate::gpu::grass::BenchOptions {
             blades,
@@ -123,7 +127,7 @@ fn grass_bench(
         println!("{}", serde_json::to_string(&r)?);
     } else {
         println!(
-            "{} blades ({}, culling {}) at {}x{} on {} ({}): median {:.2} ms, min {:.2} ms a frame over {} frames (compute passes alone {:.2} ms, drawing alone {:.2} ms); drawn per LOD {:?}, culled by orientation {}, frustum {}, distance {}",
+            "{} blades ({}, culling {}) at {}x{} on {} ({}): median {:.2} ms, min {:.2} ms a frame over {} frames (compute passes alone {:.2} ms, drawing alone {:.2} ms); drawn per LOD {:?} ({} triangles), culled by orientation {}, frustum {}, distance {}",
             r.blades,
             r.model,
             if r.cull { "on" } else { "off" },
@@ -137,9 +141,31 @@ fn grass_bench(
             r.compute_ms,
             r.draw_ms,
             r.culled.drawn,
+            r.triangles,
             r.culled.orientation,
             r.culled.frustum,
             r.culled.distance,
+        );
+    }
+    Ok(ExitCode::SUCCESS)
+}
+
+/// What the cull would draw of `blades` blades of `l` at `camera` (the bench's when `None`)
+/// in a picture of `size`: its CPU twin on a sample of them, printed.
+fn grass_estimate(
+    l: &doc::Layout,
+    blades: usize,
+    camera: Option<crate::gpu::grass::Camera>,
+    size: [u32; 2],
+    json: bool,
+) -> Result<ExitCode, CliError> {
+    let r = crate::gpu::grass::estimate(l, blades, camera, size);
+    if json {
+        println!("{}", serde_json::to_string(&r)?);
+    } else {
+        println!(
+            "{} blades at {}x{}: the cull would draw about {:?} per LOD level, {} triangles a frame (estimated from {} of them on the CPU)",
+            r.blades, r.size[0], r.size[1], r.drawn, r.triangles, r.sample
         );
     }
     Ok(ExitCode::SUCCESS)

@@ -226,9 +226,15 @@ pub fn texel(
     }
 }
 
+/// Draws of the density thinning's hash [`super::cull::thin_draw`] (evenly spread) that
+/// [`cover`] averages over.
+pub const THIN_DRAWS: u32 = 16;
+
 /// The share (0–1) of the field's blade coverage the renderer draws at `distance` metres
-/// from the eye: the distance cull's buckets (each blade kept to its bucket's reach, fading
-/// over the last [`FADE`] of it, the survivors widened by `1 / kept`) and a blade budget's
+/// from the eye: the distance cull's buckets and density thinning (each blade kept to its
+/// reach, fading over the last [`FADE`] of it — averaged over the buckets and over
+/// [`THIN_DRAWS`] draws of the thinning's hash — the survivors widened by `1 / kept`,
+/// [`super::cull::kept_share`], at most [`MAX_WIDEN`]) and a blade budget's
 /// sample (blades kept with `p = min(1, (reach / d)²)` and widened by `1 / p`, at most
 /// [`super::sample::MAX_WIDEN`]; `sample_reach` is the sample's threshold, 0 when every blade
 /// is drawn).
@@ -237,13 +243,29 @@ pub fn cover(distance: f32, cull: &CullParams, sample_reach: f32) -> f32 {
     let culled = if cull.distance {
         let n = cull.buckets.max(1);
         let max = cull.max_distance.max(1e-3);
+        let thin = cull.thin_distance;
+        let draws = if thin > 0.0 { THIN_DRAWS } else { 1 };
         let mut kept = 0.0;
         for b in 0..n {
-            let r = max * (1.0 - b as f32 / n as f32);
-            let f = ((r - d) / (FADE * r)).clamp(0.0, 1.0);
-            kept += f * f * (3.0 - 2.0 * f);
+            let bucket = max * (1.0 - b as f32 / n as f32);
+            for j in 0..draws {
+                let r = if thin > 0.0 {
+                    bucket.min(thin / ((j as f32 + 0.5) / draws as f32).sqrt())
+                } else {
+                    bucket
+                };
+                let f = ((r - d) / (FADE * r)).clamp(0.0, 1.0);
+                kept += f * f * (3.0 - 2.0 * f);
+            }
         }
-        kept / n as f32 / (1.0 - d / max).max(1.0 / MAX_WIDEN)
+        let share = super::cull::kept_share(
+            d,
+            &CullParams {
+                max_distance: max,
+                ..*cull
+            },
+        );
+        kept / (n * draws) as f32 / share.max(1.0 / MAX_WIDEN)
     } else {
         1.0
     };

@@ -658,10 +658,17 @@ fn grass_bench_reports_the_model_culling_and_every_blade() {
         assert_eq!(r["adapter"], _ctx.adapter.name.as_str());
         let c = &r["culled"];
         let n = |v: &serde_json::Value| v.as_u64().unwrap();
-        let drawn: u64 = c["drawn"].as_array().unwrap().iter().map(n).sum();
+        let levels: Vec<u64> = c["drawn"].as_array().unwrap().iter().map(n).collect();
+        let drawn: u64 = levels.iter().sum();
         assert_eq!(
             drawn + n(&c["orientation"]) + n(&c["frustum"]) + n(&c["distance"]),
             n(&r["blades"]),
+            "{r}"
+        );
+        // Triangles a frame: 9, 5 and 1 a blade at the three levels.
+        assert_eq!(
+            n(&r["triangles"]),
+            9 * levels[0] + 5 * levels[1] + levels[2],
             "{r}"
         );
         let ms = |k: &str| r[k].as_f64().unwrap();
@@ -681,6 +688,16 @@ fn grass_bench_reports_the_model_culling_and_every_blade() {
         println!("{model}: {on} blades drawn culled, {off} not");
         assert!(on < off, "culling draws fewer blades");
     }
+    // More blades than any device here holds: the estimate, from the cull's CPU twin.
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .args(["bench", "--grass", "20000000", "--estimate", "--json"])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(r["blades"], 20_000_000);
+    let t = r["triangles"].as_u64().unwrap();
+    assert!(t > 100_000 && t <= 2_500_000, "{r}");
 }
 
 /// The 3D view's wind colours: the map view's speed scale over the grass and its ground.

@@ -558,6 +558,36 @@ mod cull {
             .unwrap();
         assert!(distance_width(far.0, far.1, &p) > 1.5);
     }
+
+    /// A dense field thins with the square of the distance past `thin_distance` (its blades
+    /// then stay about 2.5 px apart on screen), on top of the buckets; every blade still fades
+    /// out before its reach; and a denser field starts thinning nearer.
+    #[test]
+    fn a_dense_field_thins_with_the_square_of_the_distance() {
+        use windloom::grass::cull::kept_share;
+        let mut g = windloom::doc::default_layout().grass;
+        g.density = 2000.0;
+        let p = CullParams::for_grass(&g);
+        let t = p.thin_distance;
+        assert!(t > 5.0 && t < 20.0, "thinning from {t} m");
+        let n = 40_000u32;
+        let kept = |d: f32| (0..n).filter(|&k| d < reach(k, &p)).count() as f32 / n as f32;
+        assert!(kept(0.9 * t) > 0.95 * (1.0 - 0.9 * t / p.max_distance));
+        for m in [2.0f32, 4.0, 8.0] {
+            let d = m * t;
+            let want = kept_share(d, &p);
+            assert!(
+                (kept(d) - want).abs() < 0.02 + 0.1 * want,
+                "at {m}× the thinning distance {} kept, {want} meant",
+                kept(d)
+            );
+        }
+        for k in 0..500 {
+            assert!(distance_width(k, reach(k, &p) * 0.9999, &p) < 0.01);
+        }
+        g.density = 8000.0;
+        assert!(CullParams::for_grass(&g).thin_distance < 0.6 * t);
+    }
 }
 
 /// The far field's share of blade coverage (`grass::far::cover`): nearly whole while the

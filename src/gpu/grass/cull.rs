@@ -25,7 +25,7 @@ pub struct CullUniform {
     pub lod_far: f32,
     pub dither: f32,
     pub hysteresis: f32,
-    pub _pad1: f32,
+    pub thin_distance: f32,
 }
 
 impl CullUniform {
@@ -45,7 +45,7 @@ impl CullUniform {
             lod_far: p.lod_far,
             dither: p.dither,
             hysteresis: p.hysteresis,
-            _pad1: 0.0,
+            thin_distance: p.thin_distance,
         }
     }
 }

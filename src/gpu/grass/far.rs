@@ -33,7 +33,9 @@ pub struct FarUniform {
     pub stiffness: f32,
     /// Blades a square metre.
     pub density: f32,
-    pub _pad1: [f32; 2],
+    /// The cull's density thinning (`CullParams::thin_distance`; 0: none).
+    pub thin_distance: f32,
+    pub _pad1: f32,
     pub base: [f32; 4],
     pub tip: [f32; 4],
     /// The calm field's look beyond the level ([`far::surround`]): colour, and the optical
@@ -86,7 +88,8 @@ impl FarPass {
             width: mid(g.width),
             stiffness: mid(g.stiffness),
             density: g.density,
-            _pad1: [0.0; 2],
+            thin_distance: 0.0,
+            _pad1: 0.0,
             base: [look.base[0], look.base[1], look.base[2], 1.0],
             tip: [look.tip[0], look.tip[1], look.tip[2], 1.0],
             surround: [0.0; 4],
@@ -195,6 +198,11 @@ impl FarPass {
         self.uniform.flags = (self.uniform.flags & 1) | (u32::from(cull.distance) << 1);
         self.uniform.buckets = cull.buckets.max(1);
         self.uniform.max_distance = cull.max_distance.max(1e-3);
+        self.uniform.thin_distance = if cull.distance {
+            cull.thin_distance
+        } else {
+            0.0
+        };
         queue.write_buffer(&self.uniform_buf, 0, bytemuck::bytes_of(&self.uniform));
         if self.uniform.flags & 1 == 0 {
             return;

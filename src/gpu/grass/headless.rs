@@ -208,6 +208,57 @@ pub struct GrassBench {
     pub culled: CullStats,
     /// Segments per blade at each LOD level.
     pub lod_segments: [u32; 3],
+    /// Triangles the last frame drew ([`crate::grass::cull::triangles`] of `culled.drawn`).
+    pub triangles: u64,
+}
+
+/// What `bench --grass N --estimate` reports: what the cull would draw of `blades` blades at
+/// a camera, from its CPU twin ([`crate::grass::cull::estimate_drawn`]) on `sample` of them.
+#[derive(Debug, Clone, serde::Serialize)]
+pub struct GrassEstimate {
+    pub blades: usize,
+    pub size: [u32; 2],
+    pub sample: u32,
+    /// Blades drawn at each LOD level.
+    pub drawn: [u64; 3],
+    pub triangles: u64,
+    pub lod_segments: [u32; 3],
+}
+
+/// Blades the estimate classifies (enough for the counts to within about 1 %).
+pub const ESTIMATE_SAMPLE: u32 = 400_000;
+
+/// What the cull would draw of `blades` blades of `layout` (at the density that gives that
+/// many) seen by `camera` ([`Camera::walk`] when `None`) in a picture of `size`.
+pub fn estimate(
+    layout: &Layout,
+    blades: usize,
+    camera: Option<Camera>,
+    size: [u32; 2],
+) -> GrassEstimate {
+    let mut layout = layout.clone();
+    let area = layout.world.size[0] * layout.world.size[1];
+    layout.grass.density = (blades as f32 / area).max(1e-3);
+    let camera = camera.unwrap_or_else(|| Camera::walk(&layout));
+    let aspect = size[0].max(1) as f32 / size[1].max(1) as f32;
+    let params = CullParams::for_grass(&layout.grass);
+    let drawn = crate::grass::cull::estimate_drawn(
+        &layout,
+        blades as u64,
+        camera.eye.to_array(),
+        &camera.view_proj(aspect),
+        &params,
+        ESTIMATE_SAMPLE,
+    )
+    .map(|d| d.round() as u64);
+    GrassEstimate {
+        blades,
+        size,
+        sample: ESTIMATE_SAMPLE,
+        drawn,
+        triangles: crate::grass::cull::triangles(drawn),
+        lod_segments: crate::grass::cull::LOD_SEGMENTS,
+    }
 }
 
 /// What `bench --grass` times: about `blades` blades, pictures of `size`, `frames` timed
@@ -321,6 +372,7 @@ pub fn bench(
         min_ms: times[0],
         compute_ms,
         draw_ms,
+        triangles: crate::grass::cull::triangles(culled.drawn.map(u64::from)),
         culled,
         lod_segments: crate::grass::cull::LOD_SEGMENTS,
     })

@@ -31,7 +31,10 @@ pub use bezier::{BezierPass, BezierState};
 pub use camera::{Camera, FRAME_MARGIN, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
 pub use far::{FarPass, FarUniform};
-pub use headless::{BenchOptions, GrassBench, PictureOptions, PushPath, bench, picture, settle};
+pub use headless::{
+    BenchOptions, GrassBench, GrassEstimate, PictureOptions, PushPath, bench, estimate, picture,
+    settle,
+};
 pub use target::{FramePart, Target, render_into, render_offscreen};
 
 use super::GpuError;
@@ -528,7 +531,7 @@ impl GrassRenderer {
             &layout_shape,
             &module("grass_cull"),
             blades.len() as u32,
-            CullParams::for_height((g.height[0] + g.height[1]) / 2.0),
+            CullParams::for_grass(g),
         );
         let far = FarPass::new(
             device,

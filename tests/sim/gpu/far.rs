@@ -37,6 +37,7 @@ fn the_far_field_matches_its_cpu_twin() {
     };
     let cull = CullParams {
         max_distance: 26.0,
+        thin_distance: 12.0,
         ..CullParams::for_height(0.5)
     };
     r.set_cull(cull);

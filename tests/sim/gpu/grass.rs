@@ -257,6 +257,8 @@ fn culling_on_the_gpu_matches_the_cpu_for_random_cameras() {
     params.lod_near = 4.0;
     params.lod_far = 12.0;
     params.max_distance = 45.0;
+    // And the density thinning past 10 m (the field is 20/m², so it thins within view).
+    params.thin_distance = 10.0;
     let mut rng = 12345u64;
     let mut next = || {
         rng = rng

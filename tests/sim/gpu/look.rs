@@ -350,3 +350,106 @@ fn the_map_tints_the_blades_bases() {
         "the blades do not take the map's colour: {left:?} against {right:?}"
     );
 }
+
+/// Peak signal to noise ratio of `b` against `a` (RGB, dB).
+fn psnr(a: &[u8], b: &[u8]) -> f64 {
+    let (sum, n) = a
+        .chunks(4)
+        .zip(b.chunks(4))
+        .fold((0.0f64, 0.0f64), |(s, n), (p, q)| {
+            let d: f64 = (0..3)
+                .map(|c| (f64::from(p[c]) - f64::from(q[c])).powi(2))
+                .sum();
+            (s + d, n + 3.0)
+        });
+    10.0 * (255.0f64 * 255.0 / (sum / n).max(1e-12)).log10()
+}
+
+/// The meadow at the density that gives `n` blades, its grass renderer and blades.
+fn dense_meadow(ctx: &GpuContext, n: f32) -> (Layout, windloom::gpu::grass::GrassRenderer) {
+    let mut l = meadow(0.0);
+    l.grass.density = n / (l.world.size[0] * l.world.size[1]);
+    let blades = windloom::grass::scatter(&l);
+    let r = windloom::gpu::grass::GrassRenderer::new(
+        &ctx.device,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        &l,
+        &blades,
+    );
+    (l, r)
+}
+
+/// The cull draws what the frame shows, not what the field holds: past the distance where a
+/// dense field's blades come 2.5 px apart on screen it thins with the square of the
+/// distance. At the grass benchmark's camera, 1.5 M blades of the meadow then draw under
+/// 65 % of the triangles they did (the GPU's counters; measured 59 %), and the picture stays
+/// above 30 dB PSNR of the unthinned one (measured 53: the far field and the widened
+/// survivors stand for the rest);
+/// the cull's CPU estimate of the counts matches the GPU's within 2 %, and for 20 M blades
+/// it is under 2.5 M triangles (12.2 M unthinned).
+#[test]
+fn a_dense_field_draws_what_the_frame_shows() {
+    use windloom::grass::cull::{self, CullParams};
+    let Some(ctx) = context() else { return };
+    let (l, mut r) = dense_meadow(&ctx, 1.5e6);
+    let camera = Camera::walk(&l);
+    let size = [640u32, 360u32];
+    let aspect = size[0] as f32 / size[1] as f32;
+    let thin = r.cull_params();
+    assert!(thin.thin_distance > 0.0);
+    let mut draw = |p: CullParams| {
+        r.set_cull(p);
+        let (px, _) =
+            windloom::gpu::grass::render_offscreen(&ctx, &mut r, &camera, (1.0, 1.0 / 60.0), size)
+                .unwrap();
+        let (stats, _) = r.read_cull(&ctx.device, &ctx.queue).unwrap();
+        (px, cull::triangles(stats.drawn.map(u64::from)), stats.drawn)
+    };
+    let (thinned, t_thin, drawn) = draw(thin);
+    let (whole, t_whole, _) = draw(CullParams {
+        thin_distance: 0.0,
+        ..thin
+    });
+    let db = psnr(&whole, &thinned);
+    println!("1.5 M blades: {t_thin} triangles thinned, {t_whole} not; {db:.1} dB PSNR");
+    assert!(
+        (t_thin as f64) < 0.65 * t_whole as f64,
+        "thinning cut too little: {t_thin} of {t_whole}"
+    );
+    assert!(db > 30.0, "the thinned picture is not the same: {db} dB");
+    let n = r.blade_count() as u64;
+    let est = cull::estimate_drawn(
+        &l,
+        n,
+        camera.eye.to_array(),
+        &camera.view_proj(aspect),
+        &thin,
+        400_000,
+    );
+    for (e, g) in est.iter().zip(drawn) {
+        assert!(
+            (e - f64::from(g)).abs() <= 0.02 * f64::from(g) + 200.0,
+            "the estimate {est:?} against the GPU's {drawn:?}"
+        );
+    }
+    // 20 M blades of the meadow at the benchmark's camera.
+    let mut big = l.clone();
+    big.grass.density = 2e7 / (l.world.size[0] * l.world.size[1]);
+    let vp = Camera::walk(&big).view_proj(16.0 / 9.0);
+    let count = |p: &CullParams| {
+        cull::triangles(
+            cull::estimate_drawn(&big, 20_000_000, camera.eye.to_array(), &vp, p, 400_000)
+                .map(|d| d as u64),
+        )
+    };
+    let p = CullParams::for_grass(&big.grass);
+    let (with, without) = (
+        count(&p),
+        count(&CullParams {
+            thin_distance: 0.0,
+            ..p
+        }),
+    );
+    println!("20 M blades: {with} triangles, {without} unthinned");
+    assert!(with <= 2_500_000, "20 M blades draw {with} triangles");
+}
