@@ -185,7 +185,7 @@ impl ViewSample {
             .iter()
             .map(|&i| {
                 let mut b = self.all[i as usize];
-                b.width *= sample::widen(i, &b, camera.eye, &vp, s.threshold);
+                b.width *= sample::widen(&b, camera.eye, s.threshold);
                 b
             })
             .collect()

@@ -1,14 +1,18 @@
 //! A view-dependent sample of the blades, for renderers that can draw only a fixed number of
-//! them (the editor's 3D view on a software adapter draws 40,000 of a meadow's 600,000).
+//! them (the editor's 3D view on a software adapter draws 40,000 of a meadow's 600,000): a
+//! budget on the blades the frame would draw.
 //!
 //! An even random sample spreads the budget over the whole world, so a close view shows a
-//! few blades a square metre. This sample instead keeps the field dense near the camera and
-//! thins it with distance, like the blades' size on screen: blade `i` is kept when
-//! `hash(i) < p(dᵢ) = min(1, (T / dᵢ)²)`, where `dᵢ` is its root's distance from the eye (times
-//! [`OUTSIDE_WEIGHT`] when the root lies outside the view, so a small turn of the camera does
-//! not show bare ground) and `T` is chosen so that exactly `budget` blades are kept: they are
-//! the `budget` smallest keys `dᵢ·√hash(i)`. The survivors widen by `1 / p` (at most
-//! [`MAX_WIDEN`]) so the thinned field keeps its coverage.
+//! few blades a square metre. This sample spends it only on blades the cull pass would draw —
+//! roots inside the view (widened by [`VIEW_SLACK`], so a small turn of the camera keeps its
+//! blades) and not seen edge-on (the cull's orientation test) — dense near the camera and
+//! thinning with distance like the blades' size on screen: blade `i` is kept when `hash(i) <
+//! p(dᵢ) = min(1, (T / dᵢ)²)`, where `dᵢ` is its root's distance from the eye and `T` is chosen
+//! so that exactly `budget` blades are kept: they are the `budget` smallest keys
+//! `dᵢ·√hash(i)`. The survivors widen by `1 / p` (at most [`MAX_WIDEN`]) so the thinned field
+//! keeps its coverage, and the far field shows the rest (out of view it was bare ground
+//! once, so a share of the budget went behind the camera; now the far field covers it until
+//! the sample is chosen again).
 //!
 //! [`assign`] keeps a blade that stays in the sample in the same slot of the renderer's blade
 //! buffer, so only the blades that enter or leave the sample change when the camera moves.
@@ -16,22 +20,29 @@
 use super::Blade;
 use glam::{Mat4, Vec3, Vec4};
 
-/// How much farther a blade outside the view counts.
-pub const OUTSIDE_WEIGHT: f32 = 3.0;
 /// The view widened by this fraction of clip-space `w` before a root counts as outside.
 pub const VIEW_SLACK: f32 = 0.15;
 /// Widest a surviving blade is drawn, as a multiple of its width.
 pub const MAX_WIDEN: f32 = 2.5;
 
-/// Blade `i`'s key: the eye distance at which it would enter the sample.
-pub fn key(i: u32, blade: &Blade, eye: Vec3, view_proj: &Mat4) -> f32 {
+/// Blade `i`'s key: the eye distance at which it would enter the sample; `None` when the
+/// frame would not draw it (its root outside the view, or the blade edge-on).
+pub fn key(i: u32, blade: &Blade, eye: Vec3, view_proj: &Mat4) -> Option<f32> {
     let root = Vec3::new(blade.pos[0], 0.0, blade.pos[1]);
     let c = *view_proj * Vec4::new(root.x, root.y, root.z, 1.0);
     let h = c.w * (1.0 + VIEW_SLACK);
     let inside = c.w > 0.0 && c.x.abs() <= h && c.y.abs() <= h;
+    let (dx, dz) = (root.x - eye.x, root.z - eye.z);
+    let ground = dx.hypot(dz);
+    let side = super::cull::side(blade);
+    let edge_on = ground > 0.0
+        && ((dx * side[0] + dz * side[1]) / ground).abs()
+            > super::cull::CullParams::default().orientation_limit;
+    if !inside || edge_on {
+        return None;
+    }
     let d = root.distance(eye).max(1e-3);
-    let d = if inside { d } else { d * OUTSIDE_WEIGHT };
-    d * super::hash01(i, 0x5a3e, 0x7e1d).sqrt()
+    Some(d * super::hash01(i, 0x5a3e, 0x7e1d).sqrt())
 }
 
 /// The blades a view keeps, nearest first by key, and the threshold `T` (the largest key kept;
@@ -42,7 +53,8 @@ pub struct Sample {
     pub threshold: f32,
 }
 
-/// The `budget` blades of `all` with the smallest keys for a camera at `eye` with `view_proj`.
+/// The `budget` blades of `all` the frame would draw with the smallest keys for a camera at
+/// `eye` with `view_proj` (all of those, when fewer).
 pub fn choose(all: &[Blade], eye: Vec3, view_proj: &Mat4, budget: usize) -> Sample {
     if all.len() <= budget {
         return Sample {
@@ -53,13 +65,20 @@ pub fn choose(all: &[Blade], eye: Vec3, view_proj: &Mat4, budget: usize) -> Samp
     let mut keyed: Vec<(f32, u32)> = all
         .iter()
         .enumerate()
-        .map(|(i, b)| (key(i as u32, b, eye, view_proj), i as u32))
+        .filter_map(|(i, b)| Some((key(i as u32, b, eye, view_proj)?, i as u32)))
         .collect();
     let by_key = |a: &(f32, u32), b: &(f32, u32)| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1));
     if budget == 0 {
         return Sample {
             blades: Vec::new(),
             threshold: 0.0,
+        };
+    }
+    if keyed.len() <= budget {
+        keyed.sort_unstable_by(by_key);
+        return Sample {
+            blades: keyed.into_iter().map(|(_, i)| i).collect(),
+            threshold: f32::INFINITY,
         };
     }
     keyed.select_nth_unstable_by(budget - 1, by_key);
@@ -71,12 +90,12 @@ pub fn choose(all: &[Blade], eye: Vec3, view_proj: &Mat4, budget: usize) -> Samp
     }
 }
 
-/// How much wider blade `i` is drawn in a sample of threshold `threshold`: `1 / p` for the
-/// fraction `p` of the blades around it that the sample keeps, at most [`MAX_WIDEN`].
-pub fn widen(i: u32, blade: &Blade, eye: Vec3, view_proj: &Mat4, threshold: f32) -> f32 {
-    let hash = super::hash01(i, 0x5a3e, 0x7e1d).sqrt().max(1e-6);
-    // The key without the hash: the blade's (weighted) distance.
-    let d = key(i, blade, eye, view_proj) / hash;
+/// How much wider `blade` is drawn in a sample of threshold `threshold` for an eye at `eye`:
+/// `1 / p` for the fraction `p` of the blades around it that the sample keeps, at most
+/// [`MAX_WIDEN`].
+pub fn widen(blade: &Blade, eye: Vec3, threshold: f32) -> f32 {
+    let root = Vec3::new(blade.pos[0], 0.0, blade.pos[1]);
+    let d = root.distance(eye).max(1e-3);
     let p = (threshold / d).powi(2).min(1.0);
     (1.0 / p.max(1e-6)).min(MAX_WIDEN)
 }
@@ -169,7 +188,8 @@ mod tests {
             }
             k as f32 / n as f32
         };
-        let near = ring(0.0, s.threshold * 0.5);
+        // (From 4 m: nearer, the ground is below the view.)
+        let near = ring(4.0, s.threshold * 0.5);
         let mid = ring(2.0 * s.threshold, 2.5 * s.threshold);
         let far = ring(4.0 * s.threshold, 5.0 * s.threshold);
         assert_eq!(near, 1.0, "threshold {}", s.threshold);
@@ -187,9 +207,19 @@ mod tests {
             .iter()
             .filter(|&&b| all[b as usize].pos[0] > eye.x + 5.0)
             .count();
-        assert!(ahead > 4 * behind, "ahead {ahead}, behind {behind}");
+        assert_eq!(
+            behind, 0,
+            "the budget goes to blades in view: {ahead} ahead"
+        );
+        // None edge-on (the cull would not draw them).
+        let eyes_side = |b: &Blade| {
+            let side = crate::grass::cull::side(b);
+            let (dx, dz) = (b.pos[0] - eye.x, b.pos[1] - eye.z);
+            ((dx * side[0] + dz * side[1]) / dx.hypot(dz)).abs()
+        };
+        assert!(s.blades.iter().all(|&b| eyes_side(&all[b as usize]) <= 0.9));
         // Survivors widen to keep coverage, near blades not at all.
-        let w = |b: u32| widen(b, &all[b as usize], eye, &vp, s.threshold);
+        let w = |b: u32| widen(&all[b as usize], eye, s.threshold);
         let nearest = s.blades.iter().copied().min_by(|&a, &b| {
             let d = |i: u32| Vec3::new(all[i as usize].pos[0], 0.0, all[i as usize].pos[1]);
             d(a).distance(eye).total_cmp(&d(b).distance(eye))
@@ -207,7 +237,7 @@ mod tests {
         let vp = camera(eye, Vec3::new(50.0, 0.0, 50.0));
         let s = choose(&all, eye, &vp, all.len());
         assert_eq!(s.blades.len(), all.len());
-        assert_eq!(widen(7, &all[7], eye, &vp, s.threshold), 1.0);
+        assert_eq!(widen(&all[7], eye, s.threshold), 1.0);
     }
 
     /// A blade that stays in the sample keeps its slot; each chosen blade takes exactly one.

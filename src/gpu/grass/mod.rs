@@ -689,9 +689,10 @@ impl GrassRenderer {
     }
 
     /// Replaces the blades in the first `blades.len()` slots (at most the uploaded count),
-    /// as a view-dependent sample ([`crate::grass::sample`]) does when the camera moves. The
-    /// LOD levels start afresh; a Bezier state whose slot got a new blade starts at rest (the
-    /// Bezier pass sees its root moved), the others carry on.
+    /// as a view-dependent sample ([`crate::grass::sample`]) does when the camera moves; the
+    /// passes then run over those alone (a close view may have fewer blades to draw than the
+    /// budget holds). The LOD levels start afresh; a Bezier state whose slot got a new blade
+    /// starts at rest (the Bezier pass sees its root moved), the others carry on.
     pub fn replace_blades(
         &mut self,
         queue: &wgpu::Queue,
@@ -699,6 +700,7 @@ impl GrassRenderer {
         blades: &[Blade],
     ) {
         let n = blades.len().min(self.total as usize);
+        self.scene.blades = n as u32;
         if n == 0 {
             return;
         }
