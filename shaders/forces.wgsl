@@ -1,6 +1,7 @@
 // Step 1, the AGC arrows: each active arrow is a capsule splat that drives the wind on the
 // free faces along its direction toward its strength,
-// Δvel = (1 − e^(−k·g·dt)) · max(0, strength − vel·dir) · dir, g = exp(−d²/r²) within 3 r.
+// Δvel = (1 − e^(−k·g·dt)) · max(0, strength − vel·dir) · dir, g = exp(−d²/r²) within 3 r,
+// overlapping arrows' pushes summed and divided by their summed gains where those pass 1.
 // The ambient layers then pull every free face toward their wind: Δvel = (w − vel)·coupling.
 // `inc_u`/`inc_v` write every face's change from the velocity before the pass; `add` then adds
 // it, clamped to ±max_speed. CPU twin: `Solver::apply_forces` with `sim::forces::ArrowSplat`
@@ -190,6 +191,7 @@ fn segment_dist2(p: vec2<f32>, a: vec2<f32>, b: vec2<f32>) -> f32 {
 // The change of component `c` (0: x, 1: z) at world point `at` where the wind is `vel`.
 fn increment(at: vec2<f32>, vel: vec2<f32>, c: u32) -> f32 {
     var sum = 0.0;
+    var gains = 0.0;
     for (var s = 0u; s < P.splats; s = s + 1u) {
         let sp = splats[s];
         let d2 = segment_dist2(at, sp.a, sp.b);
@@ -202,9 +204,14 @@ fn increment(at: vec2<f32>, vel: vec2<f32>, c: u32) -> f32 {
             continue;
         }
         let deficit = max(sp.strength - (vel.x * sp.dir.x + vel.y * sp.dir.y), 0.0);
-        let m = (1.0 - exp_neg(-P.response * g * P.dt)) * deficit;
+        let gain = 1.0 - exp_neg(-P.response * g * P.dt);
+        let m = gain * deficit;
         sum = sum + sp.dir[c] * m;
+        gains = gains + gain;
     }
+    // `sim::forces::combine`: overlapping arrows push by the gain-weighted mean of their
+    // deficits once their gains sum past 1, never by their sum.
+    sum = sum / max(gains, 1.0);
     if (P.layers > 0u) {
         sum = sum + (ambient_wind(at)[c] - vel[c]) * P.coupling;
     }

@@ -190,3 +190,48 @@ fn ambient_layers_drive_the_field_toward_their_wind() {
         "mean wind {mean:?} should approach 6 m/s at 20°"
     );
 }
+
+/// The field's fastest cell (m/s).
+fn peak(s: &Solver) -> f32 {
+    s.velocity_field()
+        .iter()
+        .map(|v| v[0].hypot(v[1]))
+        .fold(0.0, f32::max)
+}
+
+/// Overlapping arrows drive the wind toward the strongest of them, never their sum: 256
+/// 5 m/s arrows stacked over one another (a designer's copy-paste) stay under 7.5 m/s over
+/// 10 s at the meadow's grid (they reached 490 m/s when their pushes added up), yet still
+/// drive it past 4 m/s; a 5 and an 8 m/s arrow over one another approach 8, not 13. (A lone
+/// arrow's arithmetic is unchanged: its gain is below 1, and `combine` divides by 1.)
+#[test]
+fn overlapping_arrows_approach_the_strongest_not_their_sum() {
+    let stacked = |arrows: &[(f32, f32)]| {
+        let mut l = Layout::new("stacked", [120.0, 80.0], [240, 160]);
+        for (k, &(strength, dz)) in arrows.iter().enumerate() {
+            let z = 40.0 + dz;
+            let id = 10 * k as u32 + 10;
+            l.trees.push(tree(
+                k as u32 + 1,
+                chain(id, &[[30.0, z], [70.0, z]], strength, 6.0),
+            ));
+        }
+        l
+    };
+    let fan: Vec<(f32, f32)> = (0..256).map(|k| (5.0, (k as f32 / 255.0 - 0.5))).collect();
+    let mut s = Solver::new(&stacked(&fan));
+    let mut worst = 0.0f32;
+    for _ in 0..10 {
+        run(&mut s, 1.0);
+        worst = worst.max(peak(&s));
+    }
+    println!("256 stacked 5 m/s arrows: peak {worst:.2} m/s over 10 s");
+    assert!(worst < 7.5, "stacked arrows add up: {worst} m/s");
+    assert!(worst > 4.0, "stacked arrows still blow: {worst} m/s");
+    let pair = stacked(&[(5.0, 0.0), (8.0, 0.0)]);
+    let mut s = Solver::new(&pair);
+    run(&mut s, 10.0);
+    let along = s.velocity_at([60.0, 40.0])[0];
+    println!("a 5 and an 8 m/s arrow stacked: {along:.2} m/s along them");
+    assert!(along > 6.0 && along < 9.0, "{along} m/s");
+}

@@ -99,12 +99,16 @@ impl Solver {
         let [ox, oz] = self.origin;
         let k_resp = self.params.arrow_response;
         let change = |s: &Solver, p: [f32; 2], vel: [f32; 2], c: usize| -> f32 {
-            let mut inc = 0.0;
+            let (mut inc, mut gains) = (0.0, 0.0);
             for sp in &splats {
                 let g = sp.weight(p);
                 if g != 0.0 {
                     inc += sp.impulse_weighted(g, vel, k_resp, dt)[c];
+                    gains += sp.gain(p, k_resp, dt);
                 }
+            }
+            if !splats.is_empty() {
+                inc = crate::sim::forces::combine(inc, gains);
             }
             if coupling > 0.0 {
                 inc += (s.ambient.wind(p)[c] - vel[c]) * coupling;
