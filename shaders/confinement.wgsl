@@ -29,7 +29,10 @@ fn force(@builtin(global_invocation_id) id: vec3<u32>) {
     let w = curl[j * nx + i];
     let gx = 0.5 * (abs(curl[j * nx + ni.y]) - abs(curl[j * nx + ni.x]));
     let gz = 0.5 * (abs(curl[nj.y * nx + i]) - abs(curl[nj.x * nx + i]));
-    let len = sqrt(gx * gx + gz * gz) + 1e-5;
+    // `vorticity::confinement_norm`: β·w in the norm, so the direction fades to zero across
+    // a ridge of |w| instead of flipping (`CONFINEMENT_BETA`, 0.5).
+    let bw = 0.5 * w;
+    let len = sqrt(gx * gx + gz * gz + bw * bw) + 1e-5;
     let s = P.eps * P.h * w / len;
     fx[j * nx + i] = s * gz;
     fz[j * nx + i] = -s * gx;

@@ -546,8 +546,10 @@ fn a_long_output_name_bakes() {
 }
 
 /// What the bake's numbers show goes into the manifest's notes, so a bake of nonsense does
-/// not pass as a good one: a fan of overlapping arrows that adds up far past each arrow, the
-/// paper's vorticity factor of 50, and obstacles over the whole map (a still field).
+/// not pass as a good one: the paper's vorticity factor of 50, and obstacles over the whole
+/// map (a still field). A fan of overlapping arrows used to add up far past each arrow and be
+/// noted here; they now drive toward the strongest of them (`sim::forces::combine`), so the
+/// fan's bake stays under 1.5× its arrows' 5 m/s and says nothing of it.
 #[test]
 fn nonsense_bakes_say_so_in_the_manifest() {
     let dir = tempfile::tempdir().unwrap();
@@ -559,8 +561,7 @@ fn nonsense_bakes_say_so_in_the_manifest() {
         grid: Some([48, 48]),
         ..Default::default()
     };
-    // A fan: 256 arrows of 5 m/s all round one root, all overlapping (their pushes add up
-    // to thousands of m/s: the model's own problem, left to its issue; here it is said).
+    // A fan: 256 arrows of 5 m/s all round one root, all overlapping.
     let mut fan = example("meadow.json");
     fan.ambient.clear();
     let root = &mut fan.trees[0].root;
@@ -577,11 +578,9 @@ fn nonsense_bakes_say_so_in_the_manifest() {
         });
     }
     let m = run(&fan, &dir.path().join("fan"), &opts);
-    assert!(m.max_speed > 100.0, "{}", m.max_speed);
+    assert!(m.max_speed < 7.5, "{}", m.max_speed);
     assert!(
-        m.notes
-            .iter()
-            .any(|n| n.contains("peaks at") && n.contains("strongest push")),
+        !m.notes.iter().any(|n| n.contains("strongest push")),
         "{:?}",
         m.notes
     );

@@ -464,6 +464,52 @@ fn stacked_arrows_combine_on_the_gpu_as_on_the_cpu() {
     assert!(err <= 1e-3 * peak, "max |Δv| {err} of peak {peak}");
 }
 
+/// Every example at its own grid, 120 steps (2 s) from rest on both solvers: the GPU's
+/// field within 1e-3 of the CPU's peak speed (measured 4e-7 to 1e-4), with the layouts' own
+/// confinement and without it (3e-7 to 5e-6). Before the confinement's direction was
+/// regularised (`vorticity::CONFINEMENT_BETA`) it flipped sign across every ridge of |ω| on a
+/// last bit, and the two fields parted there step after step: 3.3e-3 of the peak on the
+/// meadow, a quarter of it on two-winds (docs/SOLVER.md, "The GPU twin").
+#[test]
+fn every_example_agrees_with_the_cpu_after_120_steps() {
+    let Some(ctx) = context() else { return };
+    let run = |l: &Layout| {
+        let mut cpu = Solver::new(l);
+        let mut gpu = windloom::gpu::GpuSolver::new(&ctx, l).unwrap();
+        for _ in 0..120 {
+            cpu.step();
+            gpu.step(&ctx);
+        }
+        gpu.finish(&ctx).unwrap();
+        let (err, peak) = deviation(&gpu.velocity_field(&ctx).unwrap(), &cpu.velocity_field());
+        (err / peak, peak)
+    };
+    for name in [
+        "meadow.json",
+        "breeze-fft.json",
+        "branching.json",
+        "two-winds.json",
+        "obstacles.json",
+        "walled-garden.json",
+    ] {
+        let l = example(name);
+        let (with, peak) = run(&l);
+        let mut off = l.clone();
+        off.sim.vorticity = 0.0;
+        let (without, _) = run(&off);
+        println!(
+            "{name}: |GPU − CPU| after 120 steps {with:.1e} of {peak:.2} m/s; without \
+             confinement {without:.1e}"
+        );
+        assert!(
+            without <= 1e-5,
+            "{name}: {without} of the peak without confinement"
+        );
+        assert!(peak > 3.0, "{name}: the wind blows");
+        assert!(with <= 1e-3, "{name}: {with} of the peak with confinement");
+    }
+}
+
 /// A 2048² grid, the GPU solver's stated target: its face arrays (2049 × 2048) need more than
 /// the 65,535 workgroups of 64 that one dispatch dimension allows, so the one-dimensional
 /// passes (the forces' `add`, the pressure's `decay`) must be split into rows. Before they

@@ -204,7 +204,7 @@ impl Solver {
                     let w = curl[j * nx + i];
                     let gx = 0.5 * (curl[j * nx + ir].abs() - curl[j * nx + il].abs());
                     let gz = 0.5 * (curl[jt * nx + i].abs() - curl[jb * nx + i].abs());
-                    let len = (gx * gx + gz * gz).sqrt() + 1e-5;
+                    let len = super::vorticity::confinement_norm(gx, gz, w);
                     let s = eps * h * w / len;
                     fx_row[i] = s * gz;
                     fz_row[i] = -s * gx;
