@@ -236,7 +236,7 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Advection::SemiLagrangian)]
         advection: Advection,
         /// Pressure solve: Jacobi (--iterations sweeps) or multigrid (--cycles V-cycles).
-        #[arg(long, value_enum, default_value_t = PressureSolve::Jacobi)]
+        #[arg(long, value_enum, default_value_t = PressureSolve::Multigrid)]
         pressure: PressureSolve,
         /// Multigrid V-cycles per step (with --pressure multigrid).
         #[arg(long, default_value_t = 2)]

@@ -888,7 +888,7 @@ impl Default for SimParams {
         Self {
             dt: 1.0 / 60.0,
             substeps: 1,
-            pressure: PressureSolve::Jacobi,
+            pressure: PressureSolve::Multigrid,
             pressure_iterations: 20,
             pressure_cycles: 2,
             pressure_decay: 0.8,

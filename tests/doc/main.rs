@@ -274,7 +274,7 @@ fn absurd_sizes_are_rejected_with_the_budget() {
     let e = errors(&huge);
     has(
         &e,
-        "world.grid: 16000x16000 needs 13672 MiB of solver memory, over the budget of 2048 MiB",
+        "world.grid: 16000x16000 needs 24414 MiB of solver memory, over the budget of 2048 MiB",
     );
     let axis = small_text().replacen("\"grid\": [\n      50", "\"grid\": [\n      3", 1);
     has(
@@ -290,23 +290,26 @@ fn pressure_solve_settings_are_checked() {
         &errors(&cycles),
         "sim.pressure_cycles: must be between 1 and 20, got 0",
     );
-    let unknown =
-        small_text().replacen("\"pressure\": \"jacobi\"", "\"pressure\": \"conjugate\"", 1);
+    let unknown = small_text().replacen(
+        "\"pressure\": \"multigrid\"",
+        "\"pressure\": \"conjugate\"",
+        1,
+    );
     has(
         &errors(&unknown),
         "sim.pressure: unknown variant `conjugate`",
     );
-    // 5000² fits the budget with Jacobi, not with multigrid's hierarchy on top.
-    let big = small_text().replacen(
+    // 5000² fits the budget with Jacobi, not with multigrid's hierarchy (the default) on top.
+    let big_mg = small_text().replacen(
         "\"grid\": [\n      50,\n      40",
         "\"grid\": [\n      5000,\n      5000",
         1,
     );
+    let big = big_mg.replacen("\"pressure\": \"multigrid\"", "\"pressure\": \"jacobi\"", 1);
     assert!(
         doc::parse(&big).is_ok(),
         "5000x5000 with Jacobi fits the budget"
     );
-    let big_mg = big.replacen("\"pressure\": \"jacobi\"", "\"pressure\": \"multigrid\"", 1);
     has(
         &errors(&big_mg),
         "world.grid: 5000x5000 needs 2384 MiB of solver memory, over the budget of 2048 MiB",

@@ -24,6 +24,8 @@ fn bench_prints_one_json_object_with_the_split_and_the_bound() {
     let out = bench(&[
         "--grid",
         "64",
+        "--pressure",
+        "jacobi",
         "--iterations",
         "4",
         "--steps",

@@ -71,6 +71,9 @@ fn fast_passes_match_the_reference_bit_for_bit() {
         l.sim.boundary = boundary;
         l.sim.advection = advection;
         l.sim.pressure_iterations = iterations;
+        // The reference twin solves the pressure by Jacobi; multigrid has its own tests
+        // (`tests/sim/pressure.rs`).
+        l.sim.pressure = doc::PressureSolve::Jacobi;
         let mut reference = Solver::new(&l);
         for _ in 0..12 {
             reference.step_reference();
@@ -107,6 +110,7 @@ fn fast_passes_match_the_reference_bit_for_bit() {
 fn kept_splat_gains_give_the_bits_of_computing_them() {
     let mut l = example("branching.json");
     l.world.grid = [90, 70];
+    l.sim.pressure = doc::PressureSolve::Jacobi;
     l.trees[0].propagation_speed = 400.0;
     l.trees[0].emission = doc::Emission::Pulsed {
         period: 0.2,

@@ -186,7 +186,7 @@ fn the_inspector_s_choices_read_as_words_and_switch_by_clicking() {
     h.run_steps(2);
     let shown = |h: &Harness<'_, EditorApp>, label: &str| h.get_by_label(label).value();
     for (label, value) in [
-        ("Pressure solve", "Jacobi"),
+        ("Pressure solve", "Multigrid"),
         ("Boundary", "Open"),
         ("Advection", "Semi-Lagrangian"),
     ] {
