@@ -38,6 +38,13 @@ pub fn combine(pushes: f32, gains: f32) -> f32 {
     pushes / gains.max(1.0)
 }
 
+/// An arrow's gain `1 − e^(−k·g·dt)` where its Gaussian weight is `g` (response `k`, step
+/// `dt`): the share of its deficit it makes up in a step.
+#[inline(always)]
+pub fn gain_of_weight(g: f32, k: f32, dt: f32) -> f32 {
+    1.0 - exp_neg(-k * g * dt)
+}
+
 /// Beyond this many radii a splat's Gaussian (< e⁻⁹ ≈ 1.2e-4) is dropped.
 pub const SPLAT_CUTOFF_RADII: f32 = 3.0;
 
@@ -71,7 +78,7 @@ impl ArrowSplat {
             return [0.0, 0.0];
         }
         let deficit = (self.strength - (vel[0] * self.dir[0] + vel[1] * self.dir[1])).max(0.0);
-        let m = (1.0 - exp_neg(-k * g * dt)) * deficit;
+        let m = gain_of_weight(g, k, dt) * deficit;
         [self.dir[0] * m, self.dir[1] * m]
     }
 
@@ -95,7 +102,7 @@ impl ArrowSplat {
         let g = exp_neg(-d2 * inv_r2);
         let g = if beyond { 0.0 } else { g };
         // g = 0 gives 1 − e⁰ = 0 exactly: the zero impulse `impulse_weighted` returns early.
-        1.0 - exp_neg(-k * g * dt)
+        gain_of_weight(g, k, dt)
     }
 
     /// How far the wind `(vx, vz)` falls short of `strength` along the arrow (0 when it is

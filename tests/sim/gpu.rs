@@ -314,6 +314,18 @@ fn the_passes_chained_stay_with_the_cpu() {
 }
 
 /// The largest |Δv| between two velocity fields, and the reference `b`'s peak speed.
+/// `l` run `steps` steps from rest on the GPU and on the CPU: the two velocity fields.
+fn both_after(ctx: &GpuContext, l: &Layout, steps: usize) -> (Vec<[f32; 2]>, Vec<[f32; 2]>) {
+    let mut cpu = Solver::new(l);
+    let mut gpu = windloom::gpu::GpuSolver::new(ctx, l).unwrap();
+    for _ in 0..steps {
+        cpu.step();
+        gpu.step(ctx);
+    }
+    gpu.finish(ctx).unwrap();
+    (gpu.velocity_field(ctx).unwrap(), cpu.velocity_field())
+}
+
 fn deviation(a: &[[f32; 2]], b: &[[f32; 2]]) -> (f32, f32) {
     let peak = b.iter().fold(0.0f32, |m, v| m.max(v[0].hypot(v[1])));
     let err = a
@@ -437,14 +449,7 @@ fn stacked_arrows_combine_on_the_gpu_as_on_the_cpu() {
         let arrow = super::chain(10 * k + 10, &[[15.0, z], [35.0, z]], 6.0, 4.0);
         l.trees.push(super::tree(k + 1, arrow));
     }
-    let mut cpu = Solver::new(&l);
-    let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
-    for _ in 0..100 {
-        cpu.step();
-        gpu.step(&ctx);
-    }
-    gpu.finish(&ctx).unwrap();
-    let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
+    let (a, b) = both_after(&ctx, &l, 100);
     let (err, peak) = deviation(&a, &b);
     let mut one = Layout::new("one", [60.0, 40.0], [60, 40]);
     one.trees.push(super::tree(
@@ -477,24 +482,11 @@ fn stacked_arrows_combine_on_the_gpu_as_on_the_cpu() {
 fn every_example_agrees_with_the_cpu_after_120_steps() {
     let Some(ctx) = context() else { return };
     let run = |l: &Layout| {
-        let mut cpu = Solver::new(l);
-        let mut gpu = windloom::gpu::GpuSolver::new(&ctx, l).unwrap();
-        for _ in 0..120 {
-            cpu.step();
-            gpu.step(&ctx);
-        }
-        gpu.finish(&ctx).unwrap();
-        let (err, peak) = deviation(&gpu.velocity_field(&ctx).unwrap(), &cpu.velocity_field());
+        let (a, b) = both_after(&ctx, l, 120);
+        let (err, peak) = deviation(&a, &b);
         (err / peak, peak)
     };
-    for name in [
-        "meadow.json",
-        "breeze-fft.json",
-        "branching.json",
-        "two-winds.json",
-        "obstacles.json",
-        "walled-garden.json",
-    ] {
+    for name in super::EXAMPLES {
         let l = example(name);
         let (with, peak) = run(&l);
         let mut off = l.clone();
@@ -522,23 +514,9 @@ fn every_example_agrees_with_the_cpu_after_120_steps() {
 fn the_gpu_s_default_projection_cuts_the_divergence_a_hundredfold() {
     let Some(ctx) = context() else { return };
     let (device, queue) = (&ctx.device, &ctx.queue);
-    for name in [
-        "meadow.json",
-        "obstacles.json",
-        "two-winds.json",
-        "breeze-fft.json",
-        "branching.json",
-        "walled-garden.json",
-    ] {
+    for name in super::EXAMPLES {
         for grid in [None, Some([1000u32, 1000])] {
-            let mut l = example(name);
-            if let Some(g) = grid {
-                l.world.grid = g;
-            }
-            let mut cpu = Solver::new(&l);
-            for _ in 0..if grid.is_some() { 8 } else { 30 } {
-                cpu.step();
-            }
+            let (l, mut cpu) = super::developed(name, grid);
             // The next step up to its projection: forces, curl, confinement.
             let dt = l.sim.dt;
             cpu.apply_forces(dt);
@@ -588,14 +566,7 @@ fn a_2048_grid_runs_on_the_gpu_and_agrees_with_the_cpu() {
     // (With the default multigrid the two differ by 1.9e-3 of the 1.2 m/s peak after two
     // steps from rest, where the divergence is largest against the flow.)
     l.sim.pressure = windloom::doc::PressureSolve::Jacobi;
-    let mut cpu = Solver::new(&l);
-    let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
-    for _ in 0..2 {
-        cpu.step();
-        gpu.step(&ctx);
-    }
-    gpu.finish(&ctx).unwrap();
-    let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
+    let (a, b) = both_after(&ctx, &l, 2);
     let (err, peak) = deviation(&a, &b);
     println!("2048²: 2 steps, max |Δv| {err:.2e} of peak {peak:.2}");
     assert!(peak > 0.1, "the wind blows: peak {peak}");
@@ -702,14 +673,7 @@ fn keyed_layout() -> Layout {
 fn keyframes_are_followed_on_the_gpu_and_in_a_bake_as_on_the_cpu() {
     let Some(ctx) = context() else { return };
     let l = keyed_layout();
-    let mut cpu = Solver::new(&l);
-    let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
-    for _ in 0..100 {
-        cpu.step();
-        gpu.step(&ctx);
-    }
-    gpu.finish(&ctx).unwrap();
-    let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
+    let (a, b) = both_after(&ctx, &l, 100);
     let (err, peak) = deviation(&a, &b);
     println!("keyed, 100 steps: max |Δv| {err:.2e} of peak {peak:.2}");
     assert!(peak > 1.0 && err <= 1e-3 * peak, "{err} of {peak}");

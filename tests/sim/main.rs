@@ -15,6 +15,31 @@ fn example(name: &str) -> Layout {
     windloom::io::load(&p).unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// Every bundled example layout.
+const EXAMPLES: [&str; 6] = [
+    "meadow.json",
+    "obstacles.json",
+    "two-winds.json",
+    "breeze-fft.json",
+    "branching.json",
+    "walled-garden.json",
+];
+
+/// Example `name` at its own grid, or resized to `grid`, run from rest on the CPU until its
+/// flow is developed (30 steps; 8 on a resized grid, which is the big one): the layout and
+/// the solver.
+fn developed(name: &str, grid: Option<[u32; 2]>) -> (Layout, Solver) {
+    let mut l = example(name);
+    if let Some(g) = grid {
+        l.world.grid = g;
+    }
+    let mut s = Solver::new(&l);
+    for _ in 0..if grid.is_some() { 8 } else { 30 } {
+        s.step();
+    }
+    (l, s)
+}
+
 fn tree(id: u32, root: Node) -> Tree {
     Tree {
         id,

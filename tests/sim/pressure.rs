@@ -154,24 +154,10 @@ fn the_default_projection_cuts_the_divergence_a_hundredfold_every_step() {
         doc::SimParams::default().pressure,
         doc::PressureSolve::Multigrid
     );
-    for name in [
-        "meadow.json",
-        "obstacles.json",
-        "two-winds.json",
-        "breeze-fft.json",
-        "branching.json",
-        "walled-garden.json",
-    ] {
+    for name in EXAMPLES {
         for grid in [None, Some([1000u32, 1000])] {
-            let mut l = example(name);
+            let (l, mut s) = developed(name, grid);
             assert_eq!(l.sim.pressure, doc::PressureSolve::Multigrid, "{name}");
-            if let Some(g) = grid {
-                l.world.grid = g;
-            }
-            let mut s = Solver::new(&l);
-            for _ in 0..if grid.is_some() { 8 } else { 30 } {
-                s.step();
-            }
             let mut worst = f32::INFINITY;
             s.measure_projection = true;
             for _ in 0..2 {

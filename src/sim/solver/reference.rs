@@ -104,7 +104,7 @@ impl Solver {
                 let g = sp.weight(p);
                 if g != 0.0 {
                     inc += sp.impulse_weighted(g, vel, k_resp, dt)[c];
-                    gains += sp.gain(p, k_resp, dt);
+                    gains += crate::sim::forces::gain_of_weight(g, k_resp, dt);
                 }
             }
             if !splats.is_empty() {
