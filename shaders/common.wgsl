@@ -17,7 +17,7 @@ struct Params {
     dt: f32,
     // Dissipation factor folded into advection: 1 / (1 + dissipation × dt).
     keep: f32,
-    // Vorticity confinement ε and min(hx, hz).
+    // Vorticity confinement's rate (`confinement_rate` of ε, 1/s) and min(hx, hz).
     eps: f32,
     h: f32,
     // Pressure stencil weights 1/hx², 1/hz².
@@ -37,6 +37,10 @@ struct Params {
     // many layers are active.
     coupling: f32,
     layers: u32,
+    // Confinement takes no face past this speed (m/s), the layout's reference speed, and
+    // scales a cell's push by its speed times `inv_speed` (1 / speed_cap), up to 1.
+    speed_cap: f32,
+    inv_speed: f32,
 }
 
 @group(0) @binding(0) var<storage, read> P: Params;

@@ -1,7 +1,9 @@
 // Step 3: vorticity confinement, f = ε h w (N_z, −N_x) with N the unit gradient of |w|, first
 // at cell centres (`force`; zero in the cells along an open edge, whose inflow would feed it
 // back), then averaged onto the free faces (`apply_u`, `apply_v`), each clamped to
-// ±max_speed. CPU twin: `Solver::confine_vorticity`.
+// ±max_speed. The limiter: confinement takes no face past the layout's reference speed
+// (`P.speed_cap`), nor further past it than it already is. CPU twin:
+// `Solver::confine_vorticity`.
 
 @group(0) @binding(1) var<storage, read> curl: array<f32>;
 @group(0) @binding(2) var<storage, read_write> fx: array<f32>;
@@ -33,7 +35,11 @@ fn force(@builtin(global_invocation_id) id: vec3<u32>) {
     // a ridge of |w| instead of flipping (`CONFINEMENT_BETA`, 0.5).
     let bw = 0.5 * w;
     let len = sqrt(gx * gx + gz * gz + bw * bw) + 1e-5;
-    let s = P.eps * P.h * w / len;
+    // Scaled by the cell's speed over the reference speed, up to 1 (`Confinement::inv_speed`).
+    let uc = 0.5 * (u[j * (nx + 1u) + i] + u[j * (nx + 1u) + i + 1u]);
+    let vc = 0.5 * (v[j * nx + i] + v[(j + 1u) * nx + i]);
+    let weight = min(length(vec2<f32>(uc, vc)) * P.inv_speed, 1.0);
+    let s = P.eps * P.h * weight * w / len;
     fx[j * nx + i] = s * gz;
     fz[j * nx + i] = -s * gx;
 }
@@ -55,7 +61,8 @@ fn apply_u(@builtin(global_invocation_id) id: vec3<u32>) {
     let right = select(i, select(nx - 1u, 0u, wrap), i == nx);
     let a = fx[j * nx + left];
     let b = fx[j * nx + right];
-    u[k] = clamp(u[k] + P.dt * 0.5 * (a + b), -P.max_speed, P.max_speed);
+    let m = max(abs(u[k]), P.speed_cap);
+    u[k] = clamp(clamp(u[k] + P.dt * 0.5 * (a + b), -m, m), -P.max_speed, P.max_speed);
 }
 
 @compute @workgroup_size(8, 8)
@@ -74,5 +81,7 @@ fn apply_v(@builtin(global_invocation_id) id: vec3<u32>) {
     let wrap = P.periodic != 0u;
     let below = select(j - 1u, select(0u, ny - 1u, wrap), j == 0u);
     let above = select(j, select(ny - 1u, 0u, wrap), j == ny);
-    v[k] = clamp(v[k] + P.dt * 0.5 * (fz[below * nx + i] + fz[above * nx + i]), -P.max_speed, P.max_speed);
+    let m = max(abs(v[k]), P.speed_cap);
+    let pushed = clamp(v[k] + P.dt * 0.5 * (fz[below * nx + i] + fz[above * nx + i]), -m, m);
+    v[k] = clamp(pushed, -P.max_speed, P.max_speed);
 }

@@ -1138,8 +1138,14 @@ fn sim_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         };
         changed |= row(ui, "Vorticity", |ui| {
             ui.add(
-                egui::Slider::new(&mut s.vorticity, 0.0..=20.0)
+                egui::Slider::new(&mut s.vorticity, 0.0..=10.0)
                     .clamping(egui::SliderClamping::Never),
+            )
+            .on_hover_text(
+                "How hard confinement keeps the eddies that wind makes in wakes and along \
+                 its jets: 0 none, 2 the default. Past 2 each step adds less, toward a \
+                 ceiling at about 10 (the paper's 50 confines as 10 does). It never makes \
+                 the wind faster than your strongest arrow or ambient layer.",
             )
         });
         changed |= row(ui, "Dissipation", |ui| {

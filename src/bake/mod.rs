@@ -211,41 +211,16 @@ impl BakeError {
 /// said those before the bake.
 pub const ADVICE: &str = "advice: ";
 
-/// How far past the strongest push a baked field may peak before a note says so: arrows
-/// that meet and turn, and confinement, lift a field above its arrows by a little (the
-/// examples: up to 1.6×, `two-winds.json`'s jets where they meet).
+/// How far past the layout's own wind a baked field may peak before a note says so: arrows
+/// that meet and turn lift a field above its arrows by a little (the examples: up to 1.46×,
+/// walled-garden's breeze through its gaps; confinement adds at most a few hundredths).
 pub const PEAK_NOTED: f32 = 2.5;
 
-/// What the baked numbers say about the layout: a field far faster than anything in the
-/// layout pushes it to (overlapping arrows adding up, confinement feeding it), or a field
-/// that never moves (no enabled arrow, or obstacles over the whole map).
+/// What the baked numbers say about the layout: a field far faster than the wind the layout
+/// sets (`sim::forces::reference_speed`), or a field that never moves (no enabled arrow, or
+/// obstacles over the whole map).
 pub fn field_notes(layout: &Layout, max_speed: f32) -> Vec<String> {
-    let arrows = layout
-        .trees
-        .iter()
-        .filter(|t| t.enabled)
-        .flat_map(|t| t.root.iter())
-        .map(|n| n.strength);
-    let ambient = layout
-        .ambient
-        .iter()
-        .filter(|a| a.enabled)
-        .map(|a| match a.kind {
-            doc::AmbientKind::Directional {
-                main,
-                turbulence,
-                pulse_magnitude,
-                ..
-            } => main * (1.0 + pulse_magnitude) + turbulence,
-            doc::AmbientKind::Noise { strength, .. } => strength,
-            doc::AmbientKind::Fft {
-                wind_speed,
-                amplitude,
-                ..
-            } => wind_speed + 3.0 * amplitude,
-            doc::AmbientKind::Sine { amplitude, .. } => amplitude,
-        });
-    let strongest = arrows.chain(ambient).fold(0.0f32, f32::max);
+    let strongest = crate::sim::forces::reference_speed(layout);
     let mut notes = Vec::new();
     if max_speed == 0.0 {
         notes.push(
@@ -256,8 +231,7 @@ pub fn field_notes(layout: &Layout, max_speed: f32) -> Vec<String> {
     } else if strongest > 0.0 && max_speed > PEAK_NOTED * strongest {
         notes.push(format!(
             "the baked wind peaks at {max_speed:.1} m/s, {:.1}× the strongest push in the layout \
-             ({strongest:.1} m/s): overlapping arrows add up, or confinement (sim.vorticity) \
-             feeds the field; look at it in the editor before shipping it",
+             ({strongest:.1} m/s); look at it in the editor before shipping it",
             max_speed / strongest
         ));
     }

@@ -13,7 +13,7 @@ pub mod transform;
 mod types;
 mod validate;
 
-pub use advice::{VORTICITY_ADVISED, VORTICITY_MACCORMACK_ADVISED, advise};
+pub use advice::{VORTICITY_MACCORMACK_ADVISED, advise};
 pub use bounds::{
     AMBIENT_MAX, Bound, CHAIN_MAX, COORD_MAX, Count, DT_MAX, DT_MIN, GRID_AXIS_MAX, GRID_AXIS_MIN,
     GRID_MEMORY_BUDGET, LAYOUT_MAX_BYTES, LENGTH_MIN, MULTIGRID_BYTES_PER_CELL, NAME_MAX,

@@ -865,9 +865,10 @@ pub struct SimParams {
     /// Multigrid ignores it and starts from [`MULTIGRID_WARM_START`] of the previous pressure.
     #[schemars(range(min = PRESSURE_DECAY.min, max = PRESSURE_DECAY.max))]
     pub pressure_decay: f32,
-    /// Vorticity confinement strength ε in `f = ε·h·w·N̂` (h the cell size in metres). The
-    /// paper's factor 50 and the WebGL solver's 30 are in texel units; in metres and m/s, 1–5
-    /// gives the same lively eddies without letting confinement overpower the flow.
+    /// Vorticity confinement strength ε: the force `r(ε)·h·min(1, |v|/U)·w·N` (h the cell
+    /// size in metres, U the layout's strongest arrow or ambient wind) with the rate r(ε) = ε
+    /// up to 2, then rising ever more slowly toward 5, so the paper's factor 50 (texel units)
+    /// confines at the ceiling. Confinement never pushes the wind past U (docs/SOLVER.md).
     #[schemars(range(min = VORTICITY.min, max = VORTICITY.max))]
     pub vorticity: f32,
     /// Velocity dissipation rate (1/s): `vel /= 1 + dissipation × dt`.

@@ -10,7 +10,7 @@ use super::multigrid::{Fine, GpuMultigrid};
 use crate::doc::{Boundary, PressureSolve};
 use crate::sim::Solver;
 use crate::sim::forces::{ArrowSplat, LayerParams};
-use crate::sim::solver::MAX_SPEED;
+use crate::sim::solver::{Confinement, MAX_SPEED};
 use crate::sim::terrain::TerrainField;
 use bytemuck::{Pod, Zeroable};
 use wgpu::util::DeviceExt;
@@ -39,6 +39,10 @@ pub struct Params {
     pub origin: [f32; 2],
     pub coupling: f32,
     pub layers: u32,
+    /// Confinement takes no face past this speed (m/s), and scales a cell's push by its
+    /// speed times `inv_speed` up to 1: `Confinement::speed_cap`, `Confinement::inv_speed`.
+    pub speed_cap: f32,
+    pub inv_speed: f32,
 }
 
 /// The shared header every pass is compiled with.
@@ -248,7 +252,7 @@ impl GpuFluid {
             hz: solver.hz,
             dt: sp.dt,
             keep: 1.0,
-            eps: sp.vorticity,
+            eps: solver.confinement().rate,
             h: solver.hx.min(solver.hz),
             wx: 1.0 / (solver.hx * solver.hx),
             wz: 1.0 / (solver.hz * solver.hz),
@@ -259,6 +263,8 @@ impl GpuFluid {
             origin: solver.origin,
             coupling: 0.0,
             layers: 0,
+            speed_cap: solver.confinement().speed_cap,
+            inv_speed: solver.confinement().inv_speed,
         };
         let params_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("fluid params"),
@@ -446,6 +452,27 @@ impl GpuFluid {
     pub fn set_warm_start(&mut self, queue: &wgpu::Queue, warm: f32) {
         if self.params.decay.to_bits() != warm.to_bits() {
             self.set_params(queue, |p| p.decay = warm);
+        }
+    }
+
+    /// `min(hx, hz)`, metres: the cell size confinement scales by.
+    pub fn cell_size(&self) -> f32 {
+        self.params.h
+    }
+
+    /// Sets what a layout edit may change between steps: the confinement (its rate,
+    /// `confinement_rate` of ε, and its reference speed) and the arrows' response (1/s).
+    pub fn set_rates(&mut self, queue: &wgpu::Queue, conf: Confinement, response: f32) {
+        let p = &self.params;
+        if (p.eps, p.speed_cap, p.inv_speed, p.response)
+            != (conf.rate, conf.speed_cap, conf.inv_speed, response)
+        {
+            self.set_params(queue, |p| {
+                p.eps = conf.rate;
+                p.speed_cap = conf.speed_cap;
+                p.inv_speed = conf.inv_speed;
+                p.response = response;
+            });
         }
     }
 
@@ -735,7 +762,13 @@ impl GpuFluid {
         }
         self.set_params(queue, |p| p.dt = dt);
         let (nx, ny) = (self.nx, self.ny);
-        let force = [(1, &self.curl), (2, &self.fx), (3, &self.fz)];
+        let force = [
+            (1, &self.curl),
+            (2, &self.fx),
+            (3, &self.fz),
+            (4, &self.u),
+            (5, &self.v),
+        ];
         self.dispatch(device, enc, "force", &force, (nx, ny));
         let on_u = [(2, &self.fx), (4, &self.u), (6, &self.u_free)];
         self.dispatch(device, enc, "apply_u", &on_u, (nx + 1, ny));

@@ -8,7 +8,8 @@ use super::fluid::{FieldId, GpuFluid};
 use super::{GpuContext, GpuError};
 use crate::doc::{Advection, Layout, SimParams};
 use crate::sim::Solver;
-use crate::sim::forces::{Ambient, agc_splats};
+use crate::sim::forces::{Ambient, agc_splats, reference_speed};
+use crate::sim::solver::Confinement;
 
 /// The GPU twin of [`Solver`] for the layouts it covers.
 pub struct GpuSolver {
@@ -157,6 +158,12 @@ impl GpuSolver {
         self.fluid.pressure_cycles = self.params.pressure_cycles as usize;
         self.fluid.set_warm_start(queue, self.params.warm_start());
         let maccormack = self.params.advection == Advection::MacCormack;
+        // As the CPU reads them each step: an edit of ε, the arrows or their response takes
+        // effect now (they were fixed when the GPU solver was made).
+        let h = self.fluid.cell_size();
+        let conf = Confinement::new(self.params.vorticity, h, reference_speed(&self.layout));
+        self.fluid
+            .set_rates(queue, conf, self.params.arrow_response);
         for _ in 0..n {
             let splats = agc_splats(&self.layout, self.time);
             self.ambient.set_time(self.time);

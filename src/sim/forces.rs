@@ -741,3 +741,37 @@ impl Ambient {
         w
     }
 }
+
+/// The wind the designer set, in m/s: the fastest of the layout's enabled arrows (their
+/// strongest node times the tree's largest key factor) and ambient layers (their mean speed,
+/// pulses and turbulence included, an FFT layer's gusts at three times their amplitude,
+/// times their largest key factor). What vorticity confinement may spin the wind up to
+/// (docs/SOLVER.md, step 3), what a bake's notes compare its peak with
+/// (`bake::field_notes`), and what the stability tests bound the field by.
+pub fn reference_speed(layout: &Layout) -> f32 {
+    let factor = |keys: &[doc::Key]| keys.iter().map(|k| k.strength).fold(1.0f32, f32::max);
+    // Each arrow drives at its end node's strength: every node but the root.
+    let strongest = |n: &doc::Node| n.iter().skip(1).map(|n| n.strength).fold(0.0f32, f32::max);
+    let arrows = (layout.trees.iter())
+        .filter(|t| t.enabled)
+        .map(|t| strongest(&t.root) * factor(&t.keys));
+    let ambient = (layout.ambient.iter()).filter(|a| a.enabled).map(|a| {
+        let speed = match &a.kind {
+            AmbientKind::Directional {
+                main,
+                turbulence,
+                pulse_magnitude,
+                ..
+            } => main * (1.0 + pulse_magnitude) + turbulence,
+            AmbientKind::Noise { strength, .. } => *strength,
+            AmbientKind::Fft {
+                wind_speed,
+                amplitude,
+                ..
+            } => wind_speed + 3.0 * amplitude,
+            AmbientKind::Sine { amplitude, .. } => *amplitude,
+        };
+        speed * factor(&a.keys)
+    });
+    arrows.chain(ambient).fold(0.0, f32::max)
+}

@@ -546,8 +546,8 @@ fn a_long_output_name_bakes() {
 }
 
 /// What the bake's numbers show goes into the manifest's notes, so a bake of nonsense does
-/// not pass as a good one: the paper's vorticity factor of 50, and obstacles over the whole
-/// map (a still field). A fan of overlapping arrows used to add up far past each arrow (to
+/// not pass as a good one: the paper's vorticity factor of 50 with MacCormack advection, a
+/// field far past the layout's wind, and obstacles over the whole map (a still field). A fan of overlapping arrows used to add up far past each arrow (to
 /// thousands of m/s) and be noted here; they now drive toward the strongest of them
 /// (`sim::forces::combine`), so the fan's bake stays under 2× its arrows' 5 m/s (8.7 m/s
 /// measured at this 48² grid) and says nothing of it.
@@ -586,15 +586,31 @@ fn nonsense_bakes_say_so_in_the_manifest() {
         m.notes
     );
 
+    // The paper's vorticity factor: bounded now, so it bakes sane wind and says nothing;
+    // with MacCormack advection, which the confinement's limiter does not hold, the advice
+    // goes into the notes.
     let mut paper = example("two-winds.json");
     paper.sim.vorticity = 50.0;
+    let wind = windloom::sim::forces::reference_speed(&paper);
     let m = run(&paper, &dir.path().join("paper"), &opts);
+    assert!(m.max_speed <= 1.5 * wind, "{} m/s from {wind}", m.max_speed);
+    assert!(m.notes.is_empty(), "{:?}", m.notes);
+    paper.sim.advection = windloom::doc::Advection::MacCormack;
+    let m = run(&paper, &dir.path().join("paper-mc"), &opts);
     assert!(
         m.notes
             .iter()
             .any(|n| n.starts_with("advice: sim.vorticity")),
         "{:?}",
         m.notes
+    );
+    // A field far past the layout's wind is noted, one a little past it is not.
+    let note = |speed: f32| windloom::bake::field_notes(&paper, speed);
+    assert!(note(1.4 * wind).is_empty());
+    let far = note(3.0 * wind);
+    assert!(
+        far.len() == 1 && far[0].contains("3.0× the strongest push"),
+        "{far:?}"
     );
 
     let mut covered = example("meadow.json");

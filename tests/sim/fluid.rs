@@ -47,11 +47,32 @@ fn vortex_solver(vorticity: f32) -> Solver {
     vortex_at([32.0, 32.0], Boundary::Periodic, vorticity)
 }
 
-/// A Gaussian vortex centred at `c` (cells) in a 64 × 64 box with `boundary`.
+/// A Gaussian vortex centred at `c` (cells) in a 64 × 64 box with `boundary`, peaking at
+/// 5.15 m/s, in a layout whose wind is 8 m/s (an ambient layer that does not pull).
 fn vortex_at(c: [f32; 2], boundary: Boundary, vorticity: f32) -> Solver {
+    vortex_in_wind(c, boundary, vorticity, 8.0)
+}
+
+/// [`vortex_at`] in a layout whose wind (`forces::reference_speed`) is `wind` m/s.
+fn vortex_in_wind(c: [f32; 2], boundary: Boundary, vorticity: f32, wind: f32) -> Solver {
     let mut l = Layout::new("vortex", [64.0, 64.0], [64, 64]);
     l.sim.boundary = boundary;
     l.sim.vorticity = vorticity;
+    l.sim.ambient_coupling = 0.0;
+    if wind > 0.0 {
+        l.ambient.push(doc::AmbientLayer::new(
+            1,
+            "still",
+            doc::AmbientKind::Directional {
+                direction_deg: 0.0,
+                main: wind,
+                turbulence: 0.0,
+                pulse_magnitude: 0.0,
+                pulse_frequency: 0.0,
+            },
+        ));
+    }
+    assert_eq!(windloom::sim::forces::reference_speed(&l), wind);
     let mut s = Solver::new(&l);
     let (nx, ny) = (s.nx, s.ny);
     let omega = |x: f32, z: f32| {
@@ -98,6 +119,59 @@ fn vorticity_confinement_does_not_lower_peak_vorticity() {
     run(&mut with, 1.0);
     run(&mut without, 1.0);
     assert!(peak_curl(&mut with) > peak_curl(&mut without) * 1.05);
+}
+
+/// Confinement is bounded: it takes no face past the wind the layout sets
+/// (`forces::reference_speed`), nor further past it than the face already is, however large
+/// ε — a vortex peaking at 5.15 m/s in a layout of 3 m/s wind, at the largest ε the
+/// validator accepts. With no wind set at all it turns nothing faster.
+#[test]
+fn confinement_takes_no_face_past_the_wind_the_layout_sets() {
+    for wind in [3.0, 0.0] {
+        let mut s = vortex_in_wind([32.0, 32.0], Boundary::Periodic, 1000.0, wind);
+        let (u0, v0) = (s.u.clone(), s.v.clone());
+        s.compute_curl();
+        s.confine_vorticity(1.0 / 60.0);
+        let mut moved = 0;
+        for (new, old) in s.u.iter().zip(&u0).chain(s.v.iter().zip(&v0)) {
+            let limit = old.abs().max(wind);
+            assert!(
+                new.abs() <= limit,
+                "wind {wind}: {old} -> {new} (limit {limit})"
+            );
+            moved += usize::from(new != old);
+        }
+        assert!(
+            moved > 100,
+            "wind {wind}: confinement still turns the wind ({moved} faces)"
+        );
+    }
+}
+
+/// The vorticity factor's meaning (`solver::confinement_rate`): ε itself up to the knee (2,
+/// the default; every example), then rising ever more slowly to the ceiling (5), so the
+/// paper's 50 and the validator's 1,000 confine as hard as the liveliest sane setting and
+/// no harder.
+#[test]
+fn the_vorticity_factor_saturates_at_the_ceiling() {
+    use windloom::sim::solver::{CONFINEMENT_CEILING, CONFINEMENT_KNEE, confinement_rate};
+    for eps in [0.0, 0.5, 1.0, 2.0] {
+        assert_eq!(confinement_rate(eps), eps);
+    }
+    assert_eq!(CONFINEMENT_KNEE, 2.0);
+    let mut last = 0.0;
+    for k in 1..=10_000 {
+        let eps = k as f32 * 0.1;
+        let r = confinement_rate(eps);
+        assert!(
+            r >= last && r <= CONFINEMENT_CEILING,
+            "ε {eps}: {r} after {last}"
+        );
+        last = r;
+    }
+    assert!((confinement_rate(3.0) - 2.964).abs() < 1e-3);
+    assert!((confinement_rate(5.0) - 4.285).abs() < 1e-3);
+    assert!(confinement_rate(50.0) > 0.999 * CONFINEMENT_CEILING);
 }
 
 /// On an open grid confinement pushes no cell along the edge: a vortex straddling the west

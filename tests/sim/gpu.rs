@@ -838,3 +838,38 @@ mod map;
 /// How the grass looks: the wind from afar, a gust's band, the horizon, a steady picture and
 /// the map under the blades.
 mod look;
+
+/// An edit that keeps the grid reaches the GPU solver at its next step, as it does the CPU's:
+/// the vorticity factor, an arrow's strength (the confinement's reference speed) and the
+/// arrows' response were fixed when the GPU solver was made, so the editor's sliders did
+/// nothing to a field running there until something rebuilt it.
+#[test]
+fn an_edit_of_the_simulation_reaches_the_gpu_at_its_next_step() {
+    let Some(ctx) = context() else { return };
+    let mut l = example("obstacles.json");
+    l.world.grid = [64, 64];
+    let mut cpu = Solver::new(&l);
+    let mut gpu = windloom::gpu::GpuSolver::new(&ctx, &l).unwrap();
+    for _ in 0..30 {
+        cpu.step();
+        gpu.step(&ctx);
+    }
+    l.sim.vorticity = 50.0;
+    l.sim.arrow_response = 9.0;
+    let ids: Vec<u32> = l.trees[0].root.iter().map(|n| n.id).collect();
+    for id in ids {
+        l.trees[0].root.find_mut(id).unwrap().strength *= 1.5;
+    }
+    assert!(windloom::doc::validate(&l).is_empty());
+    cpu.set_layout(&l);
+    gpu.set_layout(&l);
+    for _ in 0..60 {
+        cpu.step();
+        gpu.step(&ctx);
+    }
+    gpu.finish(&ctx).unwrap();
+    let (a, b) = (gpu.velocity_field(&ctx).unwrap(), cpu.velocity_field());
+    let (err, peak) = deviation(&a, &b);
+    println!("after the edit: max |Δv| {err:.2e} of peak {peak:.2}");
+    assert!(err <= 1e-3 * peak, "max |Δv| {err} of peak {peak}");
+}

@@ -95,17 +95,18 @@ fn authoring_a_tree_with_the_mouse_then_inspector_and_undo() {
 }
 
 /// The inspector says when the simulation settings are known to run away (MacCormack with
-/// vorticity above 1), in words naming the field, and says nothing for the examples.
+/// vorticity above 2), in words naming the field, and says nothing for the examples.
 #[test]
 fn the_inspector_warns_of_settings_that_run_away() {
     if !gpu_available() {
         return;
     }
-    let warning = "Vorticity 2 with MacCormack advection can drive the wind";
+    let warning = "Vorticity 3 with MacCormack advection can drive the wind";
     let mut h = harness(example("obstacles.json"));
     assert!(h.query_by_label_contains(warning).is_none());
     let mut sim = h.state().doc.sim;
     sim.advection = doc::Advection::MacCormack;
+    sim.vorticity = 3.0;
     h.state_mut().doc.apply(doc::Edit::SetSim(sim)).unwrap();
     h.run_steps(2);
     assert!(
@@ -113,7 +114,7 @@ fn the_inspector_warns_of_settings_that_run_away() {
         "the inspector shows the advice"
     );
     // So does the export dialog, before a bake ships such wind.
-    let bake_warning = "Warning: sim.vorticity: 2 with MacCormack advection";
+    let bake_warning = "Warning: sim.vorticity: 3 with MacCormack advection";
     assert!(h.query_by_label_contains(bake_warning).is_none());
     h.state_mut().export.open = true;
     h.run_steps(2);

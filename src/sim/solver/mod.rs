@@ -34,6 +34,9 @@ use gains::{GainCache, SplatGains};
 pub(crate) use multigrid::Multigrid;
 use pressure::*;
 use sampler::*;
+pub use vorticity::{
+    CONFINEMENT_BETA, CONFINEMENT_CEILING, CONFINEMENT_KNEE, Confinement, confinement_rate,
+};
 
 /// No velocity component ever exceeds this (m/s): extreme authored forces saturate instead of
 /// overflowing, so the field can never hold infinities or NaN.
@@ -130,6 +133,8 @@ pub struct Solver {
     pub(super) row_irregular: Vec<Vec<(usize, usize)>>,
     layout: Layout,
     ambient: Ambient,
+    /// The layout's [`super::forces::reference_speed`]: what confinement may spin the wind up to.
+    reference_speed: f32,
     pub timings: PassTimes,
     /// Faces the last forces pass visited (rows a splat or ambient layer reaches).
     pub force_faces: usize,
@@ -267,6 +272,7 @@ impl Solver {
             row_irregular,
             layout: layout.clone(),
             ambient: Ambient::new(layout),
+            reference_speed: super::forces::reference_speed(layout),
             timings: PassTimes::default(),
             measure_projection: false,
             projection: None,
@@ -321,6 +327,7 @@ impl Solver {
         }
         self.layout = layout.clone();
         self.ambient = Ambient::new(layout);
+        self.reference_speed = super::forces::reference_speed(layout);
         self.params = layout.sim;
     }
 

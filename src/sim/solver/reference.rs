@@ -184,7 +184,8 @@ impl Solver {
         let (nx, ny) = (self.nx, self.ny);
         let periodic = self.params.boundary == Boundary::Periodic;
         let open = self.params.boundary == Boundary::Open;
-        let h = self.hx.min(self.hz);
+        let conf = self.confinement();
+        let cap = conf.speed_cap;
         let curl = &self.curl;
         // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
         self.p_tmp
@@ -205,7 +206,10 @@ impl Solver {
                     let gx = 0.5 * (curl[j * nx + ir].abs() - curl[j * nx + il].abs());
                     let gz = 0.5 * (curl[jt * nx + i].abs() - curl[jb * nx + i].abs());
                     let len = super::vorticity::confinement_norm(gx, gz, w);
-                    let s = eps * h * w / len;
+                    let uc = 0.5 * (self.u[j * (nx + 1) + i] + self.u[j * (nx + 1) + i + 1]);
+                    let vc = 0.5 * (self.v[j * nx + i] + self.v[(j + 1) * nx + i]);
+                    let weight = ((uc * uc + vc * vc).sqrt() * conf.inv_speed).min(1.0);
+                    let s = conf.eps_h * weight * w / len;
                     fx_row[i] = s * gz;
                     fz_row[i] = -s * gx;
                 }
@@ -233,7 +237,12 @@ impl Solver {
                         } else {
                             i
                         }];
-                    *u = flush((*u + dt * 0.5 * (a + b)).clamp(-MAX_SPEED, MAX_SPEED));
+                    let m = u.abs().max(cap);
+                    *u = flush(
+                        (*u + dt * 0.5 * (a + b))
+                            .clamp(-m, m)
+                            .clamp(-MAX_SPEED, MAX_SPEED),
+                    );
                 }
             });
         self.v
@@ -255,8 +264,10 @@ impl Solver {
                     } else {
                         j
                     };
+                    let m = v.abs().max(cap);
                     *v = flush(
                         (*v + dt * 0.5 * (fz[jb * nx + i] + fz[jt * nx + i]))
+                            .clamp(-m, m)
                             .clamp(-MAX_SPEED, MAX_SPEED),
                     );
                 }

@@ -22,7 +22,7 @@ impl Solver {
             ny,
             hx: self.hx,
             hz: self.hz,
-            eps_h: (eps, self.hx.min(self.hz)),
+            conf: self.confinement(),
             dt,
             boundary: self.params.boundary,
             u: &self.u,
@@ -56,9 +56,17 @@ impl Solver {
             let (jb, jt) = neighbours(j, ny, false);
             let c = |r: usize| &self.curl[r * nx..][..nx];
             let rows = (c(j), c(jb), c(jt));
-            cell_forces(&mut fx, &mut fz, rows, ctx.eps_h, ctx.boundary, j, ny);
+            let faces = ctx.faces(j);
+            cell_forces(&mut fx, &mut fz, rows, faces, ctx.conf, ctx.boundary, j, ny);
             v_last.copy_from_slice(&self.v[ny * nx..]);
-            add_v_row(v_last, &self.v_free[ny * nx..], &fz, &fz, dt);
+            add_v_row(
+                v_last,
+                &self.v_free[ny * nx..],
+                &fz,
+                &fz,
+                dt,
+                ctx.conf.speed_cap,
+            );
         }
         std::mem::swap(&mut self.u, &mut self.u_tmp);
         std::mem::swap(&mut self.v, &mut self.v_tmp);
@@ -90,8 +98,10 @@ impl Solver {
         let (nx, ny) = (self.nx, self.ny);
         let boundary = self.params.boundary;
         let periodic = boundary == Boundary::Periodic;
-        let eps_h = (eps, self.hx.min(self.hz));
+        let conf = self.confinement();
+        let cap = conf.speed_cap;
         let curl = &self.curl;
+        let (u, v) = (&self.u, &self.v);
         // Cell-centred force: x into p_tmp, z into div (both free until the divergence pass).
         self.p_tmp
             .par_chunks_mut(nx)
@@ -101,7 +111,12 @@ impl Solver {
             .for_each(|(j, (fx, fz))| {
                 let (jb, jt) = neighbours(j, ny, periodic);
                 let c = |r: usize| &curl[r * nx..][..nx];
-                cell_forces(fx, fz, (c(j), c(jb), c(jt)), eps_h, boundary, j, ny);
+                let faces = (
+                    &u[j * (nx + 1)..][..nx + 1],
+                    &v[j * nx..][..nx],
+                    &v[(j + 1) * nx..][..nx],
+                );
+                cell_forces(fx, fz, (c(j), c(jb), c(jt)), faces, conf, boundary, j, ny);
             });
         let (fx, fz) = (&self.p_tmp, &self.div);
         let (u_free, v_free) = (&self.u_free, &self.v_free);
@@ -111,7 +126,7 @@ impl Solver {
             .with_min_len(rows_per_job(nx + 1))
             .for_each(|(j, row)| {
                 let free = &u_free[j * (nx + 1)..][..nx + 1];
-                add_u_row(row, free, &fx[j * nx..][..nx], periodic, dt);
+                add_u_row(row, free, &fx[j * nx..][..nx], periodic, dt, cap);
             });
         self.v
             .par_chunks_mut(nx)
@@ -120,7 +135,14 @@ impl Solver {
             .for_each(|(j, row)| {
                 let (jb, jt) = face_cells(j, ny, periodic);
                 let free = &v_free[j * nx..][..nx];
-                add_v_row(row, free, &fz[jb * nx..][..nx], &fz[jt * nx..][..nx], dt);
+                add_v_row(
+                    row,
+                    free,
+                    &fz[jb * nx..][..nx],
+                    &fz[jt * nx..][..nx],
+                    dt,
+                    cap,
+                );
             });
         self.sync_periodic();
     }
@@ -250,11 +272,11 @@ pub(super) fn confinement_norm(gx: f32, gz: f32, w: f32) -> f32 {
 
 /// The confinement force of one cell from its curl `w` and its neighbours' `l, r, b, t`.
 #[inline(always)]
-fn force(eps_h: (f32, f32), w: f32, l: f32, r: f32, b: f32, t: f32) -> (f32, f32) {
+fn force(conf: Confinement, speed: f32, w: f32, l: f32, r: f32, b: f32, t: f32) -> (f32, f32) {
     let gx = 0.5 * (r.abs() - l.abs());
     let gz = 0.5 * (t.abs() - b.abs());
     let len = confinement_norm(gx, gz, w);
-    let s = eps_h.0 * eps_h.1 * w / len;
+    let s = conf.eps_h * (speed * conf.inv_speed).min(1.0) * w / len;
     (s * gz, -s * gx)
 }
 
@@ -268,11 +290,16 @@ fn force(eps_h: (f32, f32), w: f32, l: f32, r: f32, b: f32, t: f32) -> (f32, f32
 /// edge: at ε = 2, thin jets grew at the inflow edges and ran into the map, to 10× the
 /// arrows' strength on `branching.json` (docs/RELIABILITY.md). Closed and periodic edges are
 /// pushed as before.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 fn cell_forces(
     fx: &mut [f32],
     fz: &mut [f32],
     (c, cb, ct): (&[f32], &[f32], &[f32]),
-    eps_h: (f32, f32),
+    faces: (&[f32], &[f32], &[f32]),
+    conf: Confinement,
     boundary: Boundary,
     j: usize,
     ny: usize,
@@ -282,12 +309,16 @@ fn cell_forces(
         fx.fill(0.0);
         fz.fill(0.0);
     } else {
-        force_row(fx, fz, c, cb, ct, eps_h, boundary);
+        force_row(fx, fz, c, cb, ct, faces, conf, boundary);
     }
 }
 
 /// The cell-centred confinement force of a row, `(fx, fz)`, from its curl `c` and the curl
 /// rows below and above it; zero in its end cells on an open grid (see [`cell_forces`]).
+#[allow(
+    clippy::too_many_arguments,
+    reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
+)]
 #[simd_kernel]
 fn force_row(
     fx: &mut [f32],
@@ -295,42 +326,54 @@ fn force_row(
     c: &[f32],
     cb: &[f32],
     ct: &[f32],
-    eps_h: (f32, f32),
+    (ur, vb, vt): (&[f32], &[f32], &[f32]),
+    conf: Confinement,
     boundary: Boundary,
 ) {
     let nx = c.len();
     let periodic = boundary == Boundary::Periodic;
+    // As the GPU's `length`: √(x² + z²) of the face means.
+    let speed = |a: f32, b: f32, c: f32, d: f32| {
+        let (x, z) = (0.5 * (a + b), 0.5 * (c + d));
+        (x * x + z * z).sqrt()
+    };
     for i in row_ends(nx) {
         let (il, ir) = neighbours(i, nx, periodic);
         (fx[i], fz[i]) = if boundary == Boundary::Open {
             (0.0, 0.0)
         } else {
-            force(eps_h, c[i], c[il], c[ir], cb[i], ct[i])
+            let sp = speed(ur[i], ur[i + 1], vb[i], vt[i]);
+            force(conf, sp, c[i], c[il], c[ir], cb[i], ct[i])
         };
     }
     let Some(n) = nx.checked_sub(2) else { return };
     let (fxi, fzi) = (&mut fx[1..=n], &mut fz[1..=n]);
     let (cl, cc, cr) = (&c[..n], &c[1..=n], &c[2..]);
     let (cb, ct) = (&cb[1..=n], &ct[1..=n]);
+    let (ul, urr, vb, vt) = (&ur[1..=n], &ur[2..=n + 1], &vb[1..=n], &vt[1..=n]);
     for k in 0..n {
-        (fxi[k], fzi[k]) = force(eps_h, cc[k], cl[k], cr[k], cb[k], ct[k]);
+        let sp = speed(ul[k], urr[k], vb[k], vt[k]);
+        (fxi[k], fzi[k]) = force(conf, sp, cc[k], cl[k], cr[k], cb[k], ct[k]);
     }
 }
 
 /// A face's velocity `x` with the mean of the two confinement forces `a`, `b` beside it
-/// added over `dt`, clamped and flushed: what [`add_u_row`] and [`add_v_row`] store.
+/// added over `dt`, limited and flushed: what [`add_u_row`] and [`add_v_row`] store. The
+/// limiter: confinement takes no face past `cap`, the layout's reference speed, nor further
+/// past it than it already is ([`Confinement::speed_cap`]).
 #[inline(always)]
-fn confined(x: f32, a: f32, b: f32, dt: f32) -> f32 {
-    flush(clamp_speed(x + dt * 0.5 * (a + b)))
+fn confined(x: f32, a: f32, b: f32, dt: f32, cap: f32) -> f32 {
+    let m = x.abs().max(cap);
+    flush(clamp_speed((x + dt * 0.5 * (a + b)).clamp(-m, m)))
 }
 
 /// Adds the force `f` (cell-centred x, one row) to a row of u faces where they are free: each
 /// face gets the mean of the cells beside it (the end faces: the wrapped cell when periodic,
 /// else the one cell beside them).
 #[simd_kernel]
-fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
+fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32, cap: f32) {
     let nx = f.len();
-    let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt);
+    let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt, cap);
     let (first, last) = if periodic { (nx - 1, 0) } else { (0, nx - 1) };
     if free[0] != 0 {
         row[0] = add(row[0], f[first], f[0]);
@@ -350,8 +393,8 @@ fn add_u_row(row: &mut [f32], free: &[u8], f: &[f32], periodic: bool, dt: f32) {
 /// Adds the mean of the z forces of the cells below (`a`) and above (`b`) to a row of v faces
 /// where they are free.
 #[simd_kernel]
-fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32) {
-    let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt);
+fn add_v_row(row: &mut [f32], free: &[u8], a: &[f32], b: &[f32], dt: f32, cap: f32) {
+    let add = |x: f32, a: f32, b: f32| confined(x, a, b, dt, cap);
     let n = row.len();
     let (free, a, b) = (&free[..n], &a[..n], &b[..n]);
     // Computed everywhere, kept where free: branch-free, so it vectorises.
@@ -386,7 +429,7 @@ struct Fused<'a> {
     ny: usize,
     hx: f32,
     hz: f32,
-    eps_h: (f32, f32),
+    conf: Confinement,
     dt: f32,
     boundary: Boundary,
     u: &'a [f32],
@@ -406,6 +449,17 @@ struct Out<'a> {
 }
 
 impl Fused<'_> {
+    /// The faces around cell row `j` as the step found them: its u faces, and the v faces
+    /// below and above it (what a cell's speed is read from).
+    fn faces(&self, j: usize) -> (&[f32], &[f32], &[f32]) {
+        let nx = self.nx;
+        (
+            &self.u[j * (nx + 1)..][..nx + 1],
+            &self.v[j * nx..][..nx],
+            &self.v[(j + 1) * nx..][..nx],
+        )
+    }
+
     /// Cell rows `a..b` of the fused sweep: going down the band, each row's curl, then the
     /// forces of the row before it (whose curl neighbours are now known), its u faces and the
     /// v face below it, then the divergence of the row before that (whose faces are now all
@@ -465,7 +519,8 @@ impl Fused<'_> {
                 &mut fx[slot(t)..][..nx],
                 &mut fz[slot(t)..][..nx],
                 (c(t), c(tb), c(tt)),
-                self.eps_h,
+                self.faces(real(t)),
+                self.conf,
                 self.boundary,
                 real(t),
                 ny,
@@ -480,6 +535,7 @@ impl Fused<'_> {
                     &fx[slot(t)..][..nx],
                     per,
                     self.dt,
+                    self.conf.speed_cap,
                 );
             }
             // The faces whose forces are now all known: face t, and past a closed or open
@@ -507,6 +563,7 @@ impl Fused<'_> {
                     &fz[slot(below)..][..nx],
                     &fz[slot(above)..][..nx],
                     self.dt,
+                    self.conf.speed_cap,
                 );
             }
             // Divergence of the rows whose top face is done.
@@ -530,5 +587,66 @@ impl Fused<'_> {
             }
         }
         debug_assert_eq!(next_div, b, "every row's divergence was made");
+    }
+}
+
+/// Up to this vorticity factor ε the confinement pushes at rate ε (1/s, times the cell size
+/// and the curl): every layout made before the ceiling keeps its look ([`confinement_rate`]).
+pub const CONFINEMENT_KNEE: f32 = 2.0;
+
+/// The most the confinement's rate reaches, however large ε: above it confinement feeds
+/// grid-scale eddies faster than advection and dissipation take them away, and the field
+/// fills with noise at the arrows' speed (docs/SOLVER.md, step 3).
+pub const CONFINEMENT_CEILING: f32 = 5.0;
+
+/// The rate the vorticity factor `eps` confines at: `eps` up to [`CONFINEMENT_KNEE`], then
+/// rising ever more slowly toward [`CONFINEMENT_CEILING`] (a `tanh` knee, smooth in ε):
+/// 3 → 2.96, 5 → 4.28, 10 → 4.97, and the paper's 50 (in texel units) the ceiling.
+pub fn confinement_rate(eps: f32) -> f32 {
+    let span = CONFINEMENT_CEILING - CONFINEMENT_KNEE;
+    if eps <= CONFINEMENT_KNEE {
+        eps.max(0.0)
+    } else {
+        CONFINEMENT_KNEE + span * ((eps - CONFINEMENT_KNEE) / span).tanh()
+    }
+}
+
+/// What a step's confinement force needs ([`Solver::confinement`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Confinement {
+    /// [`confinement_rate`] of ε (1/s).
+    pub rate: f32,
+    /// The rate times the cell size `min(hx, hz)`.
+    pub eps_h: f32,
+    /// No face is pushed past this speed (m/s), nor further past it if it is already: the
+    /// layout's reference speed ([`crate::sim::forces::reference_speed`]).
+    pub speed_cap: f32,
+    /// `1 / speed_cap` (a large number when no wind is set): a cell's push is scaled by its
+    /// speed over the reference speed, up to 1.
+    pub inv_speed: f32,
+}
+
+impl Confinement {
+    /// The confinement of vorticity factor `eps` on cells of `h` metres under a layout whose
+    /// reference speed is `speed` (m/s).
+    pub fn new(eps: f32, h: f32, speed: f32) -> Self {
+        let rate = confinement_rate(eps);
+        Self {
+            rate,
+            eps_h: rate * h,
+            speed_cap: speed,
+            inv_speed: 1.0 / speed.max(1e-6),
+        }
+    }
+}
+
+impl Solver {
+    /// The confinement of this solver's layout and parameters (see [`Confinement`]).
+    pub fn confinement(&self) -> Confinement {
+        Confinement::new(
+            self.params.vorticity,
+            self.hx.min(self.hz),
+            self.reference_speed,
+        )
     }
 }
