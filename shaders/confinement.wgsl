@@ -1,4 +1,5 @@
-// Step 3: vorticity confinement, f = ε h w (N_z, −N_x) with N the unit gradient of |w|, first
+// Step 3: vorticity confinement, f = r(ε)·h·min(1, |v|/U)·w·(N_z, −N_x) with N the
+// (regularised) unit gradient of |w| and U the layout's wind (`Confinement`), first
 // at cell centres (`force`; zero in the cells along an open edge, whose inflow would feed it
 // back), then averaged onto the free faces (`apply_u`, `apply_v`), each clamped to
 // ±max_speed. The limiter: confinement takes no face past the layout's reference speed

@@ -172,8 +172,9 @@ impl Solver {
             });
     }
 
-    /// Step 3: vorticity confinement, `f = ε h w (N_z, −N_x)` with `N` the unit gradient of
-    /// `|w|`, pushing along the rotation so small eddies survive advection. The cells along
+    /// Step 3: vorticity confinement, `f = r(ε)·h·min(1, |v|/U)·w·(N_z, −N_x)` with `N` the
+    /// (regularised) unit gradient of `|w|`, pushing along the rotation so small eddies
+    /// survive advection, taking no face past `U` (`Confinement`). The cells along
     /// an open edge get no force: the air entering there keeps the edge's velocity, so a
     /// force there would be fed back into every later step's inflow (docs/SOLVER.md).
     fn confine_vorticity_reference(&mut self, dt: f32) {

@@ -87,8 +87,9 @@ impl Solver {
             .for_each(|(j, row)| curl_row(row, j, nx, ny, hx, hz, periodic, u, v, solid));
     }
 
-    /// Step 3: vorticity confinement, `f = ε h w (N_z, −N_x)` with `N` the unit gradient of
-    /// `|w|`, pushing along the rotation so small eddies survive advection; none in the cells
+    /// Step 3: vorticity confinement, `f = r(ε)·h·min(1, |v|/U)·w·(N_z, −N_x)` with `N` the
+    /// (regularised) unit gradient of `|w|`, pushing along the rotation so small eddies
+    /// survive advection, and taking no face past `U` ([`Confinement`]); none in the cells
     /// along an open edge (docs/SOLVER.md, step 3).
     pub fn confine_vorticity(&mut self, dt: f32) {
         let eps = self.params.vorticity;
