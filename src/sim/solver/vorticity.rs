@@ -112,11 +112,7 @@ impl Solver {
             .for_each(|(j, (fx, fz))| {
                 let (jb, jt) = neighbours(j, ny, periodic);
                 let c = |r: usize| &curl[r * nx..][..nx];
-                let faces = (
-                    &u[j * (nx + 1)..][..nx + 1],
-                    &v[j * nx..][..nx],
-                    &v[(j + 1) * nx..][..nx],
-                );
+                let faces = row_faces(u, v, nx, j);
                 cell_forces(fx, fz, (c(j), c(jb), c(jt)), faces, conf, boundary, j, ny);
             });
         let (fx, fz) = (&self.p_tmp, &self.div);
@@ -168,6 +164,21 @@ impl Solver {
                 );
             });
     }
+}
+
+/// The faces around cell row `j` of a grid `nx` cells wide: its `nx + 1` u faces, and the
+/// rows of v faces below and above it (what a cell's speed is read from).
+fn row_faces<'a>(
+    u: &'a [f32],
+    v: &'a [f32],
+    nx: usize,
+    j: usize,
+) -> (&'a [f32], &'a [f32], &'a [f32]) {
+    (
+        &u[j * (nx + 1)..][..nx + 1],
+        &v[j * nx..][..nx],
+        &v[(j + 1) * nx..][..nx],
+    )
 }
 
 /// The cells below and above v face row `j` (the end rows wrap when periodic, else see the
@@ -453,12 +464,7 @@ impl Fused<'_> {
     /// The faces around cell row `j` as the step found them: its u faces, and the v faces
     /// below and above it (what a cell's speed is read from).
     fn faces(&self, j: usize) -> (&[f32], &[f32], &[f32]) {
-        let nx = self.nx;
-        (
-            &self.u[j * (nx + 1)..][..nx + 1],
-            &self.v[j * nx..][..nx],
-            &self.v[(j + 1) * nx..][..nx],
-        )
+        row_faces(self.u, self.v, self.nx, j)
     }
 
     /// Cell rows `a..b` of the fused sweep: going down the band, each row's curl, then the
