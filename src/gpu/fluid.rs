@@ -243,6 +243,7 @@ impl GpuFluid {
         let (nx, ny) = (solver.nx, solver.ny);
         let sp = &solver.params;
         let periodic = sp.boundary == crate::doc::Boundary::Periodic;
+        let conf = solver.confinement();
         let params = Params {
             nx: nx as u32,
             ny: ny as u32,
@@ -252,7 +253,7 @@ impl GpuFluid {
             hz: solver.hz,
             dt: sp.dt,
             keep: 1.0,
-            eps: solver.confinement().rate,
+            eps: conf.rate,
             h: solver.hx.min(solver.hz),
             wx: 1.0 / (solver.hx * solver.hx),
             wz: 1.0 / (solver.hz * solver.hz),
@@ -263,8 +264,8 @@ impl GpuFluid {
             origin: solver.origin,
             coupling: 0.0,
             layers: 0,
-            speed_cap: solver.confinement().speed_cap,
-            inv_speed: solver.confinement().inv_speed,
+            speed_cap: conf.speed_cap,
+            inv_speed: conf.inv_speed,
         };
         let params_buf = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("fluid params"),

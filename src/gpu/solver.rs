@@ -18,6 +18,8 @@ pub struct GpuSolver {
     /// The ambient layers, prepared on the CPU (FFT spectra) and evaluated per substep into
     /// the small parameter and gust buffers the GPU reads.
     ambient: Ambient,
+    /// The layout's [`reference_speed`], found once a layout (as the CPU solver caches it).
+    reference_speed: f32,
     pub params: SimParams,
     pub nx: usize,
     pub ny: usize,
@@ -64,6 +66,7 @@ impl GpuSolver {
             fluid,
             layout: layout.clone(),
             ambient: Ambient::new(layout),
+            reference_speed: reference_speed(layout),
             params: layout.sim,
             nx: cpu.nx,
             ny: cpu.ny,
@@ -73,8 +76,6 @@ impl GpuSolver {
         Ok(solver)
     }
 
-    /// Replaces the layout the forces come from (an edit), keeping the running field; as
-    /// [`Solver::set_layout`], grid, world, obstacle and boundary changes need a new solver.
     /// Replaces the layout the forces come from (an edit), keeping the running field; a
     /// change of terrain uploads `terrain`, the layout's over this grid (the CPU solver's,
     /// made once for both), through `ctx`.
@@ -103,9 +104,12 @@ impl GpuSolver {
         ctx.submit(enc.finish());
     }
 
+    /// Replaces the layout the forces come from (an edit), keeping the running field; as
+    /// [`Solver::set_layout`], grid, world, obstacle and boundary changes need a new solver.
     pub fn set_layout(&mut self, layout: &Layout) {
         self.layout = layout.clone();
         self.ambient = Ambient::new(layout);
+        self.reference_speed = reference_speed(layout);
         self.params = layout.sim;
     }
 
@@ -161,7 +165,7 @@ impl GpuSolver {
         // As the CPU reads them each step: an edit of ε, the arrows or their response takes
         // effect now (they were fixed when the GPU solver was made).
         let h = self.fluid.cell_size();
-        let conf = Confinement::new(self.params.vorticity, h, reference_speed(&self.layout));
+        let conf = Confinement::new(self.params.vorticity, h, self.reference_speed);
         self.fluid
             .set_rates(queue, conf, self.params.arrow_response);
         for _ in 0..n {
