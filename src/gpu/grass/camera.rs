@@ -119,6 +119,9 @@ impl Camera {
 /// framed world's corners may come.
 pub const FRAME_MARGIN: f32 = 0.94;
 
+/// The pitches (degrees above the ground) "frame all" chooses among.
+pub const FRAME_PITCHES_DEG: [f32; 6] = [35.0, 40.0, 45.0, 50.0, 55.0, 60.0];
+
 /// An orbit camera for the 3D view: around a point on the ground, by yaw, pitch and distance.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Orbit {
@@ -130,18 +133,34 @@ pub struct Orbit {
 }
 
 impl Orbit {
-    /// Looking at the middle of the world from its south (+z), 35° up, as the map view shows it
-    /// (x to the right, −z up the picture: *Map + 3D* side by side read alike, and a level wider
-    /// than deep fills the picture), from the nearest distance that
-    /// shows the whole world in a view of `aspect` (width / height): its corners, on the ground
-    /// and as high as the tallest blade or obstacle, inside `FRAME_MARGIN` of the picture.
+    /// Looking at the middle of the world from its south (+z), as the map view shows it (x to
+    /// the right, −z up the picture: *Map + 3D* side by side read alike), from the nearest
+    /// distance that shows the whole world in a view of `aspect` (width / height): its corners,
+    /// on the ground and as high as the tallest blade or obstacle, inside `FRAME_MARGIN` of the
+    /// picture. Of the pitches in [`FRAME_PITCHES_DEG`], the one whose picture the level fills
+    /// most: seen 35° up, a level as wide as the picture is a thin band across it (the meadow
+    /// filled a third of a 16:10 picture), the rest haze, and a designer framing the level
+    /// wants to see the level.
     pub fn frame_all(doc: &crate::doc::Layout, aspect: f32) -> Self {
+        let mut best: Option<(Self, f32)> = None;
+        for deg in FRAME_PITCHES_DEG {
+            let o = Self::frame_at(doc, aspect, deg.to_radians());
+            let share = o.ground_share(doc, aspect);
+            if best.is_none_or(|(_, s)| share > s) {
+                best = Some((o, share));
+            }
+        }
+        best.map(|(o, _)| o).expect("at least one pitch")
+    }
+
+    /// The nearest orbit at `pitch` that shows the whole world (see [`Self::frame_all`]).
+    fn frame_at(doc: &crate::doc::Layout, aspect: f32, pitch: f32) -> Self {
         let (min, max) = doc.bounds();
         let r = (max[0] - min[0]).hypot(max[1] - min[1]) / 2.0;
         let mut orbit = Self {
             target: glam::Vec3::new((min[0] + max[0]) / 2.0, 0.0, (min[1] + max[1]) / 2.0),
             yaw: std::f32::consts::FRAC_PI_2,
-            pitch: 0.62,
+            pitch,
             distance: r,
         };
         let top = doc.grass.height[1].max(crate::grass::scene::OBSTACLE_HEIGHT);
@@ -179,6 +198,26 @@ impl Orbit {
         orbit
     }
 
+    /// The share of a picture of `aspect` the world's ground rectangle covers from this orbit
+    /// (0–1; the world must be in front of the camera).
+    pub fn ground_share(&self, doc: &crate::doc::Layout, aspect: f32) -> f32 {
+        let (min, max) = doc.bounds();
+        let vp = self.camera().view_proj(aspect.clamp(0.1, 10.0));
+        let p: Vec<glam::Vec2> = [
+            (min[0], min[1]),
+            (max[0], min[1]),
+            (max[0], max[1]),
+            (min[0], max[1]),
+        ]
+        .map(|(x, z)| {
+            let c = vp * glam::Vec4::new(x, 0.0, z, 1.0);
+            glam::Vec2::new(c.x, c.y) / c.w
+        })
+        .to_vec();
+        let twice: f32 = (0..4).map(|i| p[i].perp_dot(p[(i + 1) % 4])).sum();
+        (twice.abs() / 2.0 / 4.0).min(1.0)
+    }
+
     pub fn camera(&self) -> Camera {
         let (sy, cy) = self.yaw.sin_cos();
         let (sp, cp) = self.pitch.sin_cos();
@@ -209,7 +248,7 @@ mod tests {
             let path = format!("{}/layouts/{name}.json", env!("CARGO_MANIFEST_DIR"));
             let doc = crate::doc::parse(&std::fs::read_to_string(path).unwrap()).unwrap();
             let (min, max) = doc.bounds();
-            for aspect in [0.5, 1.0, 16.0 / 9.0, 3.0] {
+            for aspect in [0.5, 1.0, 1.6, 16.0 / 9.0, 3.0] {
                 let o = Orbit::frame_all(&doc, aspect);
                 let vp = o.camera().view_proj(aspect);
                 let mut widest = 0.0f32;
@@ -234,6 +273,19 @@ mod tests {
                     widest >= FRAME_MARGIN - 0.01,
                     "{name} at {aspect}: framed loosely, {widest}"
                 );
+                // In a landscape picture the level is most of it, not a band across the
+                // middle (the meadow filled 34 % of 16:10 seen from 35° up; 57 % now).
+                let share = o.ground_share(&doc, aspect);
+                if (1.5..=1.8).contains(&aspect) {
+                    assert!(share >= 0.45, "{name} at {aspect}: the level fills {share}");
+                }
+                for deg in FRAME_PITCHES_DEG {
+                    let other = Orbit::frame_at(&doc, aspect, deg.to_radians());
+                    assert!(
+                        other.ground_share(&doc, aspect) <= share + 1e-6,
+                        "{name} at {aspect}: {deg}° fills more"
+                    );
+                }
             }
         }
     }
