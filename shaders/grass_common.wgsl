@@ -101,10 +101,12 @@ struct Far {
     // The palettes' mean base and tip colours (linear, the mean tint applied).
     base: vec4<f32>,
     tip: vec4<f32>,
-    // The calm field's look beyond the level (`far::surround`): colour, and its optical depth
-    // seen straight down.
-    surround: vec4<f32>,
 }
+
+// `far::SURROUND_AZIMUTHS`, `far::SURROUND_ELEVATIONS`: the table of the ground beyond the
+// level's look by view direction (`grass_far.wgsl` writes it, `grass_ground.wgsl` reads it).
+const SURROUND_AZIMUTHS: u32 = 64u;
+const SURROUND_ELEVATIONS: u32 = 32u;
 
 // A Bezier blade's control points (`gpu::grass::BezierState`): root, guide, tip.
 struct BezierState {
@@ -294,6 +296,12 @@ fn blade_pose(b: Blade, time: f32) -> Pose {
     let w = blade_wind(b);
     let fr = blade_frame(b);
     let push = blade_crushed(b, blade_push(b, w, time), trail_crush(b.pos, fr[0]));
+    return pose_of(b, push, length(w));
+}
+
+// The pose of a blade pushed by `push` in a wind of `speed` m/s: its length restored, eq. 14's
+// dimming (`cwd::centreline_crushed`).
+fn pose_of(b: Blade, push: vec2<f32>, speed: f32) -> Pose {
     var len = 0.0;
     var prev = vec3<f32>(0.0);
     for (var k = 1u; k <= LENGTH_SEGMENTS; k = k + 1u) {
@@ -301,7 +309,6 @@ fn blade_pose(b: Blade, time: f32) -> Pose {
         len = len + length(q - prev);
         prev = q;
     }
-    let speed = length(w);
     if (S.literal != 0u) {
         return Pose(push, 1.0, S.c1 * speed);
     }

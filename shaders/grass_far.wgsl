@@ -4,9 +4,15 @@
 // field's blades the renderer does not draw at the texel's distance from the eye. So a view
 // of the whole world, where every blade is culled, shows its grass and its wind, and near
 // blades stand on plain ground. CPU twin: `grass::far::texel` and `grass::far::cover`.
+// `surround`: the table of the calm field's look by view direction that the ground beyond
+// the level takes (CPU twin: `grass::far::surround_table`).
 
 @group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far: texture_storage_2d<rgba16float, write>;
+@group(1) @binding(2) var surround_table: texture_storage_2d<rgba16float, write>;
+
+// `far::SURROUND_EYE`.
+const SURROUND_EYE: f32 = 1.0e4;
 
 // `far::PROBES`, `far::POINTS`.
 const PROBES: u32 = 4u;
@@ -21,9 +27,10 @@ fn unit_or_zero(v: vec3<f32>) -> vec3<f32> {
 }
 
 
-// `far::texel`: the mean probe blades at `pos`, bent in their wind cell, each segment's colour
-// weighted by the area it shows the eye (rgb), and the share of the ground they hide (a).
-fn far_texel(pos: vec2<f32>) -> vec4<f32> {
+// `far::texel`: the mean probe blades at `pos`, bent in their wind cell (upright in still air
+// when `still`), each segment's colour weighted by the area it shows the eye at `eye` (rgb),
+// and the share of the ground they hide (a).
+fn far_texel(pos: vec2<f32>, eye: vec3<f32>, still: bool) -> vec4<f32> {
     var sum = vec3<f32>(0.0);
     var plain = vec3<f32>(0.0);
     var weights = 0.0;
@@ -31,7 +38,10 @@ fn far_texel(pos: vec2<f32>) -> vec4<f32> {
     for (var m = 0u; m < PROBES; m = m + 1u) {
         let facing = TAU * (f32(m) + 0.5) / f32(PROBES);
         let b = Blade(pos, facing, F.height, F.width, F.stiffness, 0u, 0.0);
-        let pose = blade_pose(b, S.eye.w);
+        var pose = pose_of(b, vec2<f32>(0.0), 0.0);
+        if (!still) {
+            pose = blade_pose(b, S.eye.w);
+        }
         let fr = blade_frame(b);
         let side = vec3<f32>(fr[1].x, 0.0, fr[1].y);
         var p0 = blade_point(b, pose, 0.0);
@@ -41,7 +51,7 @@ fn far_texel(pos: vec2<f32>) -> vec4<f32> {
             let t = (f32(s) + 0.5) / f32(POINTS);
             let ahead = p1 - p0;
             var n = unit_or_zero(cross(side, ahead));
-            let view = unit_or_zero(S.eye.xyz - 0.5 * (p0 + p1));
+            let view = unit_or_zero(eye - 0.5 * (p0 + p1));
             let toward = dot(n, view);
             if (toward < 0.0) {
                 n = -n;
@@ -113,6 +123,24 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let pos = F.origin + (vec2<f32>(id.xy) + vec2<f32>(0.5)) * F.cell;
     let d = distance(vec3<f32>(pos.x, ground(pos), pos.y), S.eye.xyz);
     // The pass runs only while the ground shows the far field (`flags & 1`).
-    let look = far_texel(pos);
+    let look = far_texel(pos, S.eye.xyz, false);
     textureStore(far, vec2<i32>(id.xy), vec4<f32>(look.rgb, look.a * (1.0 - far_cover(d))));
+}
+
+// `far::surround_direction`: the view direction at the centre of the table's texel `id`.
+fn surround_direction(id: vec2<u32>) -> vec3<f32> {
+    let a = TAU * ((f32(id.x) + 0.5) / f32(SURROUND_AZIMUTHS) - 0.5);
+    let s = f32(id.y) / f32(SURROUND_ELEVATIONS - 1u);
+    let c = sqrt(max(1.0 - s * s, 0.0));
+    return vec3<f32>(c * cos(a), s, c * sin(a));
+}
+
+// `far::surround_table`: the calm field's look seen along each of the table's directions.
+@compute @workgroup_size(8, 8)
+fn surround(@builtin(global_invocation_id) id: vec3<u32>) {
+    if (id.x >= SURROUND_AZIMUTHS || id.y >= SURROUND_ELEVATIONS) {
+        return;
+    }
+    let eye = surround_direction(id.xy) * SURROUND_EYE;
+    textureStore(surround_table, vec2<i32>(id.xy), far_texel(vec2<f32>(0.0), eye, true));
 }

@@ -6,13 +6,34 @@
 // far field's look (`grass_far.wgsl`) by the share of coverage the blades no longer give.
 // With the wind colours on (`fs_wind_colours`), the map view's speed colour of the wind there
 // goes over it all. Beyond the level the ground runs on to the horizon as the
-// calm field's look (`far::surround`, drawn by `vs_main` after the level's quads), and everything fades into the sky through the haze.
+// calm field's look along each view (`far::surround_at`, drawn by `vs_main` after the level's quads), and everything fades into the sky through the haze.
 
 @group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far_image: texture_2d<f32>;
 @group(1) @binding(2) var far_sampler: sampler;
 @group(1) @binding(3) var backdrop_image: texture_2d<f32>;
 @group(1) @binding(4) var backdrop_sampler: sampler;
+@group(1) @binding(5) var surround_table: texture_2d<f32>;
+
+// `far::surround_at`: the calm field's look along the view `v` (toward the eye) from the
+// table `grass_far.wgsl` writes — bilinear between texel centres, the azimuth wrapping
+// round, the elevation clamped.
+fn surround_at(v: vec3<f32>) -> vec4<f32> {
+    let na = i32(SURROUND_AZIMUTHS);
+    let ne = SURROUND_ELEVATIONS;
+    let x = (atan2(v.z, v.x) / TAU + 0.5) * f32(na) - 0.5;
+    let y = clamp(v.y, 0.0, 1.0) * f32(ne - 1u);
+    let x0 = floor(x);
+    let y0 = min(floor(y), f32(ne - 2u));
+    let fx = x - x0;
+    let fy = y - y0;
+    let i0 = ((i32(x0) % na) + na) % na;
+    let i1 = (i0 + 1) % na;
+    let j0 = i32(y0);
+    let a = mix(textureLoad(surround_table, vec2<i32>(i0, j0), 0), textureLoad(surround_table, vec2<i32>(i1, j0), 0), fx);
+    let b = mix(textureLoad(surround_table, vec2<i32>(i0, j0 + 1), 0), textureLoad(surround_table, vec2<i32>(i1, j0 + 1), 0), fx);
+    return mix(a, b, fy);
+}
 
 struct GroundOut {
     @builtin(position) clip: vec4<f32>,
@@ -114,10 +135,10 @@ fn ground_colour(in: GroundOut) -> vec3<f32> {
         // Where the map shows, it stays the ground; elsewhere the lower canopy covers it.
         let shown = select(0.0, clamp(S.backdrop, 0.0, 1.0), inside);
         if (outside_level(in.world)) {
-            // The calm field beyond the level: it hides the more ground the lower the view.
-            let v = normalize(S.eye.xyz - pos);
-            let hidden = 1.0 - exp(-F.surround.w / max(v.y, MIN_VIEW_SINE));
-            colour = far_ground(colour, F.surround.rgb, hidden, shown);
+            // The calm field beyond the level, as seen along this view: it hides the more
+            // ground the lower the view.
+            let calm = surround_at(normalize(S.eye.xyz - pos));
+            colour = far_ground(colour, calm.rgb, clamp(calm.a, 0.0, 1.0), shown);
         } else {
             // rgb: the blades from afar, lit; a: how much of the ground they take here.
             colour = far_ground(colour, far.rgb, clamp(far.a, 0.0, 1.0), shown);

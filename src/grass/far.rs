@@ -28,7 +28,7 @@ use super::Blade;
 use super::cull::{CullParams, FADE, MAX_WIDEN};
 use super::cwd;
 use crate::doc::GrassParams;
-use glam::Vec3;
+use glam::{Vec3, Vec4};
 
 /// Mean blades evaluated per texel, their facings spread evenly around the circle.
 pub const PROBES: usize = 4;
@@ -279,29 +279,108 @@ pub fn cover(distance: f32, cull: &CullParams, sample_reach: f32) -> f32 {
     (culled * sampled).clamp(0.0, 1.0)
 }
 
-/// The ground beyond the level, for an eye at `eye` (xyz; w the time): the calm field's look
-/// (a [`texel`] in still air at the level's centre `centre`) — rgb, and in w the field's
-/// optical depth seen straight down, `τ·max(v_y, MIN_VIEW_SINE)`, from which the ground shader
-/// works out how much of the ground it hides along each line of sight. The level sits in a
-/// meadow of its own grass, at rest, rather than on a plate in the sky.
-pub fn surround(g: &GrassParams, look: &Look, centre: [f32; 2], eye: [f32; 4]) -> [f32; 4] {
+/// Azimuths of the table of the ground beyond the level ([`surround_table`]).
+pub const SURROUND_AZIMUTHS: usize = 64;
+/// View elevations (their sines, 0 to 1) of the table of the ground beyond the level.
+pub const SURROUND_ELEVATIONS: usize = 32;
+/// How far (metres) along its view direction the eye of a [`surround`] stands: far enough
+/// that the blades' own height does not tilt the view.
+pub const SURROUND_EYE: f32 = 1.0e4;
+
+/// The view direction (unit, from the ground toward the eye) at the centre of the table's
+/// texel `(i, j)`: azimuth `2π·((i + ½)/SURROUND_AZIMUTHS − ½)` from +x toward +z, elevation
+/// sine `j/(SURROUND_ELEVATIONS − 1)`.
+pub fn surround_direction(i: usize, j: usize) -> Vec3 {
+    let a = std::f32::consts::TAU * ((i as f32 + 0.5) / SURROUND_AZIMUTHS as f32 - 0.5);
+    let s = j as f32 / (SURROUND_ELEVATIONS - 1) as f32;
+    let c = (1.0 - s * s).max(0.0).sqrt();
+    Vec3::new(c * a.cos(), s, c * a.sin())
+}
+
+/// The ground beyond the level seen along `view` (unit, toward the eye): the calm field's
+/// look (a [`texel`] in still air, the eye [`SURROUND_EYE`] off along `view`) — rgb, and in
+/// a the share of the ground it hides. The level sits in a meadow of its own grass, at rest,
+/// rather than on a plate in the sky; and as the level's own look changes with the view
+/// across a picture, so does its surround's, so the two meet with no step at its edge.
+pub fn surround(g: &GrassParams, look: &Look, view: Vec3) -> [f32; 4] {
+    let eye = view.normalize_or_zero() * SURROUND_EYE;
     let t = texel(
         g,
         look,
         [0.0, 0.0],
-        centre,
-        eye[3],
-        [eye[0], eye[1], eye[2]],
+        [0.0, 0.0],
+        0.0,
+        eye.to_array(),
         (0.0, [0.0, 0.0]),
     );
-    let view_y = (Vec3::new(eye[0], eye[1], eye[2]) - Vec3::new(centre[0], 0.0, centre[1]))
-        .normalize_or_zero()
-        .y;
-    let tau = -(1.0 - t.hidden).max(1e-6).ln();
-    [
-        t.colour[0],
-        t.colour[1],
-        t.colour[2],
-        tau * view_y.max(MIN_VIEW_SINE),
-    ]
+    [t.colour[0], t.colour[1], t.colour[2], t.hidden]
+}
+
+/// [`surround`] at every texel centre of the table ([`surround_direction`]), row-major by
+/// elevation: what the far pass writes for the ground shader to look up.
+pub fn surround_table(g: &GrassParams, look: &Look) -> Vec<[f32; 4]> {
+    (0..SURROUND_ELEVATIONS)
+        .flat_map(|j| (0..SURROUND_AZIMUTHS).map(move |i| (i, j)))
+        .map(|(i, j)| surround(g, look, surround_direction(i, j)))
+        .collect()
+}
+
+/// The ground shader's look-up of `table` ([`surround_table`]) along `view`: bilinear between
+/// texel centres, the azimuth wrapping round, the elevation clamped to the table.
+pub fn surround_at(table: &[[f32; 4]], view: Vec3) -> [f32; 4] {
+    let (na, ne) = (SURROUND_AZIMUTHS as i64, SURROUND_ELEVATIONS as i64);
+    let x = (view.z.atan2(view.x) / std::f32::consts::TAU + 0.5) * na as f32 - 0.5;
+    let y = view.y.clamp(0.0, 1.0) * (ne - 1) as f32;
+    let (x0, y0) = (x.floor(), y.floor().min((ne - 2) as f32));
+    let (fx, fy) = (x - x0, y - y0);
+    let i0 = (x0 as i64).rem_euclid(na);
+    let i1 = (i0 + 1) % na;
+    let j0 = y0 as i64;
+    let load = |i: i64, j: i64| Vec4::from(table[(j * na + i) as usize]);
+    let row = |j: i64| load(i0, j).lerp(load(i1, j), fx);
+    row(j0).lerp(row(j0 + 1), fy).to_array()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The ground shader's look-up returns the table at its texel centres, blends between
+    /// them, and wraps round the azimuth with no seam behind the eye.
+    #[test]
+    fn the_surround_table_is_looked_up_as_the_shader_does() {
+        let g = GrassParams::default();
+        let look = Look::new(&g, [0.4, 0.8, 0.3, 0.3]);
+        let table = surround_table(&g, &look);
+        for (i, j) in [(0, 0), (5, 7), (63, 31), (32, 16)] {
+            let got = surround_at(&table, surround_direction(i, j));
+            let want = table[j * SURROUND_AZIMUTHS + i];
+            for k in 0..4 {
+                assert!(
+                    (got[k] - want[k]).abs() < 1e-4,
+                    "({i}, {j}): {got:?} {want:?}"
+                );
+            }
+        }
+        // Half-way between two texel centres in azimuth: their mean.
+        let (a, b) = (surround_direction(9, 10), surround_direction(10, 10));
+        let mid = surround_at(&table, (a + b).normalize());
+        let want =
+            0.5 * (table[10 * SURROUND_AZIMUTHS + 9][0] + table[10 * SURROUND_AZIMUTHS + 10][0]);
+        assert!((mid[0] - want).abs() < 1e-3, "{} {want}", mid[0]);
+        // Either side of the azimuth's wrap (views toward −x): nearly the same.
+        let s = 0.4f32;
+        let c = (1.0 - s * s).sqrt();
+        let side = |a: f32| surround_at(&table, Vec3::new(c * a.cos(), s, c * a.sin()));
+        let (l, r) = (
+            side(std::f32::consts::PI - 1e-3),
+            side(-std::f32::consts::PI + 1e-3),
+        );
+        for k in 0..4 {
+            assert!(
+                (l[k] - r[k]).abs() < 1e-3,
+                "a seam behind the eye: {l:?} {r:?}"
+            );
+        }
+    }
 }

@@ -21,7 +21,8 @@ pub(super) fn backdrop_texture(device: &wgpu::Device, [w, h]: [u32; 2]) -> wgpu:
 /// The layout of the group the ground (group 1) and the blades (group 3) read the far field
 /// and the map backdrop through: the far field's uniform (0), its texels (1) and sampler
 /// (2), the backdrop image (3) and its sampler (4), seen by both stages (the blades sample
-/// them at their roots, in the vertex stage).
+/// them at their roots, in the vertex stage), and the table of the ground beyond the level's
+/// look (5, loaded texel by texel).
 pub(super) fn look_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
     use wgpu::ShaderStages as S;
     let both = S::VERTEX | S::FRAGMENT;
@@ -39,6 +40,16 @@ pub(super) fn look_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             far_sampler,
             image,
             image_sampler,
+            wgpu::BindGroupLayoutEntry {
+                binding: 5,
+                visibility: both,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
         ],
     })
 }
@@ -83,6 +94,12 @@ pub(super) fn look_group(
             wgpu::BindGroupEntry {
                 binding: 4,
                 resource: wgpu::BindingResource::Sampler(&sampler),
+            },
+            wgpu::BindGroupEntry {
+                binding: 5,
+                resource: wgpu::BindingResource::TextureView(
+                    &far.surround.create_view(&Default::default()),
+                ),
             },
         ],
     })

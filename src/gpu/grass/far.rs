@@ -38,9 +38,6 @@ pub struct FarUniform {
     pub _pad1: f32,
     pub base: [f32; 4],
     pub tip: [f32; 4],
-    /// The calm field's look beyond the level ([`far::surround`]): colour, and the optical
-    /// depth of the field seen straight down.
-    pub surround: [f32; 4],
 }
 
 /// The far field's texels, uniform and pipeline, and the ground's view of them.
@@ -49,14 +46,15 @@ pub struct FarPass {
     pub(super) uniform_buf: wgpu::Buffer,
     pub(super) texels: wgpu::Texture,
     pub(super) sampler: wgpu::Sampler,
+    /// The calm field's look by view direction, which the ground beyond the level takes
+    /// ([`far::surround_table`]; [`far::SURROUND_AZIMUTHS`] × [`far::SURROUND_ELEVATIONS`]).
+    pub(super) surround: wgpu::Texture,
     compute_layout: wgpu::BindGroupLayout,
     compute_group: wgpu::BindGroup,
     pipeline: wgpu::ComputePipeline,
+    surround_pipeline: wgpu::ComputePipeline,
     /// The world rectangle the texels cover.
     world: ([f32; 2], [f32; 2]),
-    /// The grass and light the ground beyond the level is drawn with.
-    grass: crate::doc::GrassParams,
-    look: Look,
 }
 
 impl FarPass {
@@ -92,7 +90,6 @@ impl FarPass {
             _pad1: 0.0,
             base: [look.base[0], look.base[1], look.base[2], 1.0],
             tip: [look.tip[0], look.tip[1], look.tip[2], 1.0],
-            surround: [0.0; 4],
         };
         let uniform_buf = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("grass far"),
@@ -101,6 +98,13 @@ impl FarPass {
             mapped_at_creation: false,
         });
         let texels = texel_texture(device, (1, 1));
+        let surround = texel_texture(
+            device,
+            (
+                far::SURROUND_AZIMUTHS as u32,
+                far::SURROUND_ELEVATIONS as u32,
+            ),
+        );
         let sampler = device.create_sampler(&wgpu::SamplerDescriptor {
             label: Some("grass far"),
             mag_filter: wgpu::FilterMode::Linear,
@@ -115,16 +119,8 @@ impl FarPass {
                     S::COMPUTE,
                     wgpu::BufferBindingType::Storage { read_only: true },
                 ),
-                wgpu::BindGroupLayoutEntry {
-                    binding: 1,
-                    visibility: S::COMPUTE,
-                    ty: wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: FORMAT,
-                        view_dimension: wgpu::TextureViewDimension::D2,
-                    },
-                    count: None,
-                },
+                storage_entry(1),
+                storage_entry(2),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -132,26 +128,30 @@ impl FarPass {
             bind_group_layouts: &[Some(layout0), Some(&compute_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("grass_far"),
-            layout: Some(&pipeline_layout),
-            module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
-        let compute_group = group(device, &compute_layout, &uniform_buf, &texels);
+        let pipeline_for = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("grass_far"),
+                layout: Some(&pipeline_layout),
+                module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipeline = pipeline_for("main");
+        let surround_pipeline = pipeline_for("surround");
+        let compute_group = group(device, &compute_layout, &uniform_buf, &texels, &surround);
         Self {
             uniform,
             compute_group,
             uniform_buf,
             texels,
             sampler,
+            surround,
             compute_layout,
             pipeline,
+            surround_pipeline,
             world: (min, max),
-            grass: g.clone(),
-            look,
         }
     }
 
@@ -172,6 +172,7 @@ impl FarPass {
             &self.compute_layout,
             &self.uniform_buf,
             &self.texels,
+            &self.surround,
         );
         true
     }
@@ -182,19 +183,15 @@ impl FarPass {
     }
 
     /// Records this frame's texels for the cull settings `cull` (the scene uniform, group 0,
-    /// holds the eye, the time, the wind and the trail), and the look of the ground beyond the
-    /// level for the eye at `eye` (the scene's: xyz, w the time).
+    /// holds the eye, the time, the wind and the trail), and the table of the look of the
+    /// ground beyond the level (it changes with the light and the grass, not the eye).
     pub fn record(
         &mut self,
         queue: &wgpu::Queue,
         enc: &mut wgpu::CommandEncoder,
         group0: &wgpu::BindGroup,
         cull: &CullParams,
-        eye: [f32; 4],
     ) {
-        let (min, max) = self.world;
-        let centre = [0.5 * (min[0] + max[0]), 0.5 * (min[1] + max[1])];
-        self.uniform.surround = far::surround(&self.grass, &self.look, centre, eye);
         self.uniform.flags = (self.uniform.flags & 1) | (u32::from(cull.distance) << 1);
         self.uniform.buckets = cull.buckets.max(1);
         self.uniform.max_distance = cull.max_distance.max(1e-3);
@@ -215,6 +212,12 @@ impl FarPass {
         pass.set_bind_group(0, group0, &[]);
         pass.set_bind_group(1, &self.compute_group, &[]);
         pass.dispatch_workgroups(self.uniform.nx.div_ceil(8), self.uniform.ny.div_ceil(8), 1);
+        pass.set_pipeline(&self.surround_pipeline);
+        pass.dispatch_workgroups(
+            (far::SURROUND_AZIMUTHS as u32).div_ceil(8),
+            (far::SURROUND_ELEVATIONS as u32).div_ceil(8),
+            1,
+        );
     }
 
     /// The texels, row-major: colour (rgb) and the share of the ground it takes (a) (for
@@ -224,11 +227,44 @@ impl FarPass {
         device: &wgpu::Device,
         queue: &wgpu::Queue,
     ) -> Result<Vec<[f32; 4]>, GpuError> {
-        let bytes = crate::gpu::read_texture(device, queue, &self.texels, 8)?;
-        let half = |k: usize| half::f16::from_le_bytes([bytes[k], bytes[k + 1]]).to_f32();
-        Ok((0..bytes.len() / 8)
-            .map(|t| [0, 1, 2, 3].map(|c| half(t * 8 + c * 2)))
-            .collect())
+        read_halves(device, queue, &self.texels)
+    }
+
+    /// The table of the ground beyond the level's look, row-major by elevation (for tests;
+    /// waits for the GPU).
+    pub fn read_surround(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        read_halves(device, queue, &self.surround)
+    }
+}
+
+/// A texture of [`FORMAT`], row-major, as floats.
+fn read_halves(
+    device: &wgpu::Device,
+    queue: &wgpu::Queue,
+    texture: &wgpu::Texture,
+) -> Result<Vec<[f32; 4]>, GpuError> {
+    let bytes = crate::gpu::read_texture(device, queue, texture, 8)?;
+    let half = |k: usize| half::f16::from_le_bytes([bytes[k], bytes[k + 1]]).to_f32();
+    Ok((0..bytes.len() / 8)
+        .map(|t| [0, 1, 2, 3].map(|c| half(t * 8 + c * 2)))
+        .collect())
+}
+
+/// A write-only storage texture of [`FORMAT`] at `binding`, for the compute pass.
+fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format: FORMAT,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
     }
 }
 
@@ -255,13 +291,14 @@ fn texel_texture(device: &wgpu::Device, (w, h): (u32, u32)) -> wgpu::Texture {
     })
 }
 
-/// The compute pass's bind group over the uniform and the texels (the ground and the blades
-/// read them through [`super::look`]).
+/// The compute pass's bind group over the uniform, the texels and the surround's table (the
+/// ground and the blades read them through [`super::backdrop::look_group`]).
 fn group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     uniform: &wgpu::Buffer,
     texels: &wgpu::Texture,
+    surround: &wgpu::Texture,
 ) -> wgpu::BindGroup {
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("grass far"),
@@ -275,6 +312,12 @@ fn group(
                 binding: 1,
                 resource: wgpu::BindingResource::TextureView(
                     &texels.create_view(&Default::default()),
+                ),
+            },
+            wgpu::BindGroupEntry {
+                binding: 2,
+                resource: wgpu::BindingResource::TextureView(
+                    &surround.create_view(&Default::default()),
                 ),
             },
         ],

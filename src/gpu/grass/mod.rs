@@ -894,6 +894,17 @@ impl GrassRenderer {
         };
     }
 
+    /// The table of the calm field's look by view direction that the ground beyond the level
+    /// takes ([`crate::grass::far::surround_table`]), after a [`Self::prepare`] (for tests;
+    /// waits for the GPU).
+    pub fn read_surround(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+    ) -> Result<Vec<[f32; 4]>, GpuError> {
+        self.far.read_surround(device, queue)
+    }
+
     /// The far field's settings as last written (for tests).
     pub fn far_uniform(&self) -> FarUniform {
         self.far.uniform
@@ -988,13 +999,8 @@ impl GrassRenderer {
             pass.set_bind_group(1, &self.group_deform, &[]);
             dispatch_blades(&mut pass, blades);
         }
-        self.far.record(
-            queue,
-            encoder,
-            &self.group0,
-            &self.cull.params,
-            self.scene.eye,
-        );
+        self.far
+            .record(queue, encoder, &self.group0, &self.cull.params);
         self.cull
             .record(queue, encoder, &self.group0, &self.group_shape, blades);
     }

@@ -112,6 +112,64 @@ fn the_far_field_matches_its_cpu_twin() {
     assert!(worst_cover <= 1e-3, "coverage differs by {worst_cover}");
 }
 
+/// The table of the calm field's look by view direction, which the ground beyond the level
+/// takes, against its CPU twin (`grass::far::surround_table`): every texel's colour within
+/// 2e-3 and its share of the ground within 1e-3 (half floats). The look changes with the
+/// view — toward the sun and away from it, from above and along the ground — which is why
+/// one colour for the whole surround showed the level as a plate on it.
+#[test]
+fn the_ground_beyond_the_level_matches_its_cpu_twin() {
+    let Some(ctx) = context() else { return };
+    let l = meadow(24.0, 16.0, 4.0);
+    let blades = scatter(&l);
+    let mut r = GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+    let camera = Camera {
+        eye: Vec3::new(-4.0, 5.0, -3.0),
+        target: Vec3::new(12.0, 0.0, 8.0),
+        fov_y: 45f32.to_radians(),
+    };
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    r.prepare(&ctx.queue, &mut enc, &camera, 1.5, 2.0, 1.0 / 60.0);
+    ctx.queue.submit([enc.finish()]);
+    let gpu = r.read_surround(&ctx.device, &ctx.queue).unwrap();
+    let cpu = far::surround_table(&l.grass, &Look::new(&l.grass, SUN));
+    assert_eq!(gpu.len(), far::SURROUND_AZIMUTHS * far::SURROUND_ELEVATIONS);
+    assert_eq!(gpu.len(), cpu.len());
+    let (mut worst_colour, mut worst_hidden) = (0.0f32, 0.0f32);
+    for (g, c) in gpu.iter().zip(&cpu) {
+        for k in 0..3 {
+            worst_colour = worst_colour.max((g[k] - c[k]).abs());
+        }
+        worst_hidden = worst_hidden.max((g[3] - c[3]).abs());
+    }
+    let lum = |c: &[f32; 4]| 0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2];
+    let (dark, light) = cpu
+        .iter()
+        .map(lum)
+        .fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
+    let (low, high) = cpu
+        .iter()
+        .map(|c| c[3])
+        .fold((f32::MAX, f32::MIN), |(a, b), v| (a.min(v), b.max(v)));
+    println!(
+        "surround: max |GPU − CPU| colour {worst_colour:.2e}, hidden {worst_hidden:.2e}; \
+         luminance {dark:.3}–{light:.3}, ground hidden {low:.3}–{high:.3}"
+    );
+    assert!(worst_colour <= 2e-3, "colours differ by {worst_colour}");
+    assert!(
+        worst_hidden <= 1e-3,
+        "hidden shares differ by {worst_hidden}"
+    );
+    assert!(
+        light > 1.2 * dark,
+        "the calm field looks the same from every side"
+    );
+    assert!(
+        high > low + 0.2,
+        "the field hides as much ground from above as along it"
+    );
+}
+
 /// A picture of `l`'s grass (far field on or off) from `camera`, 320 × 200.
 fn picture(
     ctx: &GpuContext,
