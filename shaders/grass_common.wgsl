@@ -248,8 +248,13 @@ fn blade_frame(b: Blade) -> mat2x2<f32> {
     return mat2x2<f32>(vec2<f32>(c, s), vec2<f32>(-s, c));
 }
 
-// `cwd::push`: the saturated bend with its flutter, toward the wind, in the blade's frame.
-fn blade_push(b: Blade, w: vec2<f32>, time: f32) -> vec2<f32> {
+// `cwd::FLUTTER_SPREAD`: radians of flutter phase per unit of a blade's variation.
+const FLUTTER_SPREAD: f32 = 40.0;
+
+// `cwd::push_with`: the saturated bend with a flutter of relative amplitude `flutter` (`S.flutter`
+// for a blade, 0 for the far field's probes: the mean of many blades' phases), toward the
+// wind, in the blade's frame.
+fn blade_push(b: Blade, w: vec2<f32>, time: f32, flutter: f32) -> vec2<f32> {
     let speed = length(w);
     if (speed <= 0.0) {
         return vec2<f32>(0.0);
@@ -261,10 +266,10 @@ fn blade_push(b: Blade, w: vec2<f32>, time: f32) -> vec2<f32> {
         return (1.0 - S.lambda) * f * speed * vec2<f32>(dot(d, fr[1]), dot(d, fr[0]));
     }
     let bend = S.bend_max * tanh((1.0 - S.lambda) * f * speed / S.bend_max);
-    let phase = b.pos.x * 0.9 + b.pos.y * 1.3 + b.variation * 2.0;
+    let phase = b.variation * FLUTTER_SPREAD;
     let hz = S.flutter_hz * (1.0 + 0.25 * b.variation);
-    let flutter = 1.0 + S.flutter * (bend / S.bend_max) * sin(TAU * hz * time + phase);
-    return bend * flutter * vec2<f32>(dot(d, fr[1]), dot(d, fr[0]));
+    let wave = 1.0 + flutter * (bend / S.bend_max) * sin(TAU * hz * time + phase);
+    return bend * wave * vec2<f32>(dot(d, fr[1]), dot(d, fr[0]));
 }
 
 // `cwd::bent`: blade-frame (side, up, forward) point at `t` before the length is restored.
@@ -293,9 +298,14 @@ fn blade_crushed(b: Blade, push: vec2<f32>, crush: vec3<f32>) -> vec2<f32> {
 
 // The deform pass's work for one blade: `cwd::centreline_crushed`'s per-blade part.
 fn blade_pose(b: Blade, time: f32) -> Pose {
+    return blade_pose_with(b, time, S.flutter);
+}
+
+// `blade_pose` with a flutter of relative amplitude `flutter` (0: the far field's steady mean).
+fn blade_pose_with(b: Blade, time: f32, flutter: f32) -> Pose {
     let w = blade_wind(b);
     let fr = blade_frame(b);
-    let push = blade_crushed(b, blade_push(b, w, time), trail_crush(b.pos, fr[0]));
+    let push = blade_crushed(b, blade_push(b, w, time, flutter), trail_crush(b.pos, fr[0]));
     return pose_of(b, push, length(w));
 }
 

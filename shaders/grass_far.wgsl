@@ -27,9 +27,10 @@ fn unit_or_zero(v: vec3<f32>) -> vec3<f32> {
 }
 
 
-// `far::texel`: the mean probe blades at `pos`, bent in their wind cell (upright in still air
-// when `still`), each segment's colour weighted by the area it shows the eye at `eye` (rgb),
-// and the share of the ground they hide (a).
+// `far::texel`: the mean probe blades at `pos`, bent in their wind cell without flutter (the
+// mean of many blades at their own phases; upright in still air when `still`), each
+// segment's colour weighted by the area it shows the eye at `eye` (rgb), and the share of
+// the ground they hide (a).
 fn far_texel(pos: vec2<f32>, eye: vec3<f32>, still: bool) -> vec4<f32> {
     var sum = vec3<f32>(0.0);
     var plain = vec3<f32>(0.0);
@@ -40,7 +41,7 @@ fn far_texel(pos: vec2<f32>, eye: vec3<f32>, still: bool) -> vec4<f32> {
         let b = Blade(pos, facing, F.height, F.width, F.stiffness, 0u, 0.0);
         var pose = pose_of(b, vec2<f32>(0.0), 0.0);
         if (!still) {
-            pose = blade_pose(b, S.eye.w);
+            pose = blade_pose_with(b, S.eye.w, 0.0);
         }
         let fr = blade_frame(b);
         let side = vec3<f32>(fr[1].x, 0.0, fr[1].y);

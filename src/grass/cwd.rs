@@ -23,8 +23,9 @@
 //! the length renormalisation (full length, no flattening by squashing); eq. 14 fed the
 //! saturated speed `|V|ₛ = S·tanh(|V|/S)` ([`SATURATION`]), so a gale dims the grass by a bounded
 //! amount (`c1·S`) rather than to `m_min`; and a per-blade flutter on top of the saturated bend,
-//! growing with it and phased by position (gusts roll across the field as waves), so strong
-//! wind stays alive instead of freezing blades at the cap.
+//! growing with it, each blade at its own phase ([`FLUTTER_SPREAD`]), so strong wind stays
+//! alive instead of freezing blades at the cap. (Gusts that roll across the field are the
+//! wind's own: the solver's eddies, pulses and turbulence, carried downwind.)
 
 use super::Blade;
 use crate::doc::GrassParams;
@@ -38,6 +39,11 @@ pub const SATURATION: f32 = 3.0;
 /// Flutter: relative amplitude at full saturation, and its base frequency (Hz).
 pub const FLUTTER: f32 = 0.15;
 pub const FLUTTER_HZ: f32 = 1.6;
+/// Radians of flutter phase per unit of a blade's variation (`[-1, 1]`): about six turns
+/// across its range, so neighbouring blades flutter independently. (The phase was a plane
+/// wave over the ground, `0.9x + 1.3z`: stripes 4 m apart running north-west whatever the
+/// wind, read from afar as bands across every gale.)
+pub const FLUTTER_SPREAD: f32 = 40.0;
 /// Segments of the arc-length estimate behind the length renormalisation (the shader's too).
 pub const LENGTH_SEGMENTS: usize = 16;
 
@@ -55,16 +61,28 @@ pub fn frame(blade: &Blade) -> ([f32; 2], [f32; 2]) {
 /// The wind's push on a blade at `time`, in its own frame: the bend `B` (eq. 12, saturated,
 /// with its flutter) and the unit direction `(side, forward)` it pushes toward.
 pub fn push(blade: &Blade, g: &GrassParams, wind: [f32; 2], time: f32) -> (f32, [f32; 2]) {
+    push_with(blade, g, wind, Some(time))
+}
+
+/// [`push`] at `time`, or with no flutter (`None`): the mean over its phases, what a patch
+/// of many blades shows from afar (the far field's probes).
+pub fn push_with(
+    blade: &Blade,
+    g: &GrassParams,
+    wind: [f32; 2],
+    time: Option<f32>,
+) -> (f32, [f32; 2]) {
     let speed = wind[0].hypot(wind[1]);
     if speed <= 0.0 {
         return (0.0, [0.0, 0.0]);
     }
     let f = WIND_RESPONSE / blade.stiffness.max(1e-3);
     let bend = BEND_MAX * ((1.0 - g.lambda) * f * speed / BEND_MAX).tanh();
-    let phase = blade.pos[0] * 0.9 + blade.pos[1] * 1.3 + blade.variation * 2.0;
-    let hz = FLUTTER_HZ * (1.0 + 0.25 * blade.variation);
-    let flutter =
-        1.0 + FLUTTER * (bend / BEND_MAX) * (std::f32::consts::TAU * hz * time + phase).sin();
+    let flutter = time.map_or(1.0, |time| {
+        let phase = blade.variation * FLUTTER_SPREAD;
+        let hz = FLUTTER_HZ * (1.0 + 0.25 * blade.variation);
+        1.0 + FLUTTER * (bend / BEND_MAX) * (std::f32::consts::TAU * hz * time + phase).sin()
+    });
     let (fwd, side) = frame(blade);
     let w = [wind[0] / speed, wind[1] / speed];
     (
@@ -156,9 +174,21 @@ pub fn centreline_crushed(
     g: &GrassParams,
     time: f32,
     segments: usize,
+    crush: (f32, [f32; 2]),
+) -> Vec<Point> {
+    centreline_with(blade, wind, g, Some(time), segments, crush)
+}
+
+/// [`centreline_crushed`] at `time`, or with no flutter (`None`, [`push_with`]).
+pub fn centreline_with(
+    blade: &Blade,
+    wind: [f32; 2],
+    g: &GrassParams,
+    time: Option<f32>,
+    segments: usize,
     (c, toward): (f32, [f32; 2]),
 ) -> Vec<Point> {
-    let v = crushed(blade, push(blade, g, wind, time), c, toward);
+    let v = crushed(blade, push_with(blade, g, wind, time), c, toward);
     let scale = blade.height / bent_length(blade, g, v).max(1e-9);
     let (fwd, side) = frame(blade);
     let dim = g.shadow.c1 * saturate(wind[0].hypot(wind[1]));

@@ -11,8 +11,8 @@
 //!
 //! - [`texel`]: [`PROBES`] mean blades (the layout's mean height, width and stiffness, the
 //!   palettes' mean colours, facings spread evenly) stand at the texel's centre in its wind
-//!   cell's velocity, bent by the CWD model with its flutter (phased by position as the
-//!   blades are, so gusts roll across the far field too) and the trail's crush. Each is cut
+//!   cell's velocity, bent by the CWD model without flutter (the mean of many blades'
+//!   flutter at their own phases) and the trail's crush. Each is cut
 //!   into [`POINTS`] segments, coloured and shaded as the blade shader colours and shades them
 //!   (base-to-tip gradient, eq. 14's self-shadow, [`super::light::blade`]'s sun, sky and
 //!   sheen on the side facing the eye), and weighted by the area it shows the eye. The same areas give how much of the
@@ -160,9 +160,10 @@ pub struct Texel {
     pub hidden: f32,
 }
 
-/// The far field at a texel centred at `pos` whose wind cell blows `wind` (m/s), at
-/// simulation `time`, seen from `eye`, with the trail's crush `(c, direction)` there
-/// (`(0, _)`: none).
+/// The far field at a texel centred at `pos` whose wind cell blows `wind` (m/s), seen from
+/// `eye`, with the trail's crush `(c, direction)` there (`(0, _)`: none). The probes bend
+/// without flutter ([`cwd::push_with`]): a texel stands for many blades, each fluttering at
+/// its own phase, whose mean is the steady bend.
 ///
 /// Each probe segment counts by the area it shows the eye: `w·pinch(t)·length·|n·v|` for the
 /// blade's width `w`, the shader's tip pinch `1 − t^1.4`, and its unit normal `n` against the
@@ -174,7 +175,6 @@ pub fn texel(
     look: &Look,
     wind: [f32; 2],
     pos: [f32; 2],
-    time: f32,
     eye: [f32; 3],
     crush: (f32, [f32; 2]),
 ) -> Texel {
@@ -183,7 +183,7 @@ pub fn texel(
     let (mut sum, mut plain, mut weights, mut depth) = (Vec3::ZERO, Vec3::ZERO, 0.0f32, 0.0f32);
     for m in 0..PROBES {
         let b = probe(g, pos, m);
-        let line = cwd::centreline_crushed(&b, wind, g, time, POINTS, crush);
+        let line = cwd::centreline_with(&b, wind, g, None, POINTS, crush);
         let (_, side) = cwd::frame(&b);
         let side = Vec3::new(side[0], 0.0, side[1]);
         let laid = lay(
@@ -309,7 +309,6 @@ pub fn surround(g: &GrassParams, look: &Look, view: Vec3) -> [f32; 4] {
         look,
         [0.0, 0.0],
         [0.0, 0.0],
-        0.0,
         eye.to_array(),
         (0.0, [0.0, 0.0]),
     );

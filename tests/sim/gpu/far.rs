@@ -78,7 +78,6 @@ fn the_far_field_matches_its_cpu_twin() {
                 &look,
                 w,
                 pos,
-                time,
                 camera.eye.to_array(),
                 (0.0, [0.0, 0.0]),
             );
@@ -288,7 +287,6 @@ fn a_far_view_of_the_meadow_is_the_grass_its_cpu_twin_predicts() {
             &look,
             w,
             [at.0, at.1],
-            2.0,
             camera.eye.to_array(),
             (0.0, [0.0, 0.0]),
         );
