@@ -93,7 +93,7 @@ fn meadow(k: f32) -> Layout {
 
 /// At the default framing (the whole level), the meadow in calm air and with its arrows four
 /// times stronger are different pictures at a glance: their 8 × 8-pixel block means differ
-/// by over 3.5/255 on average (measured 4.6 at 1600 × 1000; 2.0 from the old fixed 35°
+/// by over 3.5/255 on average (measured 4.7 at 1600 × 1000; 2.0 from the old fixed 35°
 /// framing, where the level was a third of the picture; before the sheen and the lower
 /// canopy, 0.7), and the gale's band along the arrows is lighter than the same place in calm
 /// air.
