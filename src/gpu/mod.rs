@@ -126,6 +126,24 @@ pub(crate) fn sampled_texture_entries(
     ]
 }
 
+/// A bind-group-layout entry for a write-only 2D storage texture of `format` at `binding`, for
+/// a compute pass.
+pub(crate) fn storage_texture_entry(
+    binding: u32,
+    format: wgpu::TextureFormat,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility: wgpu::ShaderStages::COMPUTE,
+        ty: wgpu::BindingType::StorageTexture {
+            access: wgpu::StorageTextureAccess::WriteOnly,
+            format,
+            view_dimension: wgpu::TextureViewDimension::D2,
+        },
+        count: None,
+    }
+}
+
 /// A bind-group-layout entry for a buffer at `binding` (the passes' explicit layouts).
 pub(crate) fn buffer_entry(
     binding: u32,

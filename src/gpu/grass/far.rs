@@ -119,8 +119,8 @@ impl FarPass {
                     S::COMPUTE,
                     wgpu::BufferBindingType::Storage { read_only: true },
                 ),
-                storage_entry(1),
-                storage_entry(2),
+                crate::gpu::storage_texture_entry(1, FORMAT),
+                crate::gpu::storage_texture_entry(2, FORMAT),
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -252,20 +252,6 @@ fn read_halves(
     Ok((0..bytes.len() / 8)
         .map(|t| [0, 1, 2, 3].map(|c| half(t * 8 + c * 2)))
         .collect())
-}
-
-/// A write-only storage texture of [`FORMAT`] at `binding`, for the compute pass.
-fn storage_entry(binding: u32) -> wgpu::BindGroupLayoutEntry {
-    wgpu::BindGroupLayoutEntry {
-        binding,
-        visibility: wgpu::ShaderStages::COMPUTE,
-        ty: wgpu::BindingType::StorageTexture {
-            access: wgpu::StorageTextureAccess::WriteOnly,
-            format: FORMAT,
-            view_dimension: wgpu::TextureViewDimension::D2,
-        },
-        count: None,
-    }
 }
 
 /// The texels' format: half floats are plenty for a colour and a share, and filterable and

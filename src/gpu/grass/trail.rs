@@ -50,16 +50,7 @@ impl TrailPass {
         );
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass trail"),
-            entries: &[wgpu::BindGroupLayoutEntry {
-                binding: 0,
-                visibility: wgpu::ShaderStages::COMPUTE,
-                ty: wgpu::BindingType::StorageTexture {
-                    access: wgpu::StorageTextureAccess::WriteOnly,
-                    format: FORMAT,
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                },
-                count: None,
-            }],
+            entries: &[crate::gpu::storage_texture_entry(0, FORMAT)],
         });
         let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("grass trail"),
