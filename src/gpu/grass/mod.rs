@@ -28,7 +28,7 @@ mod trail;
 
 use backdrop::{backdrop_texture, look_group, look_layout};
 pub use bezier::{BezierPass, BezierState};
-pub use camera::{Camera, FRAME_MARGIN, Orbit};
+pub use camera::{Camera, FRAME_MARGIN, FRAME_PITCHES_DEG, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
 pub use far::{FarPass, FarUniform};
 pub use headless::{
