@@ -39,8 +39,10 @@ fn far_texel(pos: vec2<f32>, eye: vec3<f32>, still: bool) -> vec4<f32> {
     for (var m = 0u; m < PROBES; m = m + 1u) {
         let facing = TAU * (f32(m) + 0.5) / f32(PROBES);
         let b = Blade(pos, facing, F.height, F.width, F.stiffness, 0u, 0.0);
-        var pose = pose_of(b, vec2<f32>(0.0), 0.0);
-        if (!still) {
+        var pose: Pose;
+        if (still) {
+            pose = pose_of(b, vec2<f32>(0.0), 0.0);
+        } else {
             pose = blade_pose_with(b, S.eye.w, 0.0);
         }
         let fr = blade_frame(b);
