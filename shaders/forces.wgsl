@@ -1,7 +1,8 @@
 // Step 1, the AGC arrows: each active arrow is a capsule splat that drives the wind on the
 // free faces along its direction toward its strength,
 // Δvel = (1 − e^(−k·g·dt)) · max(0, strength − vel·dir) · dir, g = exp(−d²/r²) within 3 r,
-// overlapping arrows' pushes summed and divided by their summed gains where those pass 1.
+// overlapping arrows' pushes summed and scaled by min(1, 2 / n), n = (Σ gain)² / Σ gain²
+// the number of arrows effectively overlapping (at most two arrows' rate).
 // The ambient layers then pull every free face toward their wind: Δvel = (w − vel)·coupling.
 // `inc_u`/`inc_v` write every face's change from the velocity before the pass; `add` then adds
 // it, clamped to ±max_speed. CPU twin: `Solver::apply_forces` with `sim::forces::ArrowSplat`
@@ -188,10 +189,14 @@ fn segment_dist2(p: vec2<f32>, a: vec2<f32>, b: vec2<f32>) -> f32 {
     return d.x * d.x + d.y * d.y;
 }
 
+// At most this many arrows' rates push where arrows overlap (`sim::forces::OVERLAP_ARROWS`).
+const OVERLAP_ARROWS: f32 = 2.0;
+
 // The change of component `c` (0: x, 1: z) at world point `at` where the wind is `vel`.
 fn increment(at: vec2<f32>, vel: vec2<f32>, c: u32) -> f32 {
     var sum = 0.0;
     var gains = 0.0;
+    var squares = 0.0;
     for (var s = 0u; s < P.splats; s = s + 1u) {
         let sp = splats[s];
         let d2 = segment_dist2(at, sp.a, sp.b);
@@ -208,10 +213,14 @@ fn increment(at: vec2<f32>, vel: vec2<f32>, c: u32) -> f32 {
         let m = gain * deficit;
         sum = sum + sp.dir[c] * m;
         gains = gains + gain;
+        squares = squares + gain * gain;
     }
-    // `sim::forces::combine`: overlapping arrows push by the gain-weighted mean of their
-    // deficits once their gains sum past 1, never by their sum.
-    sum = sum / max(gains, 1.0);
+    // `sim::forces::combine`: a crowd of overlapping arrows pushes at two arrows' rate
+    // (`OVERLAP_ARROWS`) toward the gain-weighted mean of their pushes, never by their sum;
+    // one or two arrows as they always did (the scale is exactly 1).
+    if (gains > 0.0) {
+        sum = sum * min(OVERLAP_ARROWS * squares / (gains * gains), 1.0);
+    }
     if (P.layers > 0u) {
         sum = sum + (ambient_wind(at)[c] - vel[c]) * P.coupling;
     }

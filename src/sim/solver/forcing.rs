@@ -176,16 +176,22 @@ impl Forcing<'_> {
             .enumerate()
             .with_min_len(rows_per_job(w))
             .map_init(
-                || (RowScratch::default(), Vec::new(), Vec::new(), Vec::new()),
-                |(scratch, target, gain_scratch, gains), (j, row)| {
+                || {
+                    let sums = (Vec::new(), Vec::new());
+                    (RowScratch::default(), Vec::new(), Vec::new(), sums)
+                },
+                |(scratch, target, gain_scratch, (gains, squares)), (j, row)| {
                     let reach = self.row_reach(j, w, is_v);
                     if reach.is_empty() {
                         return reach;
                     }
                     row[reach.clone()].fill(0.0);
-                    // Each face's gains summed over the splats (`sim::forces::combine`).
+                    // Each face's gains summed over the splats, and their squares
+                    // (`sim::forces::combine`).
                     gains.resize(w, 0.0);
                     gains[reach.clone()].fill(0.0);
+                    squares.resize(w, 0.0);
+                    squares[reach.clone()].fill(0.0);
                     let z_world = self.row_z(j, is_v);
                     let free = &free[j * w..][..w];
                     // Each splat only visits the faces inside its x-extent; per face the
@@ -193,12 +199,13 @@ impl Forcing<'_> {
                     for (k, (s, &b)) in self.splats.iter().zip(&self.bounds).enumerate() {
                         if let Some(span) = self.splat_row(s, b, z_world, w, is_v) {
                             let kept = self.gains.get(k).copied().flatten();
-                            let out = (&mut row[..], &mut gains[..]);
+                            let out = (&mut row[..], &mut gains[..], &mut squares[..]);
                             self.splat_span(s, kept, u, v, j, is_v, span, free, out, gain_scratch);
                         }
                     }
                     if !self.splats.is_empty() {
-                        combine_row(&mut row[reach.clone()], &gains[reach.clone()]);
+                        let r = reach.clone();
+                        combine_row(&mut row[r.clone()], &gains[r.clone()], &squares[r]);
                     }
                     if self.coupling > 0.0 {
                         // The ambient target along the whole row at once, then the pull.
@@ -259,10 +266,10 @@ impl Forcing<'_> {
     }
 
     /// Adds one splat's push to the free faces `span` of row `j`, and its gains to the row's
-    /// sums of gains (`out`: the row's increments, its gains): the faces whose velocity
-    /// stencil wraps or clamps one at a time, the rest in one branch-free loop (face
-    /// velocities and impulses vectorise) with the gains `kept` for the splat, or, when it
-    /// has none kept, computed into `scratch` first.
+    /// sums of gains and of squared gains (`out`: the row's increments, its gains' sums and
+    /// their squares' sums): the faces whose velocity stencil wraps or clamps one at a time, the rest in
+    /// one branch-free loop (face velocities and impulses vectorise) with the gains `kept`
+    /// for the splat, or, when it has none kept, computed into `scratch` first.
     #[allow(
         clippy::too_many_arguments,
         reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
@@ -277,7 +284,7 @@ impl Forcing<'_> {
         is_v: bool,
         span: std::ops::RangeInclusive<usize>,
         free: &[u8],
-        (row, sums): (&mut [f32], &mut [f32]),
+        (row, sums, squares): (&mut [f32], &mut [f32], &mut [f32]),
         scratch: &mut Vec<f32>,
     ) {
         let g = &self.g;
@@ -307,7 +314,9 @@ impl Forcing<'_> {
             if free[i] != 0 {
                 row[i] += push(i, face_velocity(g, u, v, i, j, is_v));
             }
-            sums[i] += s.gain([at.x(i as i32), at.z], at.k, at.dt);
+            let g = s.gain([at.x(i as i32), at.z], at.k, at.dt);
+            sums[i] += g;
+            squares[i] += g * g;
         }
         let Some((a, b)) = self.interior_run(&span, is_v) else {
             return;
@@ -339,17 +348,18 @@ impl Forcing<'_> {
             let (vt0, vt1) = (&v[(j + 1) * nx + a - 1..][..n], &v[(j + 1) * nx + a..][..n]);
             splat_faces(s, false, gain, own, [vb0, vb1, vt0, vt1], fr, out);
         }
-        for (sum, g) in sums[a..=b].iter_mut().zip(gain) {
+        for ((sum, sq), &g) in sums[a..=b].iter_mut().zip(&mut squares[a..=b]).zip(gain) {
             *sum += g;
+            *sq += g * g;
         }
     }
 }
 
-/// The arrows' summed pushes of a row's faces divided by their summed gains where those
-/// exceed 1 ([`crate::sim::forces::combine`]).
-fn combine_row(row: &mut [f32], gains: &[f32]) {
-    for (x, &g) in row.iter_mut().zip(gains) {
-        *x = crate::sim::forces::combine(*x, g);
+/// The arrows' summed pushes of a row's faces, scaled down where more than two overlap
+/// ([`crate::sim::forces::combine`]: by their sums of gains and of squared gains).
+fn combine_row(row: &mut [f32], gains: &[f32], squares: &[f32]) {
+    for ((x, &g), &m) in row.iter_mut().zip(gains).zip(squares) {
+        *x = crate::sim::forces::combine(*x, g, m);
     }
 }
 

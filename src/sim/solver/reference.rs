@@ -99,16 +99,18 @@ impl Solver {
         let [ox, oz] = self.origin;
         let k_resp = self.params.arrow_response;
         let change = |s: &Solver, p: [f32; 2], vel: [f32; 2], c: usize| -> f32 {
-            let (mut inc, mut gains) = (0.0, 0.0);
+            let (mut inc, mut gains, mut squares) = (0.0, 0.0, 0.0f32);
             for sp in &splats {
                 let g = sp.weight(p);
                 if g != 0.0 {
                     inc += sp.impulse_weighted(g, vel, k_resp, dt)[c];
-                    gains += crate::sim::forces::gain_of_weight(g, k_resp, dt);
+                    let gain = crate::sim::forces::gain_of_weight(g, k_resp, dt);
+                    gains += gain;
+                    squares += gain * gain;
                 }
             }
             if !splats.is_empty() {
-                inc = crate::sim::forces::combine(inc, gains);
+                inc = crate::sim::forces::combine(inc, gains, squares);
             }
             if coupling > 0.0 {
                 inc += (s.ambient.wind(p)[c] - vel[c]) * coupling;
