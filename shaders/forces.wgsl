@@ -1,8 +1,8 @@
 // Step 1, the AGC arrows: each active arrow is a capsule splat that drives the wind on the
 // free faces along its direction toward its strength,
 // Δvel = (1 − e^(−k·g·dt)) · max(0, strength − vel·dir) · dir, g = exp(−d²/r²) within 3 r,
-// overlapping arrows' pushes summed and scaled by min(1, 2 / n), n = (Σ gain)² / Σ gain²
-// the number of arrows effectively overlapping (at most two arrows' rate).
+// overlapping arrows' pushes summed and scaled by min(1, 4 / n), n = (Σ gain)² / Σ gain²
+// the number of arrows effectively overlapping (at most four arrows' rate).
 // The ambient layers then pull every free face toward their wind: Δvel = (w − vel)·coupling.
 // `inc_u`/`inc_v` write every face's change from the velocity before the pass; `add` then adds
 // it, clamped to ±max_speed. CPU twin: `Solver::apply_forces` with `sim::forces::ArrowSplat`
@@ -190,7 +190,7 @@ fn segment_dist2(p: vec2<f32>, a: vec2<f32>, b: vec2<f32>) -> f32 {
 }
 
 // At most this many arrows' rates push where arrows overlap (`sim::forces::OVERLAP_ARROWS`).
-const OVERLAP_ARROWS: f32 = 2.0;
+const OVERLAP_ARROWS: f32 = 4.0;
 
 // The change of component `c` (0: x, 1: z) at world point `at` where the wind is `vel`.
 fn increment(at: vec2<f32>, vel: vec2<f32>, c: u32) -> f32 {
@@ -215,9 +215,9 @@ fn increment(at: vec2<f32>, vel: vec2<f32>, c: u32) -> f32 {
         gains = gains + gain;
         squares = squares + gain * gain;
     }
-    // `sim::forces::combine`: a crowd of overlapping arrows pushes at two arrows' rate
+    // `sim::forces::combine`: a crowd of overlapping arrows pushes at four arrows' rate
     // (`OVERLAP_ARROWS`) toward the gain-weighted mean of their pushes, never by their sum;
-    // one or two arrows as they always did (the scale is exactly 1).
+    // up to four arrows as they always did (the scale is 1).
     if (gains > 0.0) {
         sum = sum * min(OVERLAP_ARROWS * squares / (gains * gains), 1.0);
     }

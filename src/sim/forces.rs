@@ -26,14 +26,14 @@ pub struct ArrowSplat {
 }
 
 /// Where arrows overlap, their pushes on a face combined: the sum of each arrow's push
-/// `gainᵢ·deficitᵢ·dirᵢ` (`pushes`) scaled by `min(1, 2 / n)`, where
+/// `gainᵢ·deficitᵢ·dirᵢ` (`pushes`) scaled by `min(1, 4 / n)` ([`OVERLAP_ARROWS`]), where
 /// `n = (Σ gainᵢ)² / Σ gainᵢ²` (`gains`, `squares`) is how many arrows effectively overlap
 /// there (`k` for `k` equal gains, about 1 where one arrow dominates). So:
-/// - one arrow, or two (a chain's joint, two winds meeting), push as they always did: the
-///   scale is 1 (exactly for one arrow or two equal gains; for two nearly equal gains, to
-///   the last bit's rounding);
-/// - a crowd of them (copies, a fan, a branch point) pushes at two arrows' rate toward the
-///   gain-weighted mean of their pushes: 256 copies of an arrow push as two;
+/// - up to four arrows (a chain's joint, two winds meeting, a root with three branches)
+///   push as they always did: the scale is 1 (to the last bit's rounding where `n` is
+///   nearly 4);
+/// - a crowd of them (copies, a fan) pushes at four arrows' rate toward the gain-weighted
+///   mean of their pushes: 256 copies of an arrow push as four;
 /// - each arrow's deficit stops at its own strength, so the wind approaches the strongest
 ///   of them, never their sum.
 ///
@@ -52,9 +52,12 @@ pub fn combine(pushes: f32, gains: f32, squares: f32) -> f32 {
     }
 }
 
-/// How many arrows' rates overlapping arrows push at, at most ([`combine`]): two, so
-/// that a chain's joints and two winds meeting push as they always did.
-pub const OVERLAP_ARROWS: f32 = 2.0;
+/// How many arrows' rates overlapping arrows push at, at most ([`combine`]): four, so that
+/// chains' joints, winds meeting and a branch point of three push as they always did. Fewer
+/// weakens the forcing where arrows meet, and that forcing also damps the eddies there: at
+/// two, branching's branch point let confinement raise its field's grid-scale part to 2.4×
+/// the unconfined field's, from 1.6× (docs/SOLVER.md, step 1).
+pub const OVERLAP_ARROWS: f32 = 4.0;
 
 /// An arrow's gain `1 − e^(−k·g·dt)` where its Gaussian weight is `g` (response `k`, step
 /// `dt`): the share of its deficit it makes up in a step.

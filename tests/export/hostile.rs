@@ -549,7 +549,7 @@ fn a_long_output_name_bakes() {
 /// not pass as a good one: the paper's vorticity factor of 50 with MacCormack advection, a
 /// field far past the layout's wind, and obstacles over the whole map (a still field). A
 /// fan of overlapping arrows used to add up far past each arrow (to thousands of m/s) and be
-/// noted here; they now drive toward the strongest of them at no more than two arrows' rate
+/// noted here; they now drive toward the strongest of them at no more than four arrows' rate
 /// (`sim::forces::combine`), so the fan's bake stays under 1.5× its arrows' 5 m/s and says
 /// nothing of it.
 #[test]

@@ -436,9 +436,9 @@ fn whole_runs_agree_with_the_cpu() {
 }
 
 /// Overlapping arrows combined on the GPU as on the CPU (`sim::forces::combine`): 32 stacked
-/// 6 m/s arrows (about 32 effectively overlapping, so the scaling to two arrows' rate acts)
-/// agree within 1e-3 of the peak after 100 steps (measured 1.6e-6), and the wind stays
-/// under 1.5× their strength (5.9 m/s; one arrow alone, 5.7).
+/// 6 m/s arrows (about 32 effectively overlapping, so the scaling to four arrows' rate acts)
+/// agree within 1e-3 of the peak after 100 steps (measured 3e-6), and the wind stays
+/// under 1.5× their strength (6.0 m/s; one arrow alone, 5.7).
 #[test]
 fn stacked_arrows_combine_on_the_gpu_as_on_the_cpu() {
     let Some(ctx) = context() else { return };
