@@ -267,9 +267,9 @@ impl Forcing<'_> {
 
     /// Adds one splat's push to the free faces `span` of row `j`, and its gains to the row's
     /// sums of gains and of squared gains (`out`: the row's increments, its gains' sums and
-    /// their squares' sums): the faces whose velocity stencil wraps or clamps one at a time, the rest in
-    /// one branch-free loop (face velocities and impulses vectorise) with the gains `kept`
-    /// for the splat, or, when it has none kept, computed into `scratch` first.
+    /// their squares' sums): the faces whose velocity stencil wraps or clamps one at a time,
+    /// the rest in one branch-free loop (face velocities and impulses vectorise) with the
+    /// gains `kept` for the splat, or, when it has none kept, computed into `scratch` first.
     #[allow(
         clippy::too_many_arguments,
         reason = "a row kernel: each field row its own slice, which the SIMD clones vectorise"
@@ -355,7 +355,7 @@ impl Forcing<'_> {
     }
 }
 
-/// The arrows' summed pushes of a row's faces, scaled down where more than two overlap
+/// The arrows' summed pushes of a row's faces, scaled down where more than four overlap
 /// ([`crate::sim::forces::combine`]: by their sums of gains and of squared gains).
 fn combine_row(row: &mut [f32], gains: &[f32], squares: &[f32]) {
     for ((x, &g), &m) in row.iter_mut().zip(gains).zip(squares) {
