@@ -358,8 +358,8 @@ impl Forcing<'_> {
 /// The arrows' summed pushes of a row's faces, scaled down where more than four overlap
 /// ([`crate::sim::forces::combine`]: by their sums of gains and of squared gains).
 fn combine_row(row: &mut [f32], gains: &[f32], squares: &[f32]) {
-    for ((x, &g), &m) in row.iter_mut().zip(gains).zip(squares) {
-        *x = crate::sim::forces::combine(*x, g, m);
+    for ((x, &g), &sq) in row.iter_mut().zip(gains).zip(squares) {
+        *x = crate::sim::forces::combine(*x, g, sq);
     }
 }
 
