@@ -3,8 +3,9 @@
 // deformation of `src/grass/cwd.rs` — the CPU twin every function here is tested against.
 
 struct Scene {
+    // World to clip space, depth reversed (near 1, far 0; drawn with `Greater`).
     view_proj: mat4x4<f32>,
-    // Its inverse (the sky pass's view rays).
+    // The inverse of the usual-depth one (near 0, far 1): the sky pass's view rays.
     inv_view_proj: mat4x4<f32>,
     // Camera position; w: the simulation time in seconds (the flutter's clock).
     eye: vec4<f32>,

@@ -84,7 +84,8 @@ impl DrawPipelines {
                     depth_compare: Some(if overlay || sky {
                         wgpu::CompareFunction::Always
                     } else {
-                        wgpu::CompareFunction::Less
+                        // Reversed depth: nearer is greater (`Camera::draw_view_proj`).
+                        wgpu::CompareFunction::Greater
                     }),
                     stencil: Default::default(),
                     bias: Default::default(),

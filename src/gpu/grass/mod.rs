@@ -122,8 +122,10 @@ pub(super) fn dispatch_blades(pass: &mut wgpu::ComputePass<'_>, blades: u32) {
 #[repr(C)]
 #[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
 pub struct Scene {
+    /// World → clip space with reversed depth ([`Camera::draw_view_proj`]).
     pub view_proj: [[f32; 4]; 4],
-    /// Its inverse (the sky's view rays).
+    /// The inverse of [`Camera::view_proj`], the usual depth (the sky's view rays, from depth 0
+    /// at the near plane to 1 at the far one).
     pub inv_view_proj: [[f32; 4]; 4],
     pub eye: [f32; 4],
     pub sun: [f32; 4],
@@ -964,9 +966,8 @@ impl GrassRenderer {
         dt: f32,
     ) {
         let dt = dt.clamp(0.0, 0.25);
-        let view_proj = camera.view_proj(aspect);
-        self.scene.view_proj = view_proj.to_cols_array_2d();
-        self.scene.inv_view_proj = view_proj.inverse().to_cols_array_2d();
+        self.scene.view_proj = camera.draw_view_proj(aspect).to_cols_array_2d();
+        self.scene.inv_view_proj = camera.view_proj(aspect).inverse().to_cols_array_2d();
         let far = camera.far_plane();
         self.scene.fade = [0.1 * far, 0.9 * far];
         self.scene.eye = [camera.eye.x, camera.eye.y, camera.eye.z, time];
