@@ -253,6 +253,50 @@ impl Orbit {
 mod tests {
     use super::*;
 
+    /// The grass is drawn with reversed depth: the same pixels as [`Camera::view_proj`], the
+    /// near plane at depth 1 and the far one at 0, and two blades a millimetre apart 100 m
+    /// and 400 m from the eye (the benchmark camera's mid and far field) get different depths
+    /// in a 32-bit depth buffer. With the usual depth they tied there, and which one showed
+    /// followed the cull's list order, which a real GPU changes each frame.
+    #[test]
+    fn reversed_depth_tells_far_blades_apart() {
+        let cam = Camera {
+            eye: Vec3::new(10.0, 1.7, 70.0),
+            target: Vec3::new(60.0, 0.0, 40.0),
+            fov_y: 45f32.to_radians(),
+        };
+        let aspect = 16.0 / 9.0;
+        let (usual, drawn) = (cam.view_proj(aspect), cam.draw_view_proj(aspect));
+        let depth = |m: &Mat4, p: Vec3| m.project_point3(p).z;
+        let ahead = (cam.target - cam.eye).normalize();
+        let dist = (cam.target - cam.eye).length();
+        let near = cam.eye + ahead * (dist * 0.002);
+        let far = cam.eye + ahead * cam.far_plane();
+        assert!((depth(&drawn, near) - 1.0).abs() < 1e-4 && depth(&drawn, far).abs() < 1e-4);
+        for d in [5.0, 100.0, 400.0] {
+            let p = cam.eye + ahead * d + Vec3::new(3.0, 0.0, 0.0);
+            let (a, b) = (usual.project_point3(p), drawn.project_point3(p));
+            assert!((a.x - b.x).abs() < 1e-5 && (a.y - b.y).abs() < 1e-5);
+        }
+        // Gaps in units of the float spacing at the depth (its "ulps").
+        let ulps = |m: &Mat4, p: Vec3, q: Vec3| {
+            let (a, b) = (depth(m, p), depth(m, q));
+            (a - b) / (a.abs().max(b.abs()) * f32::EPSILON)
+        };
+        for d in [100.0, 400.0] {
+            let (p, q) = (cam.eye + ahead * d, cam.eye + ahead * (d + 0.001));
+            let (reversed, plain) = (ulps(&drawn, p, q), ulps(&usual, p, q).abs());
+            assert!(
+                reversed >= 8.0,
+                "{d} m: reversed depth ties ({reversed} ulps)"
+            );
+            assert!(
+                plain <= 2.0,
+                "{d} m: the usual depth is {plain} ulps apart, so this no longer shows why"
+            );
+        }
+    }
+
     /// "Frame all" shows every example whole in views from tall to wide, and no farther than
     /// it must: some corner comes near the picture's edge.
     #[test]
