@@ -97,14 +97,14 @@ impl Camera {
 
     /// World → clip space for a picture of `aspect` (width / height).
     pub fn view_proj(&self, aspect: f32) -> Mat4 {
-        let dist = (self.eye - self.target).length().max(0.01);
-        let proj = Mat4::perspective_rh(
-            self.fov_y,
-            aspect,
-            (dist * 0.002).max(0.01),
-            self.far_plane(),
-        );
-        proj * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
+        self.projected(aspect, self.near_plane(), self.far_plane())
+    }
+
+    /// The view through a perspective that puts depth 0 at `depth_0` metres and 1 at
+    /// `depth_1` (glam's `perspective_rh`, either way round).
+    fn projected(&self, aspect: f32, depth_0: f32, depth_1: f32) -> Mat4 {
+        Mat4::perspective_rh(self.fov_y, aspect, depth_0, depth_1)
+            * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
     }
 
     /// [`Self::view_proj`] with its depth reversed (the near plane at depth 1, the far plane
@@ -116,14 +116,12 @@ impl Camera {
     /// frame: a fixed view in calm air shimmered on an NVIDIA GPU, though not on lavapipe.
     /// Only depth changes: the same points land on the same pixels.
     pub fn draw_view_proj(&self, aspect: f32) -> Mat4 {
-        let dist = (self.eye - self.target).length().max(0.01);
-        let proj = Mat4::perspective_rh(
-            self.fov_y,
-            aspect,
-            self.far_plane(),
-            (dist * 0.002).max(0.01),
-        );
-        proj * Mat4::look_at_rh(self.eye, self.target, Vec3::Y)
+        self.projected(aspect, self.far_plane(), self.near_plane())
+    }
+
+    /// How near the camera sees (metres): a five-hundredth of its distance to the target.
+    pub fn near_plane(&self) -> f32 {
+        ((self.eye - self.target).length().max(0.01) * 0.002).max(0.01)
     }
 
     /// How far the camera sees (metres): far enough that the ground beyond the level reaches
@@ -269,8 +267,7 @@ mod tests {
         let (usual, drawn) = (cam.view_proj(aspect), cam.draw_view_proj(aspect));
         let depth = |m: &Mat4, p: Vec3| m.project_point3(p).z;
         let ahead = (cam.target - cam.eye).normalize();
-        let dist = (cam.target - cam.eye).length();
-        let near = cam.eye + ahead * (dist * 0.002);
+        let near = cam.eye + ahead * cam.near_plane();
         let far = cam.eye + ahead * cam.far_plane();
         assert!((depth(&drawn, near) - 1.0).abs() < 1e-4 && depth(&drawn, far).abs() < 1e-4);
         for d in [5.0, 100.0, 400.0] {
