@@ -130,15 +130,7 @@ fn views_in_this_process() {
         // pipelines first. On an H200 the warm-up frames were drawn before it had, and the
         // solver's buffers appeared between the two readings: wait for it, then warm again.
         if backend == Backend::Gpu {
-            let deadline = Instant::now() + Duration::from_secs(120);
-            while h.state().live.snapshot().runs_on != RunsOn::Gpu {
-                assert!(
-                    Instant::now() < deadline,
-                    "{name}: the wind never reached the GPU"
-                );
-                frame(&mut h);
-                std::thread::sleep(Duration::from_millis(5));
-            }
+            step_and_wait(&mut h, 0, RunsOn::Gpu);
             for _ in 0..WARM_FRAMES {
                 frame(&mut h);
             }
