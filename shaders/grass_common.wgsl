@@ -358,9 +358,12 @@ const SUN_GLOW: f32 = 0.35;
 const SUN_GLOW_POWER: f32 = 24.0;
 const GROUND_MIRROR: vec3<f32> = vec3<f32>(0.05, 0.06, 0.035);
 const SHEEN_F0: f32 = 0.2;
+const SHEEN_F90: f32 = 0.5;
 const SHEEN: f32 = 1.3;
 const SHEEN_UPRIGHT: f32 = 0.15;
-const SHEEN_GREY: f32 = 0.5;
+const SHEEN_GREY: f32 = 0.8;
+const LAY_REST: f32 = 0.07;
+const SHEEN_TURN: f32 = 0.07;
 const SPECULAR_POWER: f32 = 20.0;
 const SPECULAR: f32 = 0.5;
 const TRANSLUCENCY: f32 = 0.35;
@@ -377,12 +380,13 @@ fn sky_colour(dir: vec3<f32>) -> vec3<f32> {
     return base + vec3<f32>(SUN_GLOW * pow(max(dot(dir, l), 0.0), SUN_GLOW_POWER));
 }
 
-// `light::mirrored`.
+// `light::MIRROR_BLUR`.
+const MIRROR_BLUR: f32 = 0.15;
+
+// `light::mirrored`: the sky and the ground blurred into each other across the horizon.
 fn mirrored(r: vec3<f32>) -> vec3<f32> {
-    if (r.y >= 0.0) {
-        return sky_colour(r);
-    }
-    return GROUND_MIRROR;
+    let x = clamp((r.y + MIRROR_BLUR) / (2.0 * MIRROR_BLUR), 0.0, 1.0);
+    return mix(GROUND_MIRROR, sky_colour(r), x * x * (3.0 - 2.0 * x));
 }
 
 // `light::haze`: the share of the horizon's colour over a surface at `p` seen from the eye.
@@ -410,6 +414,12 @@ fn blade_lay(tip: vec3<f32>, height: f32) -> f32 {
     return min(length(tip.xz) / max(height, 1e-6), 1.0);
 }
 
+// `light::sheen_turn`: how far a blade laid over by `lay` has turned its glossy face up.
+fn sheen_turn(lay: f32) -> f32 {
+    let past = max((lay - LAY_REST) / (1.0 - LAY_REST), 0.0);
+    return 1.0 - exp(-past / SHEEN_TURN);
+}
+
 // `light::blade`: the light on a blade of colour `albedo`, unit normal `n` toward the eye,
 // unit `view` toward the eye, at height fraction `t`, of a blade laid over by `lay`.
 fn blade_light(albedo: vec3<f32>, n: vec3<f32>, view: vec3<f32>, t0: f32, lay: f32) -> vec3<f32> {
@@ -423,14 +433,15 @@ fn blade_light(albedo: vec3<f32>, n: vec3<f32>, view: vec3<f32>, t0: f32, lay: f
     let through = TRANSLUCENCY * max(-d, 0.0) * (1.0 + FORWARD_SCATTER * ts2 * ts2);
     let diffuse = a * (0.6 + 0.4 * n.y) * open + (1.0 - a) * (max(d, 0.0) + through);
     // The glossy face, turned up by the lay (`light::blade`).
-    var m = mix(n, vec3<f32>(0.0, 1.0, 0.0), clamp(lay, 0.0, 1.0));
+    let turn = sheen_turn(lay);
+    var m = mix(n, vec3<f32>(0.0, 1.0, 0.0), turn);
     let ml = length(m);
     if (ml > 0.0) {
         m = m / ml;
     }
     let nv = clamp(dot(m, view), 0.0, 1.0);
     let g = 1.0 - nv;
-    let fresnel = SHEEN_F0 + (1.0 - SHEEN_F0) * (g * g * g * g * g);
+    let fresnel = SHEEN_F0 + (SHEEN_F90 - SHEEN_F0) * (g * g * g * g * g);
     let r = 2.0 * dot(m, view) * m - view;
     var h = l + view;
     let hl = length(h);
@@ -438,7 +449,7 @@ fn blade_light(albedo: vec3<f32>, n: vec3<f32>, view: vec3<f32>, t0: f32, lay: f
         h = h / hl;
     }
     let highlight = SPECULAR * (1.0 - a) * pow(max(dot(m, h), 0.0), SPECULAR_POWER) * select(0.0, 1.0, dot(m, l) > 0.0);
-    let weight = SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * sqrt(clamp(lay, 0.0, 1.0));
+    let weight = SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * turn;
     let c = mirrored(r);
     let grey = mix(c, vec3<f32>(dot(c, vec3<f32>(0.2126, 0.7152, 0.0722))), SHEEN_GREY);
     let sheen = SHEEN * fresnel * open * weight * (grey + vec3<f32>(highlight));

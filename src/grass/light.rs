@@ -25,6 +25,11 @@ pub const GROUND_MIRROR: [f32; 3] = [0.05, 0.06, 0.035];
 /// light a blade keeps (its surface is rough and not a mirror everywhere), and the sun's
 /// highlight sharpness (a Blinn–Phong power) and strength.
 pub const SHEEN_F0: f32 = 0.2;
+/// The reflectance at grazing (Schlick's `F90`): under 1 for a rough face, whose grazing
+/// reflection is shadowed and scattered by its own roughness (the rough-surface form of
+/// Schlick's approximation). With a mirror's 1, a field laid over by a breeze and seen
+/// along the ground turned white.
+pub const SHEEN_F90: f32 = 0.5;
 pub const SHEEN: f32 = 1.3;
 /// The share of the sheen an upright blade keeps: a bent blade's face is stretched and
 /// smoothed toward the sky, an upright one's is the rougher edge-lit surface.
@@ -32,12 +37,27 @@ pub const SHEEN_UPRIGHT: f32 = 0.15;
 
 /// How much of the mirrored light's colour a blade's sheen loses to its waxy, scattering
 /// surface (0: a mirror's colour, 1: grey): a field shines silver, not sky-blue.
-pub const SHEEN_GREY: f32 = 0.5;
+pub const SHEEN_GREY: f32 = 0.8;
 
-/// The sheen's weight for a blade laid over by `lay`: it rises fast as a blade starts to
-/// bend (the face turns up and flattens), and slower as it lies down.
-fn lay_weight(lay: f32) -> f32 {
-    SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * lay.clamp(0.0, 1.0).sqrt()
+/// The lay a blade has at rest, under its own weight (eq. 11's droop: the meadow's blades
+/// reach 3–7 % of their length): the sheen answers to the lay past it, the wind's.
+pub const LAY_REST: f32 = 0.07;
+/// The lay (past rest) over which a blade's glossy face turns most of the way up
+/// (`1 − e^(−past/SHEEN_TURN)`): a blade starting to bend twists to meet the wind and turns
+/// its face to the sky at once, then lies down slowly.
+pub const SHEEN_TURN: f32 = 0.07;
+
+/// How far a blade laid over by `lay` has turned its glossy face up, 0 at rest to 1: it
+/// tilts the face toward the sky and weighs the sheen. It turns at once as a blade starts to
+/// bend, so that a breeze shows from afar as a lighter, silvery field; past ~3 m/s the
+/// sheen is nearly all there, and a gale lightens the field further by laying the blades'
+/// lit length over the canopy. (It followed `lay` itself, and the sheen `√lay`: a blade in
+/// a light breeze still mirrored the ground seen from above while eq. 14 already dimmed it,
+/// and a breeze-blown field read *darker* than a calm one until ~4 m/s — a gale's level
+/// looked like calm air.)
+pub fn sheen_turn(lay: f32) -> f32 {
+    let past = ((lay - LAY_REST) / (1.0 - LAY_REST)).max(0.0);
+    1.0 - (-past / SHEEN_TURN).exp()
 }
 
 /// The light a blade's face mirrors in direction `r`, greyed by [`SHEEN_GREY`].
@@ -73,13 +93,18 @@ pub fn sky(dir: Vec3, sun: Vec3) -> Vec3 {
     base + Vec3::splat(glow)
 }
 
-/// What a blade mirrors in direction `r`: the sky above the horizon, the ground below it.
+/// Half the band of reflected directions (sine of their elevation) over which a blade's
+/// rough face blurs the ground below the horizon into the sky above it.
+pub const MIRROR_BLUR: f32 = 0.15;
+
+/// What a blade mirrors in direction `r`: the sky above the horizon, the ground below it,
+/// blurred into each other across [`MIRROR_BLUR`] of the horizon. (A sharp horizon made the
+/// sheen jump where a face's reflection crossed it: from afar, a straight seam across a
+/// breeze-blown field where the view's azimuth passed that point.)
 pub fn mirrored(r: Vec3, sun: Vec3) -> Vec3 {
-    if r.y >= 0.0 {
-        sky(r, sun)
-    } else {
-        Vec3::from(GROUND_MIRROR)
-    }
+    let x = ((r.y + MIRROR_BLUR) / (2.0 * MIRROR_BLUR)).clamp(0.0, 1.0);
+    let k = x * x * (3.0 - 2.0 * x);
+    Vec3::from(GROUND_MIRROR).lerp(sky(r, sun), k)
 }
 
 /// The share of the horizon's colour over a surface at `point` seen from `eye` (metres, y
@@ -109,11 +134,12 @@ pub fn haze(eye: Vec3, point: Vec3, fade: [f32; 2]) -> f32 {
 ///   toward the sun;
 /// - the sheen, not tinted by the blade: the sky (or ground) mirrored by the blade's glossy
 ///   face, times Schlick's Fresnel, plus the sun's highlight, dimmed toward the root like the
-///   sky. The mirroring face is the blade's own, turned up toward the sky by how far the blade
-///   lies over, `lay` (its tip's reach along the ground over its length, 0–1): a blade bending
-///   in the wind twists to meet it face-on and turns a face up, whichever way it leans from
-///   the eye, so a field laid over by a gust shines from every side — the travelling bands of
-///   light that show wind across a whole level.
+///   sky. The mirroring face is the blade's own, turned up toward the sky by [`sheen_turn`]
+///   of how far the blade lies over, `lay` (its tip's reach along the ground over its
+///   length, 0–1), and the sheen weighs from [`SHEEN_UPRIGHT`] to all of it by the same turn:
+///   a blade bending in the wind twists to meet it face-on and turns a face up, whichever way
+///   it leans from the eye, so a field laid over by a gust shines from every side — the
+///   travelling bands of light that show wind across a whole level.
 pub fn blade(albedo: Vec3, n: Vec3, view: Vec3, t: f32, lay: f32, sun: Vec3, ambient: f32) -> Vec3 {
     let t = t.clamp(0.0, 1.0);
     let open = SKY_AT_ROOT + (1.0 - SKY_AT_ROOT) * t;
@@ -121,9 +147,10 @@ pub fn blade(albedo: Vec3, n: Vec3, view: Vec3, t: f32, lay: f32, sun: Vec3, amb
     let toward_sun = (-view).dot(sun).max(0.0);
     let through = TRANSLUCENCY * (-d).max(0.0) * (1.0 + FORWARD_SCATTER * toward_sun.powi(4));
     let diffuse = ambient * (0.6 + 0.4 * n.y) * open + (1.0 - ambient) * (d.max(0.0) + through);
-    let m = n.lerp(Vec3::Y, lay.clamp(0.0, 1.0)).normalize_or_zero();
+    let turn = sheen_turn(lay);
+    let m = n.lerp(Vec3::Y, turn).normalize_or_zero();
     let nv = m.dot(view).clamp(0.0, 1.0);
-    let fresnel = SHEEN_F0 + (1.0 - SHEEN_F0) * (1.0 - nv).powi(5);
+    let fresnel = SHEEN_F0 + (SHEEN_F90 - SHEEN_F0) * (1.0 - nv).powi(5);
     let r = 2.0 * m.dot(view) * m - view;
     let h = (sun + view).normalize_or_zero();
     let highlight = if m.dot(sun) > 0.0 {
@@ -131,8 +158,8 @@ pub fn blade(albedo: Vec3, n: Vec3, view: Vec3, t: f32, lay: f32, sun: Vec3, amb
     } else {
         0.0
     };
-    let sheen =
-        SHEEN * fresnel * open * lay_weight(lay) * (sheen_colour(r, sun) + Vec3::splat(highlight));
+    let weight = SHEEN_UPRIGHT + (1.0 - SHEEN_UPRIGHT) * turn;
+    let sheen = SHEEN * fresnel * open * weight * (sheen_colour(r, sun) + Vec3::splat(highlight));
     albedo * diffuse + sheen
 }
 
@@ -163,6 +190,38 @@ mod tests {
         let c = blade(albedo, side, view, 0.7, 0.6f32.sin(), sun(), 0.32);
         let d = blade(albedo, side, view, 0.7, 0.0, sun(), 0.32);
         assert!(c.length() > 1.3 * d.length(), "{d} → {c}");
+    }
+
+    /// The face turns up only past a blade's resting droop, at once as the wind starts to
+    /// lay it over and never back; and what it mirrors has no step at the horizon.
+    #[test]
+    fn the_sheen_turns_with_the_wind_and_has_no_edge() {
+        assert_eq!(sheen_turn(0.0), 0.0);
+        assert_eq!(sheen_turn(LAY_REST), 0.0);
+        assert!(
+            sheen_turn(LAY_REST + 0.1) > 0.45,
+            "{}",
+            sheen_turn(LAY_REST + 0.1)
+        );
+        assert!(sheen_turn(1.0) > 0.99);
+        let mut last = 0.0;
+        for k in 0..=100 {
+            let t = sheen_turn(k as f32 / 100.0);
+            assert!(t >= last && t <= 1.0, "{k}: {t}");
+            last = t;
+        }
+        let s = sun();
+        let at = |y: f32| mirrored(Vec3::new((1.0 - y * y).sqrt(), y, 0.0), s);
+        for k in -40..40 {
+            let (a, b) = (at(k as f32 / 200.0), at((k + 1) as f32 / 200.0));
+            assert!(
+                (a - b).abs().max_element() < 0.03,
+                "a step at {}: {a} {b}",
+                k as f32 / 200.0
+            );
+        }
+        assert_eq!(at(-0.5), Vec3::from(GROUND_MIRROR));
+        assert_eq!(at(0.5), sky(Vec3::new(0.75f32.sqrt(), 0.5, 0.0), s));
     }
 
     #[test]
