@@ -4,8 +4,8 @@
 // field's blades the renderer does not draw at the texel's distance from the eye. So a view
 // of the whole world, where every blade is culled, shows its grass and its wind, and near
 // blades stand on plain ground. CPU twin: `grass::far::texel` and `grass::far::cover`.
-// `surround`: the table of the calm field's look by view direction that the ground beyond
-// the level takes (CPU twin: `grass::far::surround_table`).
+// `surround`: the table of the field's look by view direction, in the wind at the level's
+// edge, that the ground beyond the level takes (CPU twin: `grass::far::surround_table`).
 
 @group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far: texture_storage_2d<rgba16float, write>;
@@ -28,10 +28,10 @@ fn unit_or_zero(v: vec3<f32>) -> vec3<f32> {
 
 
 // `far::texel`: the mean probe blades at `pos`, bent in their wind cell without flutter (the
-// mean of many blades at their own phases; upright in still air when `still`), each
+// mean of many blades at their own phases; in the wind `w`, uncrushed, when `still`), each
 // segment's colour weighted by the area it shows the eye at `eye` (rgb), and the share of
 // the ground they hide (a).
-fn far_texel(pos: vec2<f32>, eye: vec3<f32>, still: bool) -> vec4<f32> {
+fn far_texel(pos: vec2<f32>, eye: vec3<f32>, still: bool, w: vec2<f32>) -> vec4<f32> {
     var sum = vec3<f32>(0.0);
     var plain = vec3<f32>(0.0);
     var weights = 0.0;
@@ -41,7 +41,7 @@ fn far_texel(pos: vec2<f32>, eye: vec3<f32>, still: bool) -> vec4<f32> {
         let b = Blade(pos, facing, F.height, F.width, F.stiffness, 0u, 0.0);
         var pose: Pose;
         if (still) {
-            pose = pose_of(b, vec2<f32>(0.0), 0.0);
+            pose = pose_of(b, blade_push(b, w, S.eye.w, 0.0), length(w));
         } else {
             pose = blade_pose_with(b, S.eye.w, 0.0);
         }
@@ -126,7 +126,7 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let pos = F.origin + (vec2<f32>(id.xy) + vec2<f32>(0.5)) * F.cell;
     let d = distance(vec3<f32>(pos.x, ground(pos), pos.y), S.eye.xyz);
     // The pass runs only while the ground shows the far field (`flags & 1`).
-    let look = far_texel(pos, S.eye.xyz, false);
+    let look = far_texel(pos, S.eye.xyz, false, vec2<f32>(0.0));
     textureStore(far, vec2<i32>(id.xy), vec4<f32>(look.rgb, look.a * (1.0 - far_cover(d))));
 }
 
@@ -138,12 +138,67 @@ fn surround_direction(id: vec2<u32>) -> vec3<f32> {
     return vec3<f32>(c * cos(a), s, c * sin(a));
 }
 
-// `far::surround_table`: the calm field's look seen along each of the table's directions.
+// `far::border_cells`: cells on the border of the wind grid, each once.
+fn border_cells(nx: u32, ny: u32) -> u32 {
+    if (nx == 0u || ny == 0u) {
+        return 0u;
+    }
+    let side = select(1u, 2u, nx > 1u);
+    return nx + select(0u, nx, ny > 1u) + select(0u, (ny - 2u) * side, ny > 2u);
+}
+
+// `far::border_cell`: the index in the wind grid of its `k`th border cell.
+fn border_cell(k0: u32, nx: u32, ny: u32) -> u32 {
+    if (k0 < nx) {
+        return k0;
+    }
+    var k = k0 - nx;
+    if (ny > 1u) {
+        if (k < nx) {
+            return (ny - 1u) * nx + k;
+        }
+        k = k - nx;
+    }
+    let side = select(1u, 2u, nx > 1u);
+    let i = select(nx - 1u, 0u, k % side == 0u);
+    return (1u + k / side) * nx + i;
+}
+
+// `far::edge_wind`: the mean wind of the border cells, those over twice the border's mean
+// speed left out (an arrow's jet leaving the level is not the world's weather).
+fn edge_wind() -> vec2<f32> {
+    let n = border_cells(S.nx, S.ny);
+    if (n == 0u) {
+        return vec2<f32>(0.0);
+    }
+    var speed = 0.0;
+    for (var k = 0u; k < n; k = k + 1u) {
+        speed = speed + length(wind[border_cell(k, S.nx, S.ny)]);
+    }
+    let limit = 2.0 * speed / f32(n);
+    var sum = vec2<f32>(0.0);
+    var count = 0.0;
+    for (var k = 0u; k < n; k = k + 1u) {
+        let w = wind[border_cell(k, S.nx, S.ny)];
+        if (length(w) <= limit) {
+            sum = sum + w;
+            count = count + 1.0;
+        }
+    }
+    if (count == 0.0) {
+        return vec2<f32>(0.0);
+    }
+    return sum / count;
+}
+
+// `far::surround_table`: the field's look in the wind at the level's edge, seen along each
+// of the table's directions.
 @compute @workgroup_size(8, 8)
 fn surround(@builtin(global_invocation_id) id: vec3<u32>) {
     if (id.x >= SURROUND_AZIMUTHS || id.y >= SURROUND_ELEVATIONS) {
         return;
     }
     let eye = surround_direction(id.xy) * SURROUND_EYE;
-    textureStore(surround_table, vec2<i32>(id.xy), far_texel(vec2<f32>(0.0), eye, true));
+    let look = far_texel(vec2<f32>(0.0), eye, true, edge_wind());
+    textureStore(surround_table, vec2<i32>(id.xy), look);
 }

@@ -6,7 +6,7 @@
 // far field's look (`grass_far.wgsl`) by the share of coverage the blades no longer give.
 // With the wind colours on (`fs_wind_colours`), the map view's speed colour of the wind there
 // goes over it all. Beyond the level the ground runs on to the horizon as the
-// calm field's look along each view (`far::surround_at`, drawn by `vs_main` after the level's quads), and everything fades into the sky through the haze.
+// field's look in the wind at the level's edge along each view (`far::surround_at`, drawn by `vs_main` after the level's quads), and everything fades into the sky through the haze.
 
 @group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far_image: texture_2d<f32>;
@@ -15,7 +15,7 @@
 @group(1) @binding(4) var backdrop_sampler: sampler;
 @group(1) @binding(5) var surround_table: texture_2d<f32>;
 
-// `far::surround_at`: the calm field's look along the view `v` (toward the eye) from the
+// `far::surround_at`: the field's look along the view `v` (toward the eye) from the
 // table `grass_far.wgsl` writes — bilinear between texel centres, the azimuth wrapping
 // round, the elevation clamped.
 fn surround_at(v: vec3<f32>) -> vec4<f32> {
@@ -135,10 +135,10 @@ fn ground_colour(in: GroundOut) -> vec3<f32> {
         // Where the map shows, it stays the ground; elsewhere the lower canopy covers it.
         let shown = select(0.0, clamp(S.backdrop, 0.0, 1.0), inside);
         if (outside_level(in.world)) {
-            // The calm field beyond the level, as seen along this view: it hides the more
+            // The field beyond the level, as seen along this view: it hides the more
             // ground the lower the view.
-            let calm = surround_at(normalize(S.eye.xyz - pos));
-            colour = far_ground(colour, calm.rgb, clamp(calm.a, 0.0, 1.0), shown);
+            let beyond = surround_at(normalize(S.eye.xyz - pos));
+            colour = far_ground(colour, beyond.rgb, clamp(beyond.a, 0.0, 1.0), shown);
         } else {
             // rgb: the blades from afar, lit; a: how much of the ground they take here.
             colour = far_ground(colour, far.rgb, clamp(far.a, 0.0, 1.0), shown);

@@ -297,30 +297,79 @@ pub fn surround_direction(i: usize, j: usize) -> Vec3 {
     Vec3::new(c * a.cos(), s, c * a.sin())
 }
 
-/// The ground beyond the level seen along `view` (unit, toward the eye): the calm field's
-/// look (a [`texel`] in still air, the eye [`SURROUND_EYE`] off along `view`) — rgb, and in
-/// a the share of the ground it hides. The level sits in a meadow of its own grass, at rest,
-/// rather than on a plate in the sky; and as the level's own look changes with the view
-/// across a picture, so does its surround's, so the two meet with no step at its edge.
-pub fn surround(g: &GrassParams, look: &Look, view: Vec3) -> [f32; 4] {
+/// Cells on the border of an `nx × ny` grid, each once ([`border_cell`]).
+pub fn border_cells(nx: usize, ny: usize) -> usize {
+    if nx == 0 || ny == 0 {
+        return 0;
+    }
+    let side = if nx > 1 { 2 } else { 1 };
+    nx + if ny > 1 { nx } else { 0 } + ny.saturating_sub(2) * side
+}
+
+/// The `k`th border cell `(i, j)` of an `nx × ny` grid: the first row, the last, then the
+/// rows between, their first cell and their last (`border_cell` in `grass_far.wgsl`).
+pub fn border_cell(k: usize, nx: usize, ny: usize) -> (usize, usize) {
+    if k < nx {
+        return (k, 0);
+    }
+    let k = k - nx;
+    if ny > 1 && k < nx {
+        return (k, ny - 1);
+    }
+    let k = if ny > 1 { k - nx } else { k };
+    let side = if nx > 1 { 2 } else { 1 };
+    (if k % side == 0 { 0 } else { nx - 1 }, 1 + k / side)
+}
+
+/// The wind the world beyond the level blows with (`edge_wind` in `grass_far.wgsl`): the
+/// weather at the level's edge carried on past it — the mean wind of the wind grid's border
+/// cells (`nx × ny`, row-major), leaving out those blowing over twice the border's mean
+/// speed. An ambient breeze over the level blows over the meadow round it too, but an
+/// arrow's jet leaving the level is that level's, not the world's: the meadow's 4× gale
+/// crosses its west and east edges at up to 19 m/s, and with it the plain mean was 3.1 m/s
+/// where the weather along the edge is 1.4.
+pub fn edge_wind(wind: &[[f32; 2]], (nx, ny): (usize, usize)) -> [f32; 2] {
+    let n = border_cells(nx, ny);
+    if n == 0 || wind.len() < nx * ny {
+        return [0.0, 0.0];
+    }
+    let at = |k: usize| {
+        let (i, j) = border_cell(k, nx, ny);
+        wind[j * nx + i]
+    };
+    let mean_speed = (0..n).map(|k| at(k)[0].hypot(at(k)[1])).sum::<f32>() / n as f32;
+    let (mut sum, mut count) = ([0.0f32; 2], 0u32);
+    for w in (0..n).map(at) {
+        if w[0].hypot(w[1]) <= 2.0 * mean_speed {
+            sum = [sum[0] + w[0], sum[1] + w[1]];
+            count += 1;
+        }
+    }
+    if count == 0 {
+        return [0.0, 0.0];
+    }
+    [sum[0] / count as f32, sum[1] / count as f32]
+}
+
+/// The ground beyond the level seen along `view` (unit, toward the eye) in the wind `wind`
+/// ([`edge_wind`]): the field's look there (a [`texel`] in that wind, the eye
+/// [`SURROUND_EYE`] off along `view`) — rgb, and in a the share of the ground it hides. The
+/// level sits in a meadow of its own grass, in the same weather, rather than on a plate in
+/// the sky; and as the level's own look changes with the view across a picture, so does its
+/// surround's, so the two meet with no step at its edge. (In still air round a level in a
+/// breeze, the breeze-lit level stood out from the meadow as a pale plate.)
+pub fn surround(g: &GrassParams, look: &Look, view: Vec3, wind: [f32; 2]) -> [f32; 4] {
     let eye = view.normalize_or_zero() * SURROUND_EYE;
-    let t = texel(
-        g,
-        look,
-        [0.0, 0.0],
-        [0.0, 0.0],
-        eye.to_array(),
-        (0.0, [0.0, 0.0]),
-    );
+    let t = texel(g, look, wind, [0.0, 0.0], eye.to_array(), (0.0, [0.0, 0.0]));
     [t.colour[0], t.colour[1], t.colour[2], t.hidden]
 }
 
 /// [`surround`] at every texel centre of the table ([`surround_direction`]), row-major by
-/// elevation: what the far pass writes for the ground shader to look up.
-pub fn surround_table(g: &GrassParams, look: &Look) -> Vec<[f32; 4]> {
+/// elevation, in the wind `wind`: what the far pass writes for the ground shader to look up.
+pub fn surround_table(g: &GrassParams, look: &Look, wind: [f32; 2]) -> Vec<[f32; 4]> {
     (0..SURROUND_ELEVATIONS)
         .flat_map(|j| (0..SURROUND_AZIMUTHS).map(move |i| (i, j)))
-        .map(|(i, j)| surround(g, look, surround_direction(i, j)))
+        .map(|(i, j)| surround(g, look, surround_direction(i, j), wind))
         .collect()
 }
 
@@ -344,13 +393,92 @@ pub fn surround_at(table: &[[f32; 4]], view: Vec3) -> [f32; 4] {
 mod tests {
     use super::*;
 
+    /// The border is walked once, every cell of it, whatever the grid's shape; the weather
+    /// beyond the level is the border's breeze, not an arrow's jet crossing it.
+    #[test]
+    fn the_world_beyond_takes_the_breeze_at_the_edge_not_the_jets() {
+        for (nx, ny) in [(1, 1), (5, 1), (1, 4), (2, 2), (7, 5), (240, 160)] {
+            let mut seen = std::collections::HashSet::new();
+            for k in 0..border_cells(nx, ny) {
+                let (i, j) = border_cell(k, nx, ny);
+                assert!(i < nx && j < ny, "{nx}x{ny}: {k} -> ({i}, {j})");
+                assert!(i == 0 || j == 0 || i == nx - 1 || j == ny - 1);
+                assert!(seen.insert((i, j)), "{nx}x{ny}: ({i}, {j}) twice");
+            }
+            let inner = nx.saturating_sub(2) * ny.saturating_sub(2);
+            assert_eq!(seen.len(), nx * ny - inner, "{nx}x{ny}");
+        }
+        // A 1.5 m/s breeze from the west, a 20 m/s jet through rows 70-89 of 160.
+        let (nx, ny) = (240, 160);
+        let wind: Vec<[f32; 2]> = (0..nx * ny)
+            .map(|k| {
+                if (70..90).contains(&(k / nx)) {
+                    [20.0, 0.5]
+                } else {
+                    [1.5, 0.1]
+                }
+            })
+            .collect();
+        let w = edge_wind(&wind, (nx, ny));
+        assert!(
+            (w[0] - 1.5).abs() < 1e-4 && (w[1] - 0.1).abs() < 1e-4,
+            "{w:?}"
+        );
+        // A uniform wind, however strong, is the weather.
+        let gale = vec![[0.0, -12.0]; nx * ny];
+        assert_eq!(edge_wind(&gale, (nx, ny)), [0.0, -12.0]);
+        assert_eq!(edge_wind(&[], (0, 0)), [0.0, 0.0]);
+    }
+
+    /// From afar (the meadow's "frame all" eye, 60° up) the field is lighter in any breeze
+    /// than in still air, whichever way it blows, and lighter in a gale than in a breeze: the
+    /// sheen of blades turning their faces up outweighs eq. 14's dimming from the first
+    /// breath. (With the sheen following `√lay`, 1.5–3 m/s read darker than still air and
+    /// a breeze-blown level looked calm.)
+    #[test]
+    fn a_field_brightens_with_the_wind_from_afar() {
+        let g = GrassParams {
+            height: [0.3, 0.7],
+            width: [0.02, 0.05],
+            stiffness: [0.5, 1.5],
+            ..GrassParams::default()
+        };
+        let look = Look::new(&g, [0.42, 0.80, 0.43, 0.32]);
+        let eye = [60.0, 102.6, 99.2];
+        let lum = |wind: [f32; 2]| {
+            let c = texel(&g, &look, wind, [60.0, 40.0], eye, (0.0, [0.0, 0.0])).colour;
+            0.2126 * c[0] + 0.7152 * c[1] + 0.0722 * c[2]
+        };
+        let still = lum([0.0, 0.0]);
+        for deg in [0.0f32, 90.0, 180.0, 270.0] {
+            let (s, c) = deg.to_radians().sin_cos();
+            let at = |speed: f32| lum([speed * c, speed * s]);
+            for speed in [1.5, 3.0, 5.0] {
+                // Measured: 4–41 % lighter at 1.5 m/s (blowing toward the eye least: it
+                // sees the blades' undersides), 21–81 % at 3 m/s.
+                let floor = if speed < 2.0 { 1.03 } else { 1.15 };
+                assert!(
+                    at(speed) > floor * still,
+                    "{deg}° {speed} m/s: {} against {still}",
+                    at(speed)
+                );
+            }
+            assert!(
+                at(12.0) > at(1.5),
+                "{deg}°: a gale {} against a breeze {}",
+                at(12.0),
+                at(1.5)
+            );
+        }
+    }
+
     /// The ground shader's look-up returns the table at its texel centres, blends between
     /// them, and wraps round the azimuth with no seam behind the eye.
     #[test]
     fn the_surround_table_is_looked_up_as_the_shader_does() {
         let g = GrassParams::default();
         let look = Look::new(&g, [0.4, 0.8, 0.3, 0.3]);
-        let table = surround_table(&g, &look);
+        let table = surround_table(&g, &look, [0.0, 0.0]);
         for (i, j) in [(0, 0), (5, 7), (63, 31), (32, 16)] {
             let got = surround_at(&table, surround_direction(i, j));
             let want = table[j * SURROUND_AZIMUTHS + i];

@@ -46,7 +46,7 @@ pub struct FarPass {
     pub(super) uniform_buf: wgpu::Buffer,
     pub(super) texels: wgpu::Texture,
     pub(super) sampler: wgpu::Sampler,
-    /// The calm field's look by view direction, which the ground beyond the level takes
+    /// The field's look by view direction in the wind at the level's edge, which the ground beyond the level takes
     /// ([`far::surround_table`]; [`far::SURROUND_AZIMUTHS`] × [`far::SURROUND_ELEVATIONS`]).
     pub(super) surround: wgpu::Texture,
     compute_layout: wgpu::BindGroupLayout,

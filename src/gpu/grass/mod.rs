@@ -896,7 +896,7 @@ impl GrassRenderer {
         };
     }
 
-    /// The table of the calm field's look by view direction that the ground beyond the level
+    /// The table of the field's look by view direction (in the wind at the level's edge) that the ground beyond the level
     /// takes ([`crate::grass::far::surround_table`]), after a [`Self::prepare`] (for tests;
     /// waits for the GPU).
     pub fn read_surround(

@@ -111,8 +111,8 @@ fn the_far_field_matches_its_cpu_twin() {
     assert!(worst_cover <= 1e-3, "coverage differs by {worst_cover}");
 }
 
-/// The table of the calm field's look by view direction, which the ground beyond the level
-/// takes, against its CPU twin (`grass::far::surround_table`): every texel's colour within
+/// The table of the field's look by view direction, in the wind at the level's edge, which the
+/// ground beyond the level takes, against its CPU twin (`grass::far::surround_table`): every texel's colour within
 /// 2e-3 and its share of the ground within 1e-3 (half floats). The look changes with the
 /// view — toward the sun and away from it, from above and along the ground — which is why
 /// one colour for the whole surround showed the level as a plate on it.
@@ -127,11 +127,42 @@ fn the_ground_beyond_the_level_matches_its_cpu_twin() {
         target: Vec3::new(12.0, 0.0, 8.0),
         fov_y: 45f32.to_radians(),
     };
+    // A breeze along the border with a jet through the middle: the meadow beyond the level
+    // takes the border's mean wind.
+    let (nx, ny) = (48, 32);
+    let wind: Vec<[f32; 2]> = (0..nx * ny)
+        .map(|k| {
+            let (i, j) = (k % nx, k / nx);
+            let jet = if (14..18).contains(&j) { 20.0 } else { 0.0 };
+            [2.0 + jet + 0.05 * i as f32, -1.0 + 0.04 * j as f32]
+        })
+        .collect();
+    r.set_wind(
+        &ctx.device,
+        &ctx.queue,
+        (nx, ny),
+        [0.0, 0.0],
+        [0.5, 0.5],
+        &wind,
+    );
+    let edge = far::edge_wind(&wind, (nx, ny));
+    assert!(
+        edge[0] > 3.0 && edge[0] < 6.0,
+        "the breeze and a little jet: {edge:?}"
+    );
     let mut enc = ctx.device.create_command_encoder(&Default::default());
     r.prepare(&ctx.queue, &mut enc, &camera, 1.5, 2.0, 1.0 / 60.0);
     ctx.queue.submit([enc.finish()]);
     let gpu = r.read_surround(&ctx.device, &ctx.queue).unwrap();
-    let cpu = far::surround_table(&l.grass, &Look::new(&l.grass, SUN));
+    let cpu = far::surround_table(&l.grass, &Look::new(&l.grass, SUN), edge);
+    let still = far::surround_table(&l.grass, &Look::new(&l.grass, SUN), [0.0, 0.0]);
+    let lit = |t: &[[f32; 4]]| t.iter().map(|c| c[1]).sum::<f32>() / t.len() as f32;
+    assert!(
+        lit(&cpu) > 1.05 * lit(&still),
+        "the breeze lightens the meadow beyond the level: {} against {} in still air",
+        lit(&cpu),
+        lit(&still)
+    );
     assert_eq!(gpu.len(), far::SURROUND_AZIMUTHS * far::SURROUND_ELEVATIONS);
     assert_eq!(gpu.len(), cpu.len());
     let (mut worst_colour, mut worst_hidden) = (0.0f32, 0.0f32);
