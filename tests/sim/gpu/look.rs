@@ -92,11 +92,11 @@ fn meadow(k: f32) -> Layout {
 }
 
 /// At the default framing (the whole level), the meadow in calm air and with its arrows four
-/// times stronger are different pictures at a glance: their 8 × 8-pixel block means differ
-/// by over 3.5/255 on average (measured 4.7 at 1600 × 1000; 2.0 from the old fixed 35°
-/// framing, where the level was a third of the picture; before the sheen and the lower
-/// canopy, 0.7), and the gale's band along the arrows is lighter than the same place in calm
-/// air.
+/// times stronger are different pictures: they differ by at least 10/255 a channel on
+/// average, and as much at a glance (8 × 8-pixel block means; measured 11.7 at 800 × 500 and
+/// 1600 × 1000; 4.7 while a breeze read darker than still air and the meadow beyond the
+/// level stood in still air; 2.6 before the sheen), and the gale's band along the arrows is
+/// lighter than the same place in calm air.
 #[test]
 fn the_wind_reads_from_afar() {
     let Some(ctx) = context() else { return };
@@ -110,8 +110,9 @@ fn the_wind_reads_from_afar() {
         mae(&calm, &gale)
     );
     assert!(
-        glance > 3.5,
-        "a gale and a calm look alike from afar: {glance}"
+        mae(&calm, &gale) >= 10.0 && glance >= 10.0,
+        "a gale and a calm look alike from afar: {:.2}, {glance:.2} at a glance",
+        mae(&calm, &gale)
     );
     // The arrows run along z = 38–44 m; at the default framing that is the picture's middle.
     let row = |b: &[[f64; 3]], y: u32| -> f64 {
@@ -161,8 +162,11 @@ fn a_gust_travels_as_a_moving_band() {
     tree.root = chain.unwrap();
     let size = [400u32, 150u32];
     let cam = camera([50.0, 60.0, 40.0], [50.0, 0.0, 12.0]);
-    // Each column's brightness along the middle rows; the front is the last column (from the
-    // left) brighter than half-way between the calm end and the gust.
+    // Each column's brightness along the middle rows; the front is where the band that runs
+    // from the source (the left) first falls below half-way between the calm end and the
+    // gust. (The last column brighter than that, anywhere, was the measure; since the
+    // meadow beyond the level takes the wind at its edge, the level's far end lightens
+    // when the gust reaches it, and that column was found instead.)
     let front = |t: f32| -> usize {
         let px = shot(&ctx, &l, &options(size, t, Some(cam)));
         let (w, h) = (size[0] as usize, size[1] as usize);
@@ -183,7 +187,7 @@ fn a_gust_travels_as_a_moving_band() {
             .iter()
             .fold((f64::MAX, f64::MIN), |(a, b), &v| (a.min(v), b.max(v)));
         let half = 0.5 * (lo + hi);
-        w / 8 + inner.iter().rposition(|&v| v > half).unwrap_or(0)
+        w / 8 + inner.iter().position(|&v| v < half).unwrap_or(inner.len())
     };
     let fronts: Vec<usize> = [2.0, 3.0, 4.0].into_iter().map(front).collect();
     println!(
