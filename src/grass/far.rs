@@ -337,10 +337,11 @@ pub fn edge_wind(wind: &[[f32; 2]], (nx, ny): (usize, usize)) -> [f32; 2] {
         let (i, j) = border_cell(k, nx, ny);
         wind[j * nx + i]
     };
-    let mean_speed = (0..n).map(|k| at(k)[0].hypot(at(k)[1])).sum::<f32>() / n as f32;
+    let speed = |w: [f32; 2]| w[0].hypot(w[1]);
+    let mean_speed = (0..n).map(|k| speed(at(k))).sum::<f32>() / n as f32;
     let (mut sum, mut count) = ([0.0f32; 2], 0u32);
     for w in (0..n).map(at) {
-        if w[0].hypot(w[1]) <= 2.0 * mean_speed {
+        if speed(w) <= 2.0 * mean_speed {
             sum = [sum[0] + w[0], sum[1] + w[1]];
             count += 1;
         }
