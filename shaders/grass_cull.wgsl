@@ -80,13 +80,16 @@ fn main(
     @builtin(num_workgroups) nwg: vec3<u32>,
     @builtin(local_invocation_index) lid: u32,
 ) {
-    let k = blade_index(wid, nwg, lid);
+    let n = blade_index(wid, nwg, lid);
+    // Walked from the last when that order runs from the camera: the lists fill in about
+    // the order the workgroups run, so they then hold the nearest blades first.
+    let k = select(n, S.blades - 1u - n, (C.flags & 16u) != 0u && n < S.blades);
     if (lid < 6u) {
         atomicStore(&counts[lid], 0u);
     }
     workgroupBarrier();
     var verdict = 6u;
-    if (k < S.blades) {
+    if (n < S.blades) {
         verdict = classify(k);
     }
     var slot = 0u;

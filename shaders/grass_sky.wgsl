@@ -1,6 +1,7 @@
-// Grass, render: the sky behind everything — one triangle over the whole picture at the far
-// plane, each pixel the sky's colour along its view ray (`grass::light::sky`: the horizon's
-// haze up to the zenith's blue, brighter toward the sun). Below the horizon it is the
+// Grass, render: the sky behind everything — one triangle over the whole picture on the far
+// plane (0: the depth is reversed), drawn after the rest and only where nothing else was;
+// each pixel the sky's colour along its view ray (`grass::light::sky`: the horizon's haze up
+// to the zenith's blue, brighter toward the sun). Below the horizon it is the
 // horizon's colour, which is also the haze's, so the ground fades into it.
 
 struct SkyOut {
@@ -11,7 +12,7 @@ struct SkyOut {
 @vertex
 fn vs_main(@builtin(vertex_index) k: u32) -> SkyOut {
     let xy = vec2<f32>(f32((k << 1u) & 2u), f32(k & 2u)) * 2.0 - vec2<f32>(1.0);
-    return SkyOut(vec4<f32>(xy, 1.0, 1.0), xy);
+    return SkyOut(vec4<f32>(xy, 0.0, 1.0), xy);
 }
 
 @fragment

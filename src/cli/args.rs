@@ -269,6 +269,10 @@ pub enum Command {
         /// sample of them: the cost of a field bigger than this device holds.
         #[arg(long, requires = "grass")]
         estimate: bool,
+        /// With --grass: draw the blades in the order they are stored in, not nearest first,
+        /// to time what the order saves (the picture is the same).
+        #[arg(long, requires = "grass")]
+        stored_order: bool,
     },
 }
 

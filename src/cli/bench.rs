@@ -71,6 +71,7 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         size,
         wind_colours,
         estimate,
+        stored_order,
     } = command
     else {
         unreachable!("bench::run is called with a bench command");
@@ -97,6 +98,7 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
             cull: cull == OnOff::On,
             camera: camera.map(camera_from),
             wind_colours,
+            near_first: !stored_order,
         };
         return grass_bench(&l, &options, json);
     }
@@ -145,6 +147,16 @@ fn grass_bench(
             r.culled.orientation,
             r.culled.frustum,
             r.culled.distance,
+        );
+        println!(
+            "the render pass wrote {} samples, each sample {:.2} times (blades {})",
+            r.written.samples,
+            r.written.layers,
+            if r.near_first {
+                "nearest first"
+            } else {
+                "in their stored order"
+            }
         );
     }
     Ok(ExitCode::SUCCESS)

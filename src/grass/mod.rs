@@ -109,6 +109,20 @@ pub fn strata_within(layout: &Layout, cap: usize) -> (usize, usize, f32) {
     (nx, nz, step)
 }
 
+/// Whether [`scatter`]'s order runs away from a camera looking along `forward` (x, y, z), so
+/// that walking the blades from the last draws the nearest first. Blades are laid row by
+/// row, x within a row and the rows by increasing z: a ray through the field crosses the rows,
+/// so along it the nearer blades come later in that order when the camera looks toward −z
+/// (earlier toward +z); looking along a row, x decides.
+pub fn stored_far_to_near(forward: [f32; 3]) -> bool {
+    let [x, _, z] = forward;
+    if z.abs() > 1e-3 * x.abs() {
+        z < 0.0
+    } else {
+        x < 0.0
+    }
+}
+
 /// The blades of `layout`: one per stratum at a random point inside it, unless that point is
 /// inside an obstacle. Deterministic for `grass.seed`; the same seed gives the same blades in
 /// the same order on every machine.

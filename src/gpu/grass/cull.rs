@@ -29,12 +29,15 @@ pub struct CullUniform {
 }
 
 impl CullUniform {
-    pub fn new(p: &CullParams, capacity: u32) -> Self {
+    /// `reverse`: walk the blades from the last, so each level's list holds them in the
+    /// opposite order ([`crate::grass::stored_far_to_near`]).
+    pub fn new(p: &CullParams, capacity: u32, reverse: bool) -> Self {
         Self {
             flags: u32::from(p.orientation)
                 | u32::from(p.frustum) << 1
                 | u32::from(p.distance) << 2
-                | u32::from(p.lod) << 3,
+                | u32::from(p.lod) << 3
+                | u32::from(reverse) << 4,
             buckets: p.buckets.max(1),
             capacity,
             _pad0: 0,
@@ -287,14 +290,16 @@ impl CullPass {
         enc.clear_buffer(&self.lods, 0, None);
     }
 
-    /// Records the pass over `blades` blades (groups 0 and 1 bound by the caller's values).
+    /// Records the pass over `blades` blades (groups 0 and 1 bound by the caller's values),
+    /// walking them from the last when `reverse` (nearest first: the depth test then spares
+    /// the hidden blades' shading, where far-to-near shades every one).
     pub fn record(
         &mut self,
         queue: &wgpu::Queue,
         enc: &mut wgpu::CommandEncoder,
         group0: &wgpu::BindGroup,
         shape: &wgpu::BindGroup,
-        blades: u32,
+        (blades, reverse): (u32, bool),
     ) {
         let mut words = [0u32; ARGS_WORDS];
         for (l, s) in LOD_SEGMENTS.iter().enumerate() {
@@ -306,7 +311,7 @@ impl CullPass {
         queue.write_buffer(
             &self.uniform,
             0,
-            bytemuck::bytes_of(&CullUniform::new(&self.params, self.capacity)),
+            bytemuck::bytes_of(&CullUniform::new(&self.params, self.capacity, reverse)),
         );
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {

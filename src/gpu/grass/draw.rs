@@ -1,6 +1,7 @@
-//! The grass's render pipelines, 4× multisampled: the sky, the ground, the obstacles' solids,
-//! the arrows' lines and the blades — the ground and the blades also with the wind colours over them, as pipelines of
-//! their own so the plain ones carry no trace of them (`GrassRenderer::set_wind_colours`).
+//! The grass's render pipelines, 4× multisampled: the obstacles' solids, the blades, the
+//! ground, the sky and the arrows' lines, in the order they are drawn — the ground and the
+//! blades also with the wind colours over them, as pipelines of their own so the plain ones
+//! carry no trace of them (`GrassRenderer::set_wind_colours`).
 
 use crate::grass::scene::SceneVertex;
 
@@ -77,12 +78,15 @@ impl DrawPipelines {
                 },
                 // The lines (the arrows, the map's footprint) are drawn last and over
                 // everything, as an editor draws its gizmos: on the ground, the grass would
-                // hide them wherever it is dense.
+                // hide them wherever it is dense. The sky, drawn after the rest on the far
+                // plane, only where the depth is still the cleared far plane's.
                 depth_stencil: Some(wgpu::DepthStencilState {
                     format: super::DEPTH_FORMAT,
                     depth_write_enabled: Some(!overlay && !sky),
-                    depth_compare: Some(if overlay || sky {
+                    depth_compare: Some(if overlay {
                         wgpu::CompareFunction::Always
+                    } else if sky {
+                        wgpu::CompareFunction::Equal
                     } else {
                         // Reversed depth: nearer is greater (`Camera::draw_view_proj`).
                         wgpu::CompareFunction::Greater

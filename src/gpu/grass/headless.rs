@@ -1,5 +1,6 @@
 //! The grass without a window: `windloom render --view grass` and `windloom bench --grass`.
 
+use super::draw::SAMPLES;
 use super::{
     Camera, CullStats, FramePart, GrassRenderer, Target, max_blades, render_into, render_offscreen,
 };
@@ -195,6 +196,8 @@ pub struct GrassBench {
     pub cull: bool,
     /// The wind colours' opacity (`None`: off).
     pub wind_colours: Option<f32>,
+    /// The blades drawn nearest first, or in their stored order (`--stored-order`).
+    pub near_first: bool,
     pub blades: u32,
     pub size: [u32; 2],
     pub frames: usize,
@@ -210,6 +213,52 @@ pub struct GrassBench {
     pub lod_segments: [u32; 3],
     /// Triangles the last frame drew ([`crate::grass::cull::triangles`] of `culled.drawn`).
     pub triangles: u64,
+    /// The samples one frame's render pass wrote: the pixels' side of a frame, as the
+    /// triangles are the geometry's.
+    pub written: Written,
+}
+
+/// The samples a render pass wrote: those that passed the depth test (an occlusion query), on
+/// any adapter. A GPU shades a fragment where one of its samples passes, so the layers
+/// written are the layers shaded, and the picture's own layer is one of them.
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize)]
+pub struct Written {
+    pub samples: u64,
+    /// `samples` over the picture's samples (pixels × [`SAMPLES`]): how many times a
+    /// sample is written, 1 with no overdraw at all.
+    pub layers: f64,
+}
+
+/// Counts the samples one render pass into `target` writes over the blades the last compute
+/// passes kept.
+pub fn count_written(
+    ctx: &crate::gpu::GpuContext,
+    grass: &GrassRenderer,
+    target: &Target,
+) -> Result<Written, GpuError> {
+    let device = &ctx.device;
+    let set = device.create_query_set(&wgpu::QuerySetDescriptor {
+        label: Some("grass samples written"),
+        ty: wgpu::QueryType::Occlusion,
+        count: 1,
+    });
+    let resolved = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("grass samples written"),
+        size: 8,
+        usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    });
+    let mut enc = device.create_command_encoder(&Default::default());
+    grass.record_draw_counted(&mut enc, target, Some(&set));
+    enc.resolve_query_set(&set, 0..1, &resolved, 0);
+    ctx.queue.submit([enc.finish()]);
+    let bytes = crate::gpu::read_buffer(device, &ctx.queue, &resolved)?;
+    let samples: u64 = bytemuck::pod_read_unaligned(&bytes[..8]);
+    let all = f64::from(target.size[0]) * f64::from(target.size[1]) * f64::from(SAMPLES);
+    Ok(Written {
+        samples,
+        layers: samples as f64 / all.max(1.0),
+    })
 }
 
 /// What `bench --grass N --estimate` reports: what the cull would draw of `blades` blades at
@@ -274,6 +323,8 @@ pub struct BenchOptions {
     pub camera: Option<Camera>,
     /// The wind colours' opacity (`None`: off).
     pub wind_colours: Option<f32>,
+    /// The blades drawn nearest first (the renderer's way), or in their stored order.
+    pub near_first: bool,
 }
 
 pub fn bench(
@@ -289,6 +340,7 @@ pub fn bench(
         cull,
         camera,
         wind_colours,
+        near_first,
     } = *o;
     let mut layout = layout.clone();
     let area = layout.world.size[0] * layout.world.size[1];
@@ -314,6 +366,7 @@ pub fn bench(
     if !cull {
         grass.set_cull(CullParams::OFF);
     }
+    grass.set_near_first(near_first);
     let scale = wind_at(ctx, &mut grass, &layout, 2.0);
     grass.set_wind_colours(wind_colours.map(|opacity| (opacity, scale)));
     let camera = camera.unwrap_or_else(|| Camera::walk(&layout));
@@ -353,6 +406,7 @@ pub fn bench(
     let compute_ms = median(&timed(FramePart::Compute)?);
     let draw_ms = median(&timed(FramePart::Draw)?);
     let (culled, _) = grass.read_cull(&ctx.device, &ctx.queue)?;
+    let written = count_written(ctx, &grass, &target)?;
     // Frames timed on a faulted device drew nothing worth timing.
     ctx.check("drawing the grass")?;
     Ok(GrassBench {
@@ -365,6 +419,7 @@ pub fn bench(
         .into(),
         cull,
         wind_colours,
+        near_first,
         blades: grass.blade_count(),
         size,
         frames: times.len(),
@@ -375,6 +430,7 @@ pub fn bench(
         triangles: crate::grass::cull::triangles(culled.drawn.map(u64::from)),
         culled,
         lod_segments: crate::grass::cull::LOD_SEGMENTS,
+        written,
     })
 }
 
@@ -433,6 +489,7 @@ mod tests {
             cull: true,
             camera: None,
             wind_colours: None,
+            near_first: true,
         };
         let e = bench(&ctx, &layout, &asked).unwrap_err().to_string();
         assert!(

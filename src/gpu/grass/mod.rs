@@ -32,8 +32,8 @@ pub use camera::{Camera, FRAME_MARGIN, FRAME_PITCHES_DEG, Orbit};
 pub use cull::{CullPass, CullStats, CullUniform, strip_vertices};
 pub use far::{FarPass, FarUniform};
 pub use headless::{
-    BenchOptions, GrassBench, GrassEstimate, PictureOptions, PushPath, bench, estimate, picture,
-    settle,
+    BenchOptions, GrassBench, GrassEstimate, PictureOptions, PushPath, Written, bench,
+    count_written, estimate, picture, settle,
 };
 pub use target::{FramePart, Target, render_into, render_offscreen};
 
@@ -271,6 +271,9 @@ pub struct GrassRenderer {
     /// The Bezier model's states and pass, while that model is chosen.
     bezier: Option<bezier::BezierPass>,
     cull: CullPass,
+    /// Whether the blades are drawn nearest first (on by default; off: in their stored order,
+    /// which `bench --grass --stored-order` times against it).
+    near_first: bool,
     trail: trail::TrailPass,
     /// The grass's look from afar, which the ground shows where blades are missing.
     far: FarPass,
@@ -285,7 +288,6 @@ pub struct GrassRenderer {
     wind_pipeline: wgpu::ComputePipeline,
     wind_grid: wgpu::Buffer,
     wind_group: Option<(super::mapview::FieldBuffers, wgpu::BindGroup)>,
-    /// The map backdrop laid over the ground (a blank 1×1 until one is set).
     /// The map backdrop's image (1 × 1 until one is set).
     backdrop: wgpu::Texture,
     /// What the ground (group 1) and the blades (group 3) read the far field and the backdrop
@@ -585,6 +587,7 @@ impl GrassRenderer {
             draw,
             bezier: None,
             cull,
+            near_first: true,
             trail,
             far,
             trail_left: 0.0,
@@ -879,6 +882,13 @@ impl GrassRenderer {
         self.cull.params = params;
     }
 
+    /// Whether the blades are drawn nearest first, so the depth test drops the hidden ones
+    /// before they are shaded (on by default), or in the order they are stored in (to measure
+    /// what the order saves: the picture is the same).
+    pub fn set_near_first(&mut self, on: bool) {
+        self.near_first = on;
+    }
+
     /// Whether the ground shows the grass's look from afar where the blades drawn cover less
     /// than the field would ([`crate::grass::far`]); on by default.
     pub fn set_far(&mut self, on: bool) {
@@ -1002,32 +1012,45 @@ impl GrassRenderer {
         }
         self.far
             .record(queue, encoder, &self.group0, &self.cull.params);
-        self.cull
-            .record(queue, encoder, &self.group0, &self.group_shape, blades);
+        // The visible lists nearest first, so the depth test culls hidden fragments before
+        // they are shaded.
+        let reverse = self.near_first
+            && crate::grass::stored_far_to_near((camera.target - camera.eye).to_array());
+        self.cull.record(
+            queue,
+            encoder,
+            &self.group0,
+            &self.group_shape,
+            (blades, reverse),
+        );
     }
 
-    /// Draws the ground, the obstacles, the blades (one indirect draw per LOD level) and the
-    /// lines over them (the pass needs a [`DEPTH_FORMAT`] depth attachment).
+    /// Draws the obstacles, the blades (one indirect draw per LOD level, nearest first), the
+    /// ground, the sky and the lines over them (the pass needs a [`DEPTH_FORMAT`] depth
+    /// attachment). Near to far, so the depth test drops what is hidden before it is shaded:
+    /// the ground under the blades and the sky behind everything are shaded only where they
+    /// show. Drawn first, the sky and the ground were shaded under every blade.
     pub fn paint(&self, pass: &mut wgpu::RenderPass<'_>) {
         pass.set_bind_group(0, &self.group0, &[]);
         let coloured = self.scene.wind_colours > 0.0;
-        pass.set_pipeline(&self.draw.sky);
-        pass.draw(0..3, 0..1);
-        pass.set_pipeline(self.draw.ground(coloured));
-        pass.set_bind_group(1, &self.look_group, &[]);
-        // The level's quads, then the ring of quads beyond it (`grass_ground.wgsl`).
-        let [qx, qz] = self.scene.ground_quads.map(|q| q.max(1));
-        pass.draw(0..6 * (qx * qz + 2 * (qx + 2) + 2 * qz), 0..1);
         if let Some((b, n)) = &self.solids {
             pass.set_pipeline(&self.draw.solids);
             pass.set_vertex_buffer(0, b.slice(..));
             pass.draw(0..*n, 0..1);
         }
+        pass.set_bind_group(3, &self.look_group, &[]);
         if self.scene.blades > 0 {
             pass.set_bind_group(1, &self.group_shape, &[]);
-            pass.set_bind_group(3, &self.look_group, &[]);
             self.cull.draw(pass, self.draw.blades(coloured));
         }
+        pass.set_pipeline(self.draw.ground(coloured));
+        pass.set_bind_group(1, &self.look_group, &[]);
+        // The level's quads, then the ring of quads beyond it (`grass_ground.wgsl`).
+        let [qx, qz] = self.scene.ground_quads.map(|q| q.max(1));
+        pass.draw(0..6 * (qx * qz + 2 * (qx + 2) + 2 * qz), 0..1);
+        // Only where nothing was drawn (`grass_sky.wgsl` lies on the far plane).
+        pass.set_pipeline(&self.draw.sky);
+        pass.draw(0..3, 0..1);
         // Last, over the blades (the lines' pipeline has no depth test).
         for (b, n) in self.lines.iter().chain(&self.footprint) {
             pass.set_pipeline(&self.draw.lines);

@@ -133,6 +133,18 @@ impl GrassRenderer {
     /// Records the frame's render pass alone into `target` (sky, ground and blades), drawing
     /// the blades the last [`GrassRenderer::prepare`] posed and kept.
     pub fn record_draw(&self, enc: &mut wgpu::CommandEncoder, target: &Target) {
+        self.record_draw_counted(enc, target, None);
+    }
+
+    /// [`GrassRenderer::record_draw`], the samples its draws write counted by query 0 of
+    /// `written` (an occlusion query set) where one is given: what `bench --grass` reports of
+    /// the pixels' side of a frame.
+    pub fn record_draw_counted(
+        &self,
+        enc: &mut wgpu::CommandEncoder,
+        target: &Target,
+        written: Option<&wgpu::QuerySet>,
+    ) {
         let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("grass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {
@@ -153,10 +165,16 @@ impl GrassRenderer {
                 stencil_ops: None,
             }),
             timestamp_writes: None,
-            occlusion_query_set: None,
+            occlusion_query_set: written,
             multiview_mask: None,
         });
+        if written.is_some() {
+            pass.begin_occlusion_query(0);
+        }
         self.paint(&mut pass);
+        if written.is_some() {
+            pass.end_occlusion_query();
+        }
         drop(pass);
         target.publish(enc);
     }
