@@ -191,14 +191,24 @@ fn edge_wind() -> vec2<f32> {
     return sum / count;
 }
 
+// The edge wind, walked once a workgroup rather than once an entry.
+var<workgroup> surround_wind: vec2<f32>;
+
 // `far::surround_table`: the field's look in the wind at the level's edge, seen along each
 // of the table's directions.
 @compute @workgroup_size(8, 8)
-fn surround(@builtin(global_invocation_id) id: vec3<u32>) {
+fn surround(
+    @builtin(global_invocation_id) id: vec3<u32>,
+    @builtin(local_invocation_index) lid: u32,
+) {
+    if (lid == 0u) {
+        surround_wind = edge_wind();
+    }
+    workgroupBarrier();
     if (id.x >= SURROUND_AZIMUTHS || id.y >= SURROUND_ELEVATIONS) {
         return;
     }
     let eye = surround_direction(id.xy) * SURROUND_EYE;
-    let look = far_texel(vec2<f32>(0.0), eye, true, edge_wind());
+    let look = far_texel(vec2<f32>(0.0), eye, true, surround_wind);
     textureStore(surround_table, vec2<i32>(id.xy), look);
 }
