@@ -760,7 +760,8 @@ fn bench_reports_the_gpu_it_ran_on() {
 }
 
 /// `bench --grass` prints one JSON object per run: the model and culling asked for, counters
-/// that account for every blade, the samples written (every one at least once), and the
+/// that account for every blade, the samples written (every one at least once; not counted on
+/// GL), and the
 /// compute and draw halves of a frame timed alone; culling draws fewer blades than no culling.
 #[test]
 fn grass_bench_reports_the_model_culling_and_every_blade() {
@@ -796,10 +797,14 @@ fn grass_bench_reports_the_model_culling_and_every_blade() {
         // Every sample written at least once (the sky, drawn last, where nothing else is),
         // the blades nearest first.
         assert_eq!(r["near_first"], true);
-        assert!(
-            n(&r["written"]["samples"]) >= 4 * 320 * 180,
-            "every sample is written: {r}"
-        );
+        if _ctx.adapter.backend == wgpu::Backend::Gl {
+            assert!(r["written"].is_null(), "GL cannot count them: {r}");
+        } else {
+            assert!(
+                n(&r["written"]["samples"]) >= 4 * 320 * 180,
+                "every sample is written: {r}"
+            );
+        }
         let ms = |k: &str| r[k].as_f64().unwrap();
         assert!(ms("median_ms") > 0.0);
         // The frame's halves, timed alone: each takes time, and neither alone takes longer

@@ -1,8 +1,8 @@
 //! The grass without a window: `windloom render --view grass` and `windloom bench --grass`.
 
-use super::draw::SAMPLES;
 use super::{
-    Camera, CullStats, FramePart, GrassRenderer, Target, max_blades, render_into, render_offscreen,
+    Camera, CullStats, FramePart, GrassRenderer, SAMPLES, Target, max_blades, render_into,
+    render_offscreen,
 };
 use crate::doc::{GrassModel, Layout};
 use crate::gpu::GpuError;
@@ -214,8 +214,9 @@ pub struct GrassBench {
     /// Triangles the last frame drew ([`crate::grass::cull::triangles`] of `culled.drawn`).
     pub triangles: u64,
     /// The samples one frame's render pass wrote: the pixels' side of a frame, as the
-    /// triangles are the geometry's.
-    pub written: Written,
+    /// triangles are the geometry's (`None` on a GL adapter, whose occlusion queries only say
+    /// whether any sample passed).
+    pub written: Option<Written>,
 }
 
 /// The samples a render pass wrote: those that passed the depth test (an occlusion query), on
@@ -230,12 +231,15 @@ pub struct Written {
 }
 
 /// Counts the samples one render pass into `target` writes over the blades the last compute
-/// passes kept.
+/// passes kept; `None` on a GL adapter (wgpu asks GL whether any sample passed, not how many).
 pub fn count_written(
     ctx: &crate::gpu::GpuContext,
     grass: &GrassRenderer,
     target: &Target,
-) -> Result<Written, GpuError> {
+) -> Result<Option<Written>, GpuError> {
+    if ctx.adapter.backend == wgpu::Backend::Gl {
+        return Ok(None);
+    }
     let device = &ctx.device;
     let set = device.create_query_set(&wgpu::QuerySetDescriptor {
         label: Some("grass samples written"),
@@ -255,10 +259,10 @@ pub fn count_written(
     let bytes = crate::gpu::read_buffer(device, &ctx.queue, &resolved)?;
     let samples: u64 = bytemuck::pod_read_unaligned(&bytes[..8]);
     let all = f64::from(target.size[0]) * f64::from(target.size[1]) * f64::from(SAMPLES);
-    Ok(Written {
+    Ok(Some(Written {
         samples,
         layers: samples as f64 / all.max(1.0),
-    })
+    }))
 }
 
 /// What `bench --grass N --estimate` reports: what the cull would draw of `blades` blades at

@@ -21,6 +21,7 @@ mod bezier;
 mod camera;
 mod cull;
 mod draw;
+pub use draw::SAMPLES;
 mod far;
 mod headless;
 mod target;

@@ -955,7 +955,8 @@ fn blades_stand_on_the_terrain() {
 
 /// Drawn nearest first, a dense field writes fewer samples than in its stored order (the
 /// depth test drops the hidden blades before they are shaded) and never more, from each side
-/// of the level; and the picture is the same either way.
+/// of the level (counted where the adapter counts them: not GL); and the picture is the same
+/// either way.
 #[test]
 fn blades_drawn_nearest_first_write_fewer_samples_for_the_same_picture() {
     use windloom::gpu::grass::{Target, count_written};
@@ -990,19 +991,28 @@ fn blades_drawn_nearest_first_write_fewer_samples_for_the_same_picture() {
             (pixels, count_written(&ctx, &r, &target).unwrap())
         };
         let (near, stored) = (shoot(true), shoot(false));
-        let (a, b) = (near.1.samples, stored.1.samples);
-        println!(
-            "{side}: {blades} blades, samples written {a} nearest first ({:.2} a sample), {b} \
-             in the stored order ({:.2})",
-            near.1.layers, stored.1.layers
-        );
-        assert!(
-            a <= b + b / 1000,
-            "{side}: nearest first wrote more: {a} > {b}"
-        );
-        // Where the stored order runs away from the camera, nearest first saves samples.
-        if side.contains("−z") || side.contains("−x") {
-            assert!(a * 10 < b * 9, "{side}: {a} is not 10 % under {b}");
+        if let (Some(n), Some(s)) = (near.1, stored.1) {
+            let (a, b) = (n.samples, s.samples);
+            println!(
+                "{side}: {blades} blades, samples written {a} nearest first ({:.2} a sample), \
+                 {b} in the stored order ({:.2})",
+                n.layers, s.layers
+            );
+            assert!(
+                a <= b + b / 1000,
+                "{side}: nearest first wrote more: {a} > {b}"
+            );
+            // Where the stored order runs away from the camera, nearest first saves samples.
+            if side.contains("−z") || side.contains("−x") {
+                assert!(a * 10 < b * 9, "{side}: {a} is not 10 % under {b}");
+            }
+        } else {
+            assert_eq!(
+                ctx.adapter.backend,
+                wgpu::Backend::Gl,
+                "only GL cannot count"
+            );
+            println!("{side}: samples written not counted on GL; the pictures compared");
         }
         // The same picture: only blades crossing at one depth could swap.
         let diff: Vec<u8> = near
