@@ -14,8 +14,10 @@
 @group(2) @binding(2) var<storage, read_write> args: array<atomic<u32>, 20>;
 // Each blade's level last frame plus one (0: not drawn yet), for the hysteresis.
 @group(2) @binding(3) var<storage, read_write> lods: array<u32>;
-// Tips and shades (tests only: the `tips_main` entry point).
-@group(2) @binding(4) var<storage, read_write> tips: array<vec4<f32>>;
+// The blades' slots by x (`grass::order_by_x`), walked when the camera looks along x.
+@group(2) @binding(4) var<storage, read> order: array<u32>;
+// Tips and shades (tests only: the `tips_main` entry point, with a group 2 of its own).
+@group(2) @binding(5) var<storage, read_write> tips: array<vec4<f32>>;
 
 var<workgroup> counts: array<atomic<u32>, 6>;
 var<workgroup> bases: array<u32, 3>;
@@ -81,9 +83,13 @@ fn main(
     @builtin(local_invocation_index) lid: u32,
 ) {
     let n = blade_index(wid, nwg, lid);
-    // Walked from the last when that order runs from the camera: the lists fill in about
-    // the order the workgroups run, so they then hold the nearest blades first.
-    let k = select(n, S.blades - 1u - n, (C.flags & 16u) != 0u && n < S.blades);
+    // Walked as `grass::Walk::slot` says: the lists fill in about the order the workgroups
+    // run, so they hold the nearest blades first when that order meets the camera.
+    var k = n;
+    if (n < S.blades) {
+        let m = select(n, S.blades - 1u - n, (C.flags & 16u) != 0u);
+        k = select(m, order[m], (C.flags & 32u) != 0u);
+    }
     if (lid < 6u) {
         atomicStore(&counts[lid], 0u);
     }

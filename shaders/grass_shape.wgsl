@@ -27,8 +27,8 @@ fn curve_shade(k: u32, b: Blade, y: f32) -> f32 {
 
 // The culling and LOD settings (`gpu::grass::CullUniform`, from `grass::cull::CullParams`).
 struct Cull {
-    // Bits: 1 orientation, 2 frustum, 4 distance, 8 LOD; 16 the blades walked from the last
-    // (`grass::stored_far_to_near`: the visible lists nearest first).
+    // Bits: 1 orientation, 2 frustum, 4 distance, 8 LOD; 16 the blades walked from the last,
+    // 32 walked by x (`grass::Walk`: the visible lists nearest first).
     flags: u32,
     buckets: u32,
     // Entries per LOD level in the visible list.

@@ -5,6 +5,7 @@
 //! [`CullPass::poll_stats`] the editor's counters use).
 
 use crate::gpu::{GpuError, buffer_entry as entry};
+use crate::grass::Walk;
 use crate::grass::cull::{CullParams, LOD_SEGMENTS};
 use std::sync::Arc;
 use std::sync::atomic::{AtomicU8, Ordering};
@@ -29,15 +30,16 @@ pub struct CullUniform {
 }
 
 impl CullUniform {
-    /// `reverse`: walk the blades from the last, so each level's list holds them in the
-    /// opposite order ([`crate::grass::stored_far_to_near`]).
-    pub fn new(p: &CullParams, capacity: u32, reverse: bool) -> Self {
+    /// `walk`: the order the blades are walked in, which each level's list keeps about
+    /// ([`crate::grass::Walk`]).
+    pub fn new(p: &CullParams, capacity: u32, walk: Walk) -> Self {
         Self {
             flags: u32::from(p.orientation)
                 | u32::from(p.frustum) << 1
                 | u32::from(p.distance) << 2
                 | u32::from(p.lod) << 3
-                | u32::from(reverse) << 4,
+                | u32::from(walk.reverse) << 4
+                | u32::from(walk.by_x) << 5,
             buckets: p.buckets.max(1),
             capacity,
             _pad0: 0,
@@ -125,8 +127,10 @@ pub struct CullPass {
     /// Draw arguments per level, then the counters (`args` in the shader).
     args: wgpu::Buffer,
     pub(super) lods: wgpu::Buffer,
-    pub(super) tips: wgpu::Buffer,
+    /// The blades' slots by x ([`crate::grass::order_by_x`]), for walks along x.
+    order: wgpu::Buffer,
     group: wgpu::BindGroup,
+    tips_layout: wgpu::BindGroupLayout,
     pub(super) level_groups: [wgpu::BindGroup; 3],
     pub(super) level_layout: wgpu::BindGroupLayout,
     main: wgpu::ComputePipeline,
@@ -140,14 +144,14 @@ pub struct CullPass {
 }
 
 impl CullPass {
-    /// For `blades` blades; `layout0`/`layout_shape`: the renderer's groups 0 and 1;
-    /// `module`: `grass_cull` compiled.
+    /// For `blades` blades, the first `by_x.len()` of them walked along x in that order
+    /// ([`crate::grass::order_by_x`]); `layout0`/`layout_shape`: the renderer's groups 0 and
+    /// 1; `module`: `grass_cull` compiled.
     pub fn new(
         device: &wgpu::Device,
-        layout0: &wgpu::BindGroupLayout,
-        layout_shape: &wgpu::BindGroupLayout,
+        (layout0, layout_shape): (&wgpu::BindGroupLayout, &wgpu::BindGroupLayout),
         module: &wgpu::ShaderModule,
-        blades: u32,
+        (blades, by_x): (u32, &[u32]),
         params: CullParams,
     ) -> Self {
         use wgpu::ShaderStages as S;
@@ -182,7 +186,22 @@ impl CullPass {
             usage: storage | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let tips = buffer("grass tips", u64::from(capacity) * 16, storage);
+        let order = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass order by x"),
+            size: u64::from(capacity) * 4,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: true,
+        });
+        {
+            let bytes: &[u8] = bytemuck::cast_slice(&by_x[..by_x.len().min(capacity as usize)]);
+            // Mapped at creation: the range is there.
+            if !bytes.is_empty()
+                && let Ok(mut view) = order.slice(..bytes.len() as u64).get_mapped_range_mut()
+            {
+                view.copy_from_slice(bytes);
+            }
+        }
+        order.unmap();
         let readback = buffer(
             "grass cull stats",
             64,
@@ -195,8 +214,13 @@ impl CullPass {
                 entry(1, S::COMPUTE, ro),
                 entry(2, S::COMPUTE, rw),
                 entry(3, S::COMPUTE, rw),
-                entry(4, S::COMPUTE, rw),
+                entry(4, S::COMPUTE, ro),
             ],
+        });
+        // The tips (tests only) have a group of their own, made when they are read.
+        let tips_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("grass tips"),
+            entries: &[entry(5, S::COMPUTE, rw)],
         });
         let level_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("grass level"),
@@ -213,7 +237,7 @@ impl CullPass {
             device,
             "grass cull",
             &layout,
-            &[&visible, &uniform, &args, &lods, &tips],
+            &[&visible, &uniform, &args, &lods, &order],
         );
         let level_groups = [0u32, 1, 2].map(|l| {
             let level = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -248,15 +272,15 @@ impl CullPass {
                 ],
             })
         });
-        let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("grass cull"),
-            bind_group_layouts: &[Some(layout0), Some(layout_shape), Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = |entry_point: &str| {
+        let pipeline = |entry_point: &str, group2: &wgpu::BindGroupLayout| {
+            let layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+                label: Some(entry_point),
+                bind_group_layouts: &[Some(layout0), Some(layout_shape), Some(group2)],
+                immediate_size: 0,
+            });
             device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                 label: Some(entry_point),
-                layout: Some(&pipeline_layout),
+                layout: Some(&layout),
                 module,
                 entry_point: Some(entry_point),
                 compilation_options: Default::default(),
@@ -270,12 +294,13 @@ impl CullPass {
             visible,
             args,
             lods,
-            tips,
+            order,
             group,
             level_groups,
             level_layout,
-            main: pipeline("main"),
-            tips_pipeline: pipeline("tips_main"),
+            main: pipeline("main", &layout),
+            tips_pipeline: pipeline("tips_main", &tips_layout),
+            tips_layout,
             readback,
             readback_state: Arc::new(AtomicU8::new(IDLE)),
             last: None,
@@ -290,16 +315,24 @@ impl CullPass {
         enc.clear_buffer(&self.lods, 0, None);
     }
 
+    /// Replaces the order by x of the first `by_x.len()` blades (after they change).
+    pub fn set_order(&self, queue: &wgpu::Queue, by_x: &[u32]) {
+        let n = by_x.len().min(self.capacity as usize);
+        if n > 0 {
+            queue.write_buffer(&self.order, 0, bytemuck::cast_slice(&by_x[..n]));
+        }
+    }
+
     /// Records the pass over `blades` blades (groups 0 and 1 bound by the caller's values),
-    /// walking them from the last when `reverse` (nearest first: the depth test then spares
-    /// the hidden blades' shading, where far-to-near shades every one).
+    /// walking them as `walk` says (nearest first: the depth test then spares the hidden
+    /// blades' shading, where far-to-near shades every one).
     pub fn record(
         &mut self,
         queue: &wgpu::Queue,
         enc: &mut wgpu::CommandEncoder,
         group0: &wgpu::BindGroup,
         shape: &wgpu::BindGroup,
-        (blades, reverse): (u32, bool),
+        (blades, walk): (u32, Walk),
     ) {
         let mut words = [0u32; ARGS_WORDS];
         for (l, s) in LOD_SEGMENTS.iter().enumerate() {
@@ -311,7 +344,7 @@ impl CullPass {
         queue.write_buffer(
             &self.uniform,
             0,
-            bytemuck::bytes_of(&CullUniform::new(&self.params, self.capacity, reverse)),
+            bytemuck::bytes_of(&CullUniform::new(&self.params, self.capacity, walk)),
         );
         {
             let mut pass = enc.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -331,20 +364,37 @@ impl CullPass {
         }
     }
 
-    /// Records the tips pass (tests) over `blades` blades.
+    /// Records the tips pass (tests) over `blades` blades into a new buffer of 16 bytes a
+    /// blade, returned.
     pub(super) fn record_tips(
         &self,
+        device: &wgpu::Device,
         enc: &mut wgpu::CommandEncoder,
-        group0: &wgpu::BindGroup,
-        shape: &wgpu::BindGroup,
+        (group0, shape): (&wgpu::BindGroup, &wgpu::BindGroup),
         blades: u32,
-    ) {
+    ) -> wgpu::Buffer {
+        let tips = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("grass tips"),
+            size: u64::from(blades.max(1)) * 16,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        let group = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("grass tips"),
+            layout: &self.tips_layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 5,
+                resource: tips.as_entire_binding(),
+            }],
+        });
         let mut pass = enc.begin_compute_pass(&Default::default());
         pass.set_pipeline(&self.tips_pipeline);
         pass.set_bind_group(0, group0, &[]);
         pass.set_bind_group(1, shape, &[]);
-        pass.set_bind_group(2, &self.group, &[]);
+        pass.set_bind_group(2, &group, &[]);
         super::dispatch_blades(&mut pass, blades);
+        drop(pass);
+        tips
     }
 
     /// Draws the blades of every level from the visible lists (group 2 is the level's): the

@@ -532,10 +532,9 @@ impl GrassRenderer {
             buffers_group(device, "grass shape", &layout_shape, &[&poses, &no_states]);
         let cull = CullPass::new(
             device,
-            &layout0,
-            &layout_shape,
+            (&layout0, &layout_shape),
             &module("grass_cull"),
-            blades.len() as u32,
+            (blades.len() as u32, &crate::grass::order_by_x(blades)),
             CullParams::for_grass(g),
         );
         let far = FarPass::new(
@@ -711,6 +710,8 @@ impl GrassRenderer {
             return;
         }
         queue.write_buffer(&self.blades, 0, bytemuck::cast_slice(&blades[..n]));
+        self.cull
+            .set_order(queue, &crate::grass::order_by_x(&blades[..n]));
         self.cull.reset_levels(encoder);
     }
 
@@ -1015,14 +1016,17 @@ impl GrassRenderer {
             .record(queue, encoder, &self.group0, &self.cull.params);
         // The visible lists nearest first, so the depth test culls hidden fragments before
         // they are shaded.
-        let reverse = self.near_first
-            && crate::grass::stored_far_to_near((camera.target - camera.eye).to_array());
+        let walk = if self.near_first {
+            crate::grass::Walk::toward((camera.target - camera.eye).to_array())
+        } else {
+            crate::grass::Walk::STORED
+        };
         self.cull.record(
             queue,
             encoder,
             &self.group0,
             &self.group_shape,
-            (blades, reverse),
+            (blades, walk),
         );
     }
 
@@ -1127,10 +1131,14 @@ impl GrassRenderer {
         queue: &wgpu::Queue,
     ) -> Result<Vec<[f32; 4]>, GpuError> {
         let mut enc = device.create_command_encoder(&Default::default());
-        self.cull
-            .record_tips(&mut enc, &self.group0, &self.group_shape, self.scene.blades);
+        let tips = self.cull.record_tips(
+            device,
+            &mut enc,
+            (&self.group0, &self.group_shape),
+            self.scene.blades,
+        );
         queue.submit([enc.finish()]);
-        let bytes = super::read_buffer(device, queue, &self.cull.tips)?;
+        let bytes = super::read_buffer(device, queue, &tips)?;
         Ok(bytemuck::cast_slice::<u8, [f32; 4]>(&bytes)[..self.scene.blades as usize].to_vec())
     }
 }
