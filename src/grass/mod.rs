@@ -118,7 +118,7 @@ pub fn strata_within(layout: &Layout, cap: usize) -> (usize, usize, f32) {
 /// +z and far to near toward −z (walked from the last). Looking mostly along x, a ray runs
 /// along the rows and crosses them too: there the blades are walked by x
 /// ([`order_by_x`]), from the last toward −x.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Walk {
     /// By x ([`order_by_x`]) rather than in the stored order.
     pub by_x: bool,

@@ -186,22 +186,12 @@ impl CullPass {
             usage: storage | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
-        let order = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("grass order by x"),
-            size: u64::from(capacity) * 4,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: true,
-        });
-        {
-            let bytes: &[u8] = bytemuck::cast_slice(&by_x[..by_x.len().min(capacity as usize)]);
-            // Mapped at creation: the range is there.
-            if !bytes.is_empty()
-                && let Ok(mut view) = order.slice(..bytes.len() as u64).get_mapped_range_mut()
-            {
-                view.copy_from_slice(bytes);
-            }
-        }
-        order.unmap();
+        // Storage buffers may not be empty.
+        let order = crate::gpu::storage(
+            device,
+            "grass order by x",
+            bytemuck::cast_slice(if by_x.is_empty() { &[0u32] } else { by_x }),
+        );
         let readback = buffer(
             "grass cull stats",
             64,
@@ -315,9 +305,10 @@ impl CullPass {
         enc.clear_buffer(&self.lods, 0, None);
     }
 
-    /// Replaces the order by x of the first `by_x.len()` blades (after they change).
+    /// Replaces the order by x of the first `by_x.len()` blades (after they change; at most
+    /// as many as it was made for).
     pub fn set_order(&self, queue: &wgpu::Queue, by_x: &[u32]) {
-        let n = by_x.len().min(self.capacity as usize);
+        let n = by_x.len().min(self.order.size() as usize / 4);
         if n > 0 {
             queue.write_buffer(&self.order, 0, bytemuck::cast_slice(&by_x[..n]));
         }
