@@ -162,7 +162,6 @@ pub(crate) fn buffer_entry(
     }
 }
 
-/// Copies `src` (a buffer with `COPY_SRC`) back to the CPU; waits for the GPU.
 /// A storage buffer holding `bytes` (readable back and rewritable).
 pub(crate) fn storage(device: &wgpu::Device, label: &str, bytes: &[u8]) -> wgpu::Buffer {
     use wgpu::util::DeviceExt;
@@ -237,6 +236,7 @@ pub fn read_texture(
         .collect())
 }
 
+/// Copies `src` (a buffer with `COPY_SRC`) back to the CPU; waits for the GPU.
 pub fn read_buffer(
     device: &wgpu::Device,
     queue: &wgpu::Queue,
