@@ -15,12 +15,11 @@ import xml.etree.ElementTree as ET
 # Seconds of test time per binary (the sum of its tests' times, as nextest reports them on
 # the project's 2-core machine), and per test.
 BUDGETS = {
-    "windloom": 30,
-    "windloom::bin/windloom": 5,
-    "windloom::doc": 30,
-    "windloom::export": 150,
-    "windloom::sim": 420,
-    "windloom::ui": 150,
+    "windloom": 20,
+    "windloom::doc": 20,
+    "windloom::export": 90,
+    "windloom::sim": 850,
+    "windloom::ui": 270,
 }
 PER_TEST = 60
 

@@ -477,15 +477,23 @@ fn stacked_arrows_combine_on_the_gpu_as_on_the_cpu() {
 /// regularised (`vorticity::CONFINEMENT_BETA`) it flipped sign across every ridge of |ω| on a
 /// last bit, and the two fields parted there step after step: 3.3e-3 of the peak on the
 /// meadow, a quarter of it on two-winds (docs/SOLVER.md, "The GPU twin").
-#[test]
-fn every_example_agrees_with_the_cpu_after_120_steps() {
-    let Some(ctx) = context() else { return };
-    let run = |l: &Layout| {
-        let (a, b) = both_after(&ctx, l, 120);
-        let (err, peak) = deviation(&a, &b);
-        (err / peak, peak)
-    };
-    for name in super::EXAMPLES {
+///
+/// One test an example (`every_example_agrees::…`), so that the two cores run them side by
+/// side (10–25 s each on lavapipe).
+mod every_example_agrees {
+    use super::*;
+
+    fn with_the_cpu_after_120_steps(name: &str) {
+        let Some(ctx) = context() else { return };
+        let run = |l: &Layout| {
+            let (a, b) = both_after(&ctx, l, 120);
+            let (err, peak) = deviation(&a, &b);
+            (err / peak, peak)
+        };
+        assert!(
+            super::super::EXAMPLES.contains(&name),
+            "{name} is an example"
+        );
         let l = example(name);
         let (with, peak) = run(&l);
         let mut off = l.clone();
@@ -501,6 +509,31 @@ fn every_example_agrees_with_the_cpu_after_120_steps() {
         );
         assert!(peak > 3.0, "{name}: the wind blows");
         assert!(with <= 1e-3, "{name}: {with} of the peak with confinement");
+    }
+
+    #[test]
+    fn meadow() {
+        with_the_cpu_after_120_steps("meadow.json");
+    }
+    #[test]
+    fn obstacles() {
+        with_the_cpu_after_120_steps("obstacles.json");
+    }
+    #[test]
+    fn two_winds() {
+        with_the_cpu_after_120_steps("two-winds.json");
+    }
+    #[test]
+    fn branching() {
+        with_the_cpu_after_120_steps("branching.json");
+    }
+    #[test]
+    fn breeze_fft() {
+        with_the_cpu_after_120_steps("breeze-fft.json");
+    }
+    #[test]
+    fn walled_garden() {
+        with_the_cpu_after_120_steps("walled-garden.json");
     }
 }
 

@@ -38,11 +38,18 @@ fn every_view_keeps_its_memory_flat() {
     views_keep_their_memory_flat("map");
 }
 
-/// [`every_view_keeps_its_memory_flat`] for the views that draw the grass in 3D (the map's
-/// are there): two tests, so that the two cores run them side by side.
+/// [`every_view_keeps_its_memory_flat`] for the CWD grass in 3D, running and paused (the
+/// views are split over three tests, so that the two cores run them side by side).
 #[test]
 fn every_3d_view_keeps_its_memory_flat() {
     views_keep_their_memory_flat("3D");
+}
+
+/// [`every_view_keeps_its_memory_flat`] for the Bezier grass on GPU wind and the map beside
+/// the 3D view.
+#[test]
+fn the_bezier_and_split_views_keep_their_memory_flat() {
+    views_keep_their_memory_flat("bezier+split");
 }
 
 /// Runs [`views_in_this_process`] in a process of its own for the cases whose names start
@@ -130,9 +137,12 @@ fn views_in_this_process() {
     let mut failures = Vec::new();
     let mut ran = 0;
     for (name, central, backend, playing, model) in cases {
-        // "map + 3D" draws the 3D view: it goes with the 3D cases.
-        let three_d = central != Central::Map;
-        if three_d != (which == "3D") {
+        let group = match (central, model) {
+            (Central::Map, _) => "map",
+            (Central::Grass, doc::GrassModel::CwdQuadratic) => "3D",
+            _ => "bezier+split",
+        };
+        if group != which {
             continue;
         }
         ran += 1;
@@ -196,7 +206,7 @@ fn views_in_this_process() {
             ));
         }
     }
-    assert!(ran >= 2, "no views named {which:?}");
+    assert!(ran >= 2, "fewer than two views in {which:?}");
     assert!(failures.is_empty(), "{}", failures.join("\n"));
 }
 
