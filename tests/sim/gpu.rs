@@ -490,10 +490,6 @@ mod every_example_agrees {
             let (err, peak) = deviation(&a, &b);
             (err / peak, peak)
         };
-        assert!(
-            super::super::EXAMPLES.contains(&name),
-            "{name} is an example"
-        );
         let l = example(name);
         let (with, peak) = run(&l);
         let mut off = l.clone();
@@ -511,30 +507,7 @@ mod every_example_agrees {
         assert!(with <= 1e-3, "{name}: {with} of the peak with confinement");
     }
 
-    #[test]
-    fn meadow() {
-        with_the_cpu_after_120_steps("meadow.json");
-    }
-    #[test]
-    fn obstacles() {
-        with_the_cpu_after_120_steps("obstacles.json");
-    }
-    #[test]
-    fn two_winds() {
-        with_the_cpu_after_120_steps("two-winds.json");
-    }
-    #[test]
-    fn branching() {
-        with_the_cpu_after_120_steps("branching.json");
-    }
-    #[test]
-    fn breeze_fft() {
-        with_the_cpu_after_120_steps("breeze-fft.json");
-    }
-    #[test]
-    fn walled_garden() {
-        with_the_cpu_after_120_steps("walled-garden.json");
-    }
+    test_each_example!(with_the_cpu_after_120_steps);
 }
 
 /// The GPU's default projection (multigrid, two V-cycles) cuts the divergence at least a

@@ -110,6 +110,28 @@ fn random_solver(boundary: Boundary, n: u32) -> Solver {
     noisy_solver(&l, (1, 2), 1.0)
 }
 
+/// One `#[test]` per bundled example, named after it, each calling `$check("file.json")`:
+/// how a check that runs every example for long is split, so that the two cores run the
+/// examples side by side (docs/ARCHITECTURE.md, "What a test may cost").
+macro_rules! test_each_example {
+    ($check:path) => {
+        test_each_example!(@ $check: meadow "meadow.json", obstacles "obstacles.json",
+            two_winds "two-winds.json", breeze_fft "breeze-fft.json",
+            branching "branching.json", walled_garden "walled-garden.json");
+    };
+    (@ $check:path: $($test:ident $file:literal),*) => {
+        // The list above and `EXAMPLES` name the same files.
+        const _: () = assert!([$($file),*].len() == $crate::EXAMPLES.len());
+        $(
+            #[test]
+            fn $test() {
+                assert!($crate::EXAMPLES.contains(&$file), "{} is not an example", $file);
+                $check($file);
+            }
+        )*
+    };
+}
+
 mod bench;
 mod bits;
 mod fluid;

@@ -163,34 +163,10 @@ mod at_the_largest_vorticity {
     use super::*;
 
     fn within_1_5x_its_wind_for_600_s(name: &str) {
-        assert!(EXAMPLES.contains(&name), "{name} is one of the examples");
         half_grid_for_600_s(name, doc::bounds::VORTICITY.max as f32);
     }
 
-    #[test]
-    fn meadow() {
-        within_1_5x_its_wind_for_600_s("meadow.json");
-    }
-    #[test]
-    fn obstacles() {
-        within_1_5x_its_wind_for_600_s("obstacles.json");
-    }
-    #[test]
-    fn two_winds() {
-        within_1_5x_its_wind_for_600_s("two-winds.json");
-    }
-    #[test]
-    fn branching() {
-        within_1_5x_its_wind_for_600_s("branching.json");
-    }
-    #[test]
-    fn breeze_fft() {
-        within_1_5x_its_wind_for_600_s("breeze-fft.json");
-    }
-    #[test]
-    fn walled_garden() {
-        within_1_5x_its_wind_for_600_s("walled-garden.json");
-    }
+    test_each_example!(within_1_5x_its_wind_for_600_s);
 }
 
 /// The soak beside [`at_the_largest_vorticity`]:

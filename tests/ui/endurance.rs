@@ -52,8 +52,8 @@ fn the_bezier_and_split_views_keep_their_memory_flat() {
     views_keep_their_memory_flat("bezier+split");
 }
 
-/// Runs [`views_in_this_process`] in a process of its own for the cases whose names start
-/// with `which`.
+/// Runs [`views_in_this_process`] in a process of its own for the views of group `which`
+/// ("map", "3D" or "bezier+split").
 fn views_keep_their_memory_flat(which: &str) {
     if !gpu_available() || resident_bytes().is_none() {
         return;
