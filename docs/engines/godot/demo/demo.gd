@@ -5,7 +5,10 @@ extends Node3D
 ## on the latest bake in res://wind (re-bake with `windloom bake … --watch` and watch it change).
 
 const BAKE := "res://wind"
-const BLADES := 40000
+## Grass blades scattered over the level (fewer on a slow renderer).
+@export var blades := 40000
+## Particles carried by the wind volume.
+@export var particles_amount := 4000
 
 
 func _ready() -> void:
@@ -23,10 +26,10 @@ func _ready() -> void:
 	var multimesh := MultiMesh.new()
 	multimesh.transform_format = MultiMesh.TRANSFORM_3D
 	multimesh.mesh = blade
-	multimesh.instance_count = BLADES
+	multimesh.instance_count = blades
 	var rng := RandomNumberGenerator.new()
 	rng.seed = 7
-	for i in BLADES:
+	for i in blades:
 		var basis := Basis(Vector3.UP, rng.randf() * TAU).scaled(Vector3.ONE * rng.randf_range(0.6, 1.0))
 		var at := Vector3(rng.randf_range(lo.x, hi.x), 0.0, rng.randf_range(lo.y, hi.y))
 		multimesh.set_instance_transform(i, Transform3D(basis, at))
@@ -43,7 +46,7 @@ func _ready() -> void:
 		var size: Array = m["engines"]["godot"]["volume"]["volume_size"]
 		process.set_shader_parameter("emission_box", Vector3(size[0], 2.0, size[2]))
 		var particles := GPUParticles3D.new()
-		particles.amount = 4000
+		particles.amount = particles_amount
 		particles.lifetime = 8.0
 		particles.process_material = process
 		var dot := SphereMesh.new()

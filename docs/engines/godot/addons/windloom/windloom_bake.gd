@@ -2,12 +2,24 @@
 class_name WindloomBake
 extends RefCounted
 ## Reads a windloom bake folder by its manifest.json (docs/EXPORT.md): the import settings
-## of its textures, the textures themselves straight from disk, and the uniforms of
-## windloom_grass.gdshader and windloom_particles.gdshader.
+## of its textures, the textures, and the uniforms of windloom_wind.gdshaderinc and
+## windloom_volume.gdshaderinc (used by the grass and particle shaders).
+##
+## Where the textures come from depends on where the game runs (`reads_imported`):
+## - an exported game, `res://` folder: the resources the editor imported (`.import` +
+##   `.ctex`); an export carries those, not the source files. Any platform, the web too.
+## - the editor, or a `user://` or absolute folder: the files themselves, read from disk
+##   without the import cache, so a re-bake shows at once. On the web Godot cannot read EXR
+##   at run time (its TinyEXR is built with threads, the web build has none, and the engine
+##   aborts), so there the bake is read from its raw floats, its DDS volume or its PNGs,
+##   whichever the manifest lists.
+## The loaders return the texture, or a String saying what failed.
 
 
 ## The bake's manifest, or an empty Dictionary where the folder holds no windloom bake.
 static func read_manifest(dir: String) -> Dictionary:
+	if not FileAccess.file_exists(dir.path_join("manifest.json")):
+		return {}
 	var text := FileAccess.get_file_as_string(dir.path_join("manifest.json"))
 	if text.is_empty():
 		return {}
@@ -15,6 +27,19 @@ static func read_manifest(dir: String) -> Dictionary:
 	if typeof(m) != TYPE_DICTIONARY or m.get("format", "") != "windloom-bake":
 		return {}
 	return m
+
+
+## Whether textures in `dir` are loaded as the editor imported them (an exported game's
+## `res://`), not read from their files.
+static func reads_imported(dir: String) -> bool:
+	return dir.begins_with("res://") and not OS.has_feature("editor")
+
+
+## Whether this runtime can read the file `name` in `dir`.
+static func can_read(dir: String, name: String) -> bool:
+	if reads_imported(dir):
+		return true
+	return not (name.get_extension().to_lower() == "exr" and OS.has_feature("web"))
 
 
 ## Writes each texture's `.import` file with the manifest's `engines.godot` settings
@@ -42,53 +67,242 @@ static func _write_import(path: String, importer: String, type: String, params: 
 	return path
 
 
-## A baked image as a texture, read from disk without the import cache (an EXR keeps its
-## floats; a PNG loads at 8 bits a channel), so a new bake shows at once.
-static func load_texture(dir: String, name: String) -> ImageTexture:
-	var image := Image.load_from_file(ProjectSettings.globalize_path(dir.path_join(name)))
-	if image == null:
-		return null
+## The manifest's entry for file `name`, or an empty Dictionary.
+static func file_entry(m: Dictionary, name: String) -> Dictionary:
+	for f in m.get("files", []):
+		if f.get("name", "") == name:
+			return f
+	return {}
+
+
+## The names of the manifest's files of `format`, in frame order.
+static func files_of(m: Dictionary, format: String) -> Array:
+	var names := []
+	for f in m.get("files", []):
+		if f.get("format", "") == format:
+			names.append(f["name"])
+	return names
+
+
+## A baked image as a texture: the imported resource, or the file read from disk (an EXR
+## keeps its floats; a PNG loads at 8 bits a channel).
+static func load_texture(dir: String, name: String) -> Variant:
+	var path := dir.path_join(name)
+	if reads_imported(dir):
+		var texture = ResourceLoader.load(path, "Texture2D")
+		if texture == null:
+			return "%s is not an imported texture (import the bake in the editor before exporting)" % path
+		return texture
+	if not can_read(dir, name):
+		return "%s: EXR cannot be read at run time on the web" % path
+	if not FileAccess.file_exists(path):
+		return "%s is missing" % path
+	var image := Image.load_from_file(ProjectSettings.globalize_path(path))
+	if image == null or image.is_empty():
+		return "%s could not be read as an image" % path
 	return ImageTexture.create_from_image(image)
 
 
-## The volume's EXR slices as a Texture3D: `layers` slices stacked down the image.
-static func load_volume(dir: String, name: String, layers: int) -> ImageTexture3D:
-	var image := Image.load_from_file(ProjectSettings.globalize_path(dir.path_join(name)))
-	if image == null or layers < 1:
-		return null
-	var height := image.get_height() / layers
-	var slices: Array[Image] = []
-	for k in layers:
-		slices.append(image.get_region(Rect2i(0, k * height, image.get_width(), height)))
-	var texture := ImageTexture3D.new()
-	texture.create(image.get_format(), image.get_width(), height, layers, false, slices)
-	return texture
+## Frames `first` … `first + count - 1` of the raw bake `name` (little-endian f32 pairs,
+## [frame][row][column][x, z]) as RG float images.
+static func load_raw_frames(dir: String, name: String, m: Dictionary, first: int, count: int) -> Variant:
+	var path := dir.path_join(name)
+	var nx := int(m["grid"][0])
+	var ny := int(m["grid"][1])
+	var bytes := nx * ny * 8
+	var file := FileAccess.open(path, FileAccess.READ)
+	if file == null:
+		return "%s could not be opened (%s)" % [path, error_string(FileAccess.get_open_error())]
+	if file.get_length() < (first + count) * bytes:
+		return "%s holds %d bytes, short of %d frames of %d × %d" % [path, file.get_length(), first + count, nx, ny]
+	file.seek(first * bytes)
+	var frames: Array[Image] = []
+	for k in count:
+		frames.append(Image.create_from_data(nx, ny, false, Image.FORMAT_RGF, file.get_buffer(bytes)))
+	return frames
 
 
-## Sets windloom_grass.gdshader's uniforms on `material` from the manifest.
-static func apply_grass(material: ShaderMaterial, dir: String, m: Dictionary) -> void:
+## The steady field for `wind_tex`: the first EXR where it can be read, else the raw
+## floats' first frame, else the first PNG flowmap. Returns [texture, scale, offset]
+## (value = stored × scale + offset) or a String.
+static func load_steady(dir: String, m: Dictionary) -> Variant:
+	var p: Dictionary = m["engines"]["godot"]["shader_parameters"]
+	var errors := PackedStringArray()
+	if p.has("wind_tex") and can_read(dir, p["wind_tex"]):
+		var t = load_texture(dir, p["wind_tex"])
+		if t is Texture2D:
+			return [t, Vector2.ONE, Vector2.ZERO]
+		errors.append(t)
+	var raw := files_of(m, "raw")
+	if not raw.is_empty() and not reads_imported(dir):
+		var frames = load_raw_frames(dir, raw[0], m, 0, 1)
+		if frames is Array:
+			return [ImageTexture.create_from_image(frames[0]), Vector2.ONE, Vector2.ZERO]
+		errors.append(frames)
+	for format in ["png16", "png8"]:
+		var pngs := files_of(m, format)
+		if pngs.is_empty():
+			continue
+		var t = load_texture(dir, pngs[0])
+		if t is Texture2D:
+			var c: Array = file_entry(m, pngs[0])["encoding"]["channels"]
+			return [t, Vector2(c[0]["scale"], c[1]["scale"]), Vector2(c[0]["offset"], c[1]["offset"])]
+		errors.append(t)
+	if errors.is_empty():
+		return "the bake has no 2D wind texture this runtime can read (bake --format raw or png16)"
+	return "; ".join(errors)
+
+
+## The animated field for `wind_atlas`: atlas.exr where it can be read, else an atlas of the
+## raw floats' frames, else atlas.png. Returns [texture, is_float] or a String.
+static func load_atlas(dir: String, m: Dictionary) -> Variant:
+	var p: Dictionary = m["engines"]["godot"]["shader_parameters"]
+	var errors := PackedStringArray()
+	var exr := files_of(m, "atlas-exr")
+	if not exr.is_empty() and can_read(dir, exr[0]):
+		var t = load_texture(dir, exr[0])
+		if t is Texture2D:
+			return [t, true]
+		errors.append(t)
+	var raw := files_of(m, "raw")
+	if not raw.is_empty() and not reads_imported(dir):
+		var count := int(p["atlas_frames"])
+		var frames = load_raw_frames(dir, raw[0], m, 0, count)
+		if frames is Array:
+			var nx := int(m["grid"][0])
+			var ny := int(m["grid"][1])
+			var columns := int(p["atlas_grid"][0])
+			var rows := int(p["atlas_grid"][1])
+			var atlas := Image.create_empty(columns * nx, rows * ny, false, Image.FORMAT_RGF)
+			for k in count:
+				atlas.blit_rect(frames[k], Rect2i(0, 0, nx, ny), Vector2i((k % columns) * nx, (k / columns) * ny))
+			return [ImageTexture.create_from_image(atlas), true]
+		errors.append(frames)
+	var png := files_of(m, "atlas")
+	if not png.is_empty():
+		var t = load_texture(dir, png[0])
+		if t is Texture2D:
+			return [t, false]
+		errors.append(t)
+	return "; ".join(errors)
+
+
+## Sets windloom_wind.gdshaderinc's uniforms (the grass shader's) on `material` from the
+## manifest. Returns "" or what failed; on failure `material` may be half set.
+static func apply_grass(material: ShaderMaterial, dir: String, m: Dictionary) -> String:
 	var p: Dictionary = m["engines"]["godot"]["shader_parameters"]
 	material.set_shader_parameter("bounds_min", Vector2(p["bounds_min"][0], p["bounds_min"][1]))
 	material.set_shader_parameter("bounds_max", Vector2(p["bounds_max"][0], p["bounds_max"][1]))
-	if p.has("wind_tex"):
-		material.set_shader_parameter("wind_tex", load_texture(dir, p["wind_tex"]))
-	material.set_shader_parameter("use_atlas", p["use_atlas"])
 	if p["use_atlas"]:
-		material.set_shader_parameter("wind_atlas", load_texture(dir, p["wind_atlas"]))
+		var atlas = load_atlas(dir, m)
+		if atlas is String:
+			return atlas
+		var is_float: bool = atlas[1]
+		var png := files_of(m, "atlas")
+		var scale := float(p["atlas_scale"])
+		if not is_float and p["atlas_is_float"] and not png.is_empty():
+			scale = -float(file_entry(m, png[0])["encoding"]["channels"][0]["offset"])
+		material.set_shader_parameter("use_atlas", true)
+		material.set_shader_parameter("wind_atlas", atlas[0])
+		material.set_shader_parameter("atlas_is_float", is_float)
 		material.set_shader_parameter("atlas_grid", Vector2i(p["atlas_grid"][0], p["atlas_grid"][1]))
 		material.set_shader_parameter("atlas_frames", int(p["atlas_frames"]))
 		material.set_shader_parameter("atlas_fps", float(p["atlas_fps"]))
-		material.set_shader_parameter("atlas_scale", float(p["atlas_scale"]))
-		material.set_shader_parameter("atlas_is_float", p["atlas_is_float"])
+		material.set_shader_parameter("atlas_scale", scale if not is_float else 1.0)
+		material.set_shader_parameter("wind_tex", null)
+		return ""
+	var steady = load_steady(dir, m)
+	if steady is String:
+		return steady
+	material.set_shader_parameter("use_atlas", false)
+	material.set_shader_parameter("wind_atlas", null)
+	material.set_shader_parameter("wind_tex", steady[0])
+	material.set_shader_parameter("wind_tex_scale", steady[1])
+	material.set_shader_parameter("wind_tex_offset", steady[2])
+	return ""
 
 
-## Sets windloom_particles.gdshader's uniforms on `material` from the manifest's volume.
-static func apply_particles(material: ShaderMaterial, dir: String, m: Dictionary) -> void:
+## One volume frame: the imported Texture3D, the EXR slices read from disk, or (where EXR
+## cannot be read) the DDS volume of the same frame. Returns a Texture3D or a String.
+static func load_volume(dir: String, m: Dictionary, frame: int) -> Variant:
+	var v: Dictionary = m["engines"]["godot"]["volume"]
+	var name: String = v["files"][frame]
+	var path := dir.path_join(name)
+	if reads_imported(dir):
+		var texture = ResourceLoader.load(path, "Texture3D")
+		if texture == null:
+			return "%s is not an imported Texture3D (import the bake in the editor before exporting)" % path
+		return texture
+	var layers := int(v["import"]["slices/vertical"])
+	if can_read(dir, name):
+		if not FileAccess.file_exists(path):
+			return "%s is missing" % path
+		var image := Image.load_from_file(ProjectSettings.globalize_path(path))
+		if image == null or image.is_empty() or layers < 1:
+			return "%s could not be read as an image" % path
+		var height := image.get_height() / layers
+		var slices: Array[Image] = []
+		for k in layers:
+			slices.append(image.get_region(Rect2i(0, k * height, image.get_width(), height)))
+		return _texture_3d(slices)
+	var dds := name.get_basename() + ".dds"
+	if file_entry(m, dds).is_empty():
+		return "%s: EXR cannot be read at run time on the web, and the bake has no %s" % [path, dds]
+	return load_dds_volume(dir.path_join(dds))
+
+
+## A DDS volume as windloom writes it (DX10 header, DXGI format 2 = RGBA f32 or 10 = RGBA
+## f16, texels row by row, rows slice by slice) as a Texture3D, or a String.
+static func load_dds_volume(path: String) -> Variant:
+	var file := FileAccess.open(path, FileAccess.READ)
+	if file == null:
+		return "%s could not be opened (%s)" % [path, error_string(FileAccess.get_open_error())]
+	var header := file.get_buffer(148)
+	if header.size() < 148 or header.slice(0, 4).get_string_from_ascii() != "DDS " or header.slice(84, 88).get_string_from_ascii() != "DX10":
+		return "%s is not a DDS file with a DX10 header" % path
+	var height := header.decode_u32(12)
+	var width := header.decode_u32(16)
+	var depth := header.decode_u32(24)
+	var dxgi := header.decode_u32(128)
+	var format := Image.FORMAT_RGBAF if dxgi == 2 else Image.FORMAT_RGBAH if dxgi == 10 else -1
+	if format < 0:
+		return "%s: DXGI format %d, not 2 or 10" % [path, dxgi]
+	var bytes := width * height * (16 if dxgi == 2 else 8)
+	if file.get_length() < 148 + depth * bytes:
+		return "%s is shorter than its %d × %d × %d texels" % [path, width, height, depth]
+	var slices: Array[Image] = []
+	for k in depth:
+		slices.append(Image.create_from_data(width, height, false, format, file.get_buffer(bytes)))
+	return _texture_3d(slices)
+
+
+static func _texture_3d(slices: Array[Image]) -> ImageTexture3D:
+	var texture := ImageTexture3D.new()
+	texture.create(slices[0].get_format(), slices[0].get_width(), slices[0].get_height(), slices.size(), false, slices)
+	return texture
+
+
+## Every volume frame of the bake, in order, or a String. A bake without a volume gives [].
+static func load_volumes(dir: String, m: Dictionary) -> Variant:
+	var volumes: Array[Texture3D] = []
+	var v: Dictionary = m["engines"]["godot"].get("volume", {})
+	for k in v.get("files", []).size():
+		var t = load_volume(dir, m, k)
+		if t is String:
+			return t
+		volumes.append(t)
+	return volumes
+
+
+## Sets windloom_volume.gdshaderinc's uniforms (the particle shader's) on `material`:
+## its box, and frame 0 of `volumes`.
+static func apply_particles(material: ShaderMaterial, m: Dictionary, volumes: Array[Texture3D]) -> void:
 	var v: Dictionary = m["engines"]["godot"].get("volume", {})
 	if v.is_empty():
 		push_warning("windloom: this bake has no volume; bake --format dds")
 		return
-	var layers := int(v["import"]["slices/vertical"])
-	material.set_shader_parameter("wind_volume", load_volume(dir, v["files"][0], layers))
+	material.set_shader_parameter("wind_volume", volumes[0])
+	material.set_shader_parameter("wind_volume_next", volumes[0])
+	material.set_shader_parameter("volume_blend", 0.0)
 	material.set_shader_parameter("volume_min", Vector3(v["volume_min"][0], v["volume_min"][1], v["volume_min"][2]))
 	material.set_shader_parameter("volume_size", Vector3(v["volume_size"][0], v["volume_size"][1], v["volume_size"][2]))

@@ -5,21 +5,33 @@ extends Node
 ## manifest's `sequence` and, when it changed (a re-bake by `windloom bake --watch` or the
 ## editor's Live export), loads the textures and sets the materials' uniforms. It reads the
 ## manifest, then the files, then the manifest again, and keeps what it read only when the
-## sequence held, so it never shows half of one bake and half of another. Works in the
-## editor and in a running game.
+## sequence held, so it never shows half of one bake and half of another. A bake whose
+## files fail to load is reported (`bake_failed`, `last_error`) and the last good bake stays
+## on show. An animated volume plays frame by frame, blended, at the bake's fps.
+## Works in the editor, in an exported game and on the web (see WindloomBake).
 
 @export_dir var bake_dir := "res://wind"
-## Materials using windloom_grass.gdshader.
+## Materials using windloom_grass.gdshader (or windloom_wind.gdshaderinc).
 @export var grass_materials: Array[ShaderMaterial] = []
-## Process materials using windloom_particles.gdshader.
+## Process materials using windloom_particles.gdshader (or windloom_volume.gdshaderinc).
 @export var particle_materials: Array[ShaderMaterial] = []
 @export var poll_seconds := 0.5
 
 ## The sequence of the bake on show (-1: none yet).
 var sequence := -1
+## What failed in the last bake that could not be loaded ("" when the last load worked).
+var last_error := ""
+## The volume frames on show and their playback.
+var volumes: Array[Texture3D] = []
+var volume_fps := 24.0
+var volume_loops := true
+## Seconds of volume playback.
+var clock := 0.0
 var _waited := 0.0
+var _failed_sequence := -1
 
 signal bake_loaded(sequence: int)
+signal bake_failed(sequence: int, message: String)
 
 
 func _ready() -> void:
@@ -27,6 +39,8 @@ func _ready() -> void:
 
 
 func _process(delta: float) -> void:
+	clock += delta
+	_play_volume()
 	_waited += delta
 	if _waited < poll_seconds:
 		return
@@ -37,26 +51,65 @@ func _process(delta: float) -> void:
 ## Loads the bake when its sequence changed; whether it did.
 func reload_if_changed() -> bool:
 	var m := WindloomBake.read_manifest(bake_dir)
-	if m.is_empty() or int(m.get("sequence", 0)) == sequence:
+	if m.is_empty():
 		return false
+	var seq := int(m.get("sequence", 0))
+	if seq == sequence or seq == _failed_sequence:
+		return false
+	var error := ""
 	var grass: Array[ShaderMaterial] = []
 	for material in grass_materials:
 		var copy := material.duplicate() as ShaderMaterial
-		WindloomBake.apply_grass(copy, bake_dir, m)
+		error = WindloomBake.apply_grass(copy, bake_dir, m)
+		if not error.is_empty():
+			break
 		grass.append(copy)
-	var particles: Array[ShaderMaterial] = []
-	for material in particle_materials:
-		var copy := material.duplicate() as ShaderMaterial
-		WindloomBake.apply_particles(copy, bake_dir, m)
-		particles.append(copy)
+	var new_volumes: Array[Texture3D] = []
+	if error.is_empty() and not particle_materials.is_empty():
+		var loaded = WindloomBake.load_volumes(bake_dir, m)
+		if loaded is String:
+			error = loaded
+		else:
+			new_volumes = loaded
 	var again := WindloomBake.read_manifest(bake_dir)
-	if again.get("sequence", -1) != m.get("sequence", -2):
+	if int(again.get("sequence", -1)) != seq:
 		return false  # a bake landed while reading: try again at the next poll
+	if not error.is_empty():
+		_failed_sequence = seq
+		last_error = error
+		var kept := "keeping bake %d" % sequence if sequence >= 0 else "no bake on show"
+		push_error("windloom: bake %d in %s could not be loaded: %s; %s" % [seq, bake_dir, error, kept])
+		bake_failed.emit(seq, error)
+		return false
 	_copy_uniforms(grass, grass_materials)
-	_copy_uniforms(particles, particle_materials)
-	sequence = int(m["sequence"])
+	volumes = new_volumes
+	if not volumes.is_empty():
+		for material in particle_materials:
+			WindloomBake.apply_particles(material, m, volumes)
+		volume_fps = float(m["frames"]["fps"])
+		volume_loops = bool(m["frames"].get("loop", true))
+		_play_volume()
+	sequence = seq
+	last_error = ""
 	bake_loaded.emit(sequence)
 	return true
+
+
+## The volume frame pair and blend at `clock`: frame k = floor(clock · fps), looping or
+## holding the last frame as the bake says.
+func _play_volume() -> void:
+	if volumes.size() < 2:
+		return
+	var n := volumes.size()
+	var t := clock * volume_fps
+	var k := int(floor(t))
+	var blend := t - k
+	var a := posmod(k, n) if volume_loops else mini(k, n - 1)
+	var b := posmod(k + 1, n) if volume_loops else mini(k + 1, n - 1)
+	for material in particle_materials:
+		material.set_shader_parameter("wind_volume", volumes[a])
+		material.set_shader_parameter("wind_volume_next", volumes[b])
+		material.set_shader_parameter("volume_blend", blend)
 
 
 func _copy_uniforms(from: Array[ShaderMaterial], to: Array[ShaderMaterial]) -> void:

@@ -1,0 +1,212 @@
+extends Node
+## The windloom add-on in a real Godot runtime (tests/godot/run.py builds the .pck and reads
+## what this prints). Every line for the harness starts with "WL ":
+##   WL READ <tag> <width> <height> <base64 RGBA8>   wind read back from the GPU
+##   WL INFO <text>    WL FAIL <text>    WL DONE
+## The harness compares each READ with the bake's own files; this script only drives the
+## add-on as a game would: the exported-style bake in res://wind (imported resources only),
+## the demo scene over it, then bakes copied into user://wind as files (re-bake, broken bake).
+
+const READBACK := preload("res://check/readback.gdshader")
+
+var viewport: SubViewport
+var rect: ColorRect
+var material: ShaderMaterial
+
+
+func _ready() -> void:
+	viewport = SubViewport.new()
+	viewport.transparent_bg = true
+	viewport.render_target_update_mode = SubViewport.UPDATE_ALWAYS
+	add_child(viewport)
+	rect = ColorRect.new()
+	viewport.add_child(rect)
+	material = ShaderMaterial.new()
+	material.shader = READBACK
+	rect.material = material
+	await _run()
+	print("WL DONE")
+	get_tree().quit(0)
+
+
+func _fail(text: String) -> void:
+	print("WL FAIL " + text)
+
+
+func _run() -> void:
+	await _broken_shader()
+	await _unset()
+	await _exported()
+	await _demo()
+	await _files()
+
+
+## Draws the deliberately broken shader once: Godot must report its error.
+func _broken_shader() -> void:
+	var broken := ShaderMaterial.new()
+	broken.shader = load("res://check/broken.gdshader")
+	var r := ColorRect.new()
+	r.size = Vector2(8, 8)
+	r.material = broken
+	viewport.size = Vector2i(8, 8)
+	viewport.add_child(r)
+	await _frames(2)
+	r.queue_free()
+	print("WL INFO drew broken.gdshader")
+
+
+## The shaders with no bake set: the wind must be zero (a flowmap's default decodes to
+## -scale, a float texture's white to 1 m/s, unless the shader guards it).
+func _unset() -> void:
+	material.set_shader_parameter("cells", Vector2i(16, 8))
+	material.set_shader_parameter("layers", 4)
+	material.set_shader_parameter("mode", 0)
+	await _read("unset-steady", Vector2i(32, 8))
+	material.set_shader_parameter("use_atlas", true)
+	material.set_shader_parameter("atlas_scale", 7.0)
+	await _read("unset-png-atlas", Vector2i(32, 8))
+	material.set_shader_parameter("atlas_is_float", true)
+	await _read("unset-float-atlas", Vector2i(32, 8))
+	material.set_shader_parameter("mode", 1)
+	await _read("unset-volume", Vector2i(48, 32))
+	material.set_shader_parameter("use_atlas", false)
+	material.set_shader_parameter("atlas_is_float", false)
+
+
+func _frames(n: int) -> void:
+	for i in n:
+		await RenderingServer.frame_post_draw
+
+
+## Renders the readback shader at `size` and prints its pixels under `tag`.
+func _read(tag: String, size: Vector2i) -> void:
+	viewport.size = size
+	rect.size = Vector2(size)
+	material.set_shader_parameter("pixels", size)
+	await _frames(2)
+	var image := viewport.get_texture().get_image()
+	if image.get_format() != Image.FORMAT_RGBA8:
+		image.convert(Image.FORMAT_RGBA8)
+	print("WL READ %s %d %d %s" % [tag, image.get_width(), image.get_height(), Marshalls.raw_to_base64(image.get_data())])
+
+
+## A WindloomWind on `dir` driving the readback material (as grass and particles).
+func _wind(dir: String, with_volume: bool) -> WindloomWind:
+	var wind := WindloomWind.new()
+	wind.bake_dir = dir
+	wind.poll_seconds = 1e9  # the check calls reload_if_changed itself
+	wind.grass_materials = [material]
+	if with_volume:
+		wind.particle_materials = [material]
+	add_child(wind)
+	wind.set_process(false)  # the check sets the volume's clock itself
+	return wind
+
+
+## Every atlas frame (or the steady field) and every volume frame, read back.
+func _read_bake(prefix: String, wind: WindloomWind, m: Dictionary) -> void:
+	var nx := int(m["grid"][0])
+	var ny := int(m["grid"][1])
+	var p: Dictionary = m["engines"]["godot"]["shader_parameters"]
+	material.set_shader_parameter("cells", Vector2i(nx, ny))
+	material.set_shader_parameter("mode", 0)
+	var frames := int(p["atlas_frames"]) if p["use_atlas"] else 1
+	for k in frames:
+		material.set_shader_parameter("check_time", (k + 0.5) / float(p["atlas_fps"]))
+		await _read("%s-2d-%d" % [prefix, k], Vector2i(2 * nx, ny))
+	if wind.volumes.is_empty():
+		return
+	var layers := int(m["profile"]["layers"])
+	material.set_shader_parameter("mode", 1)
+	material.set_shader_parameter("layers", layers)
+	# Playback a quarter of the way from frame k to k + 1, as WindloomWind plays it.
+	for k in wind.volumes.size():
+		wind.clock = (k + 0.25) / wind.volume_fps
+		wind._play_volume()
+		await _read("%s-volume-%d" % [prefix, k], Vector2i(3 * nx, ny * layers))
+
+
+func _exported() -> void:
+	var m := WindloomBake.read_manifest("res://wind")
+	if m.is_empty():
+		_fail("no manifest in res://wind")
+		return
+	print("WL INFO exported: reads_imported=%s web=%s" % [WindloomBake.reads_imported("res://wind"), OS.has_feature("web")])
+	var wind := _wind("res://wind", true)
+	if wind.sequence != int(m["sequence"]):
+		_fail("exported: the bake did not load: " + wind.last_error)
+		return
+	await _read_bake("exported", wind, m)
+	wind.queue_free()
+
+
+## The demo as shipped, over res://wind: its grass and particles drawn for a while.
+func _demo() -> void:
+	var demo: Node = load("res://demo/demo.tscn").instantiate()
+	# Chromium's software WebGL (SwiftShader) takes ~13 s a frame for the demo's 4,000
+	# particles; a GPU takes well under a millisecond.
+	demo.blades = 4000
+	demo.particles_amount = 64
+	add_child(demo)
+	print("WL INFO demo built, %d ms" % Time.get_ticks_msec())
+	await _frames(30)
+	print("WL INFO demo drew 30 frames, %d ms" % Time.get_ticks_msec())
+	var loaded := -1
+	for child in demo.get_children():
+		if child is WindloomWind:
+			loaded = child.sequence
+			if not child.last_error.is_empty():
+				_fail("demo: " + child.last_error)
+	print("WL INFO demo drew 30 frames on bake %d" % loaded)
+	if loaded < 0:
+		_fail("demo: no bake loaded")
+	demo.queue_free()
+	await _frames(1)
+
+
+## Copies the files of res://src/<name> into user://wind, the manifest last (as a bake
+## lands: the manifest names the files once they are there).
+func _land(name: String) -> void:
+	DirAccess.make_dir_recursive_absolute("user://wind")
+	var from := "res://src/" + name
+	for file in DirAccess.get_files_at(from):
+		if file != "manifest.json":
+			_copy(from.path_join(file), "user://wind".path_join(file))
+	_copy(from.path_join("manifest.json"), "user://wind/manifest.json")
+
+
+func _copy(from: String, to: String) -> void:
+	var data := FileAccess.get_file_as_bytes(from)
+	var f := FileAccess.open(to, FileAccess.WRITE)
+	f.store_buffer(data)
+	f.close()
+
+
+func _files() -> void:
+	_land("a")
+	var m := WindloomBake.read_manifest("user://wind")
+	var wind := _wind("user://wind", true)
+	if wind.sequence != int(m.get("sequence", -2)):
+		_fail("files: bake a did not load: " + wind.last_error)
+		return
+	await _read_bake("files", wind, m)
+
+	# A re-bake lands: the node follows it at its next poll.
+	_land("b")
+	m = WindloomBake.read_manifest("user://wind")
+	if not wind.reload_if_changed() or wind.sequence != int(m["sequence"]):
+		_fail("rebake: bake b did not load: " + wind.last_error)
+		return
+	print("WL INFO rebake: now on bake %d" % wind.sequence)
+	await _read_bake("rebake", wind, m)
+
+	# A broken bake lands (a file that is not an image): it is reported, bake b stays.
+	var before := wind.sequence
+	var failures := []
+	wind.bake_failed.connect(func(seq, message): failures.append([seq, message]))
+	_land("broken")
+	if wind.reload_if_changed() or wind.sequence != before or failures.size() != 1:
+		_fail("broken: sequence %d, failures %s" % [wind.sequence, failures])
+		return
+	print("WL INFO broken: reported \"%s\", kept bake %d" % [failures[0][1], wind.sequence])
+	await _read_bake("broken", wind, m)
