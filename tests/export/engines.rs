@@ -110,6 +110,21 @@ fn the_unreal_script_imports_with_the_manifest_s_settings() {
     }
     expected.sort();
     assert_eq!(out["files"], serde_json::json!(expected));
+    // Every file its own asset: the EXR and the FGA of one frame share a stem (the stand-in
+    // refuses a second import onto one path, as Unreal would replace the first asset).
+    let paths: std::collections::BTreeSet<&str> = calls
+        .iter()
+        .filter(|c| c[0] == "import")
+        .map(|c| c[5].as_str().unwrap())
+        .collect();
+    assert_eq!(
+        paths.len(),
+        expected.len(),
+        "one asset path per file: {paths:?}"
+    );
+    assert!(
+        paths.contains("/Game/Wind/wind_0000_exr") && paths.contains("/Game/Wind/wind_0000_fga")
+    );
     for f in &expected {
         assert!(
             calls.iter().any(|c| c[0] == "import"
@@ -262,9 +277,11 @@ fn the_engine_scripts_read_the_manifest_s_own_names() {
         }
     }
     assert!(checked > 40, "{checked} names checked");
-    // Uniforms the Godot scripts set are the shaders' own.
+    // Uniforms the Godot scripts set are the shaders' own (the wind's are in the includes).
     let shaders = read("docs/engines/godot/addons/windloom/windloom_grass.gdshader")
-        + &read("docs/engines/godot/addons/windloom/windloom_particles.gdshader");
+        + &read("docs/engines/godot/addons/windloom/windloom_particles.gdshader")
+        + &read("docs/engines/godot/addons/windloom/windloom_wind.gdshaderinc")
+        + &read("docs/engines/godot/addons/windloom/windloom_volume.gdshaderinc");
     let uniforms: BTreeSet<&str> = shaders
         .lines()
         .filter_map(|l| l.trim().strip_prefix("uniform "))

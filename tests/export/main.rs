@@ -845,14 +845,14 @@ fn edge_uv(k: usize, n: usize) -> f64 {
     }
 }
 
-/// The Godot grass shader (`docs/engines/godot/addons/windloom/windloom_grass.gdshader`) reads the animated atlas
+/// The Godot grass shader's wind (`docs/engines/godot/addons/windloom/windloom_wind.gdshaderinc`) reads the animated atlas
 /// as Godot samples it — linear filtering, clamped at the texture's edge, 8 bits a channel
 /// (Godot's PNG loader keeps 8 of the 16) — and gets each frame's wind at every cell, the
 /// level's edges included: its uv stops half a texel inside the frame's sub-image. With the
 /// 0.001 margin it had, a sample at the edge took 40 % of the next frame.
 #[test]
 fn godot_reads_each_atlas_frame_to_the_level_s_edge() {
-    let shader = include_str!("../../docs/engines/godot/addons/windloom/windloom_grass.gdshader");
+    let shader = include_str!("../../docs/engines/godot/addons/windloom/windloom_wind.gdshaderinc");
     // The emulation below is this line's arithmetic.
     assert!(
         shader.contains(

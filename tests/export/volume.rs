@@ -251,16 +251,16 @@ fn unity_s_vector_field_force_gives_the_volume_s_wind() {
 }
 
 /// Godot: the slices EXR split as the `3d_texture` importer splits it (`slices/vertical` =
-/// layers, slice `k` at rows `k · height`), sampled as `windloom_particles.gdshader` does,
+/// layers, slice `k` at rows `k · height`), sampled as `windloom_volume.gdshaderinc` does,
 /// gives the wind times the profile at every cell and layer.
 #[test]
 fn godot_s_texture3d_gives_the_volume_s_wind() {
     use exr::prelude::*;
     let shader =
-        include_str!("../../docs/engines/godot/addons/windloom/windloom_particles.gdshader");
+        include_str!("../../docs/engines/godot/addons/windloom/windloom_volume.gdshaderinc");
     assert!(
-        shader.contains("vec3 uvw = (p - volume_min) / volume_size;")
-            && shader.contains("texture(wind_volume, uvw.xzy).rgb"),
+        shader.contains("vec3 uvw = ((p - volume_min) / volume_size).xzy;")
+            && shader.contains("texture(wind_volume, uvw).rgb"),
         "the shader samples as emulated here"
     );
     let (dir, m, raw, p) = volume_bake(vec![Format::Dds, Format::Raw], false);

@@ -441,7 +441,9 @@ def main():
     for l in out:
         if l.startswith("WL INFO "):
             print("godot: " + l[8:])
-    print("godot: bake + pack %.1f s, run %.1f s; log in %s" % (built - started, ran - built, work / "godot.log"))
+    print("godot: bake + pack %.1f s, run %.1f s" % (built - started, ran - built))
+    if args.keep or failures:
+        print("godot: Godot's output in %s" % (work / "godot.log"))
     for f in failures:
         print("godot: FAILED " + f)
     if not args.keep and not failures:

@@ -6,7 +6,9 @@ Run it from the editor's Python console or Output Log (the Python Editor Script 
     py "C:/path/to/windloom_import.py" "C:/path/to/bake" /Game/Wind --watch
 
 It reads `engines.unreal` of the bake's manifest.json and imports every file listed there into
-the content folder (replacing earlier imports of the same names): the FGA vector fields with
+the content folder, each file to an asset of its own named after it with its extension
+(`wind_0000.exr` -> `/Game/Wind/wind_0000_exr`, `wind_0000.fga` -> `wind_0000_fga`),
+replacing the earlier import of the same file: the FGA vector fields with
 their Intensity, the atlas, the EXRs and the DDS volume as textures with the compression,
 sRGB, mip, address and filter settings the manifest names (Unreal's own enum names), so the
 Niagara and material set-ups in docs/engines/unreal.md read the wind in cm/s. With --watch it
@@ -57,13 +59,23 @@ def texture_settings(texture, settings):
         texture.set_editor_property("address_y", enum("TextureAddress", settings["address_y"]))
 
 
+def asset_name(file_name):
+    """The asset a bake file imports to: its name with the extension folded in
+    (wind_0000.exr -> wind_0000_exr), so that wind_0000.exr and wind_0000.fga, which Unreal
+    would otherwise both name wind_0000, each keep an asset of their own."""
+    stem, ext = os.path.splitext(file_name)
+    return stem + "_" + ext.lstrip(".").lower()
+
+
 def import_files(folder, names, destination):
-    """Imports `names` from the bake folder; returns the imported assets in the same order."""
+    """Imports `names` from the bake folder, each to its own asset (`asset_name`); returns
+    the imported assets in the same order."""
     tasks = []
     for name in names:
         task = unreal.AssetImportTask()
         task.set_editor_property("filename", os.path.join(folder, name))
         task.set_editor_property("destination_path", destination)
+        task.set_editor_property("destination_name", asset_name(name))
         task.set_editor_property("automated", True)
         task.set_editor_property("replace_existing", True)
         task.set_editor_property("save", False)

@@ -59,7 +59,7 @@ _assets = {}
 
 
 class AssetImportTask:
-    _FIELDS = {"filename", "destination_path", "automated", "replace_existing", "save"}
+    _FIELDS = {"filename", "destination_path", "destination_name", "automated", "replace_existing", "save"}
 
     def __init__(self):
         self.props = {}
@@ -80,12 +80,19 @@ class _Tools:
         for t in tasks:
             source = t.props["filename"]
             assert os.path.isfile(source), source
-            stem = os.path.splitext(os.path.basename(source))[0]
-            path = t.props["destination_path"] + "/" + stem
+            # The asset is named destination_name, or else after the file without its
+            # extension, so wind_0000.exr and wind_0000.fga would land on one path.
+            name = t.props.get("destination_name") or os.path.splitext(os.path.basename(source))[0]
+            path = t.props["destination_path"] + "/" + name
+            held = _assets.get(path)
+            if held is not None and os.path.basename(held.source) != os.path.basename(source):
+                # Unreal would replace the first asset with the second (or ask): refuse.
+                raise RuntimeError("two files import onto {}: {} and {}".format(
+                    path, os.path.basename(held.source), os.path.basename(source)))
             _assets[path] = _Asset(path, source)
             t.props["imported"] = [path]
             calls.append(["import", os.path.basename(source), t.props["destination_path"],
-                          t.props["replace_existing"], t.props["automated"]])
+                          t.props["replace_existing"], t.props["automated"], path])
 
 
 class AssetToolsHelpers:

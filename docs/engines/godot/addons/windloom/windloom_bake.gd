@@ -139,10 +139,8 @@ static func load_steady(dir: String, m: Dictionary) -> Variant:
 		if frames is Array:
 			return [ImageTexture.create_from_image(frames[0]), Vector2.ONE, Vector2.ZERO]
 		errors.append(frames)
-	for format in ["png16", "png8"]:
-		var pngs := files_of(m, format)
-		if pngs.is_empty():
-			continue
+	var pngs := files_of(m, "png16") + files_of(m, "png8")  # 16-bit first: Godot keeps 8 of either
+	if not pngs.is_empty():
 		var t = load_texture(dir, pngs[0])
 		if t is Texture2D:
 			var c: Array = file_entry(m, pngs[0])["encoding"]["channels"]
