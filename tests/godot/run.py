@@ -211,7 +211,7 @@ def project_files(sources):
 
 # ---------------------------------------------------------------- the run
 
-PAGE = """<!DOCTYPE html><html><body><canvas id="canvas" width="320" height="240"></canvas>
+PAGE = """<!DOCTYPE html><html><body><canvas id="canvas" width="480" height="270"></canvas>
 <script src="index.js"></script><script>
 function post(kind, args) {
   var x = new XMLHttpRequest(); x.open('POST', '/log', false);
@@ -405,6 +405,10 @@ def main():
     f16 = lambda e: 1e-4 + abs(e) * 2.0**-11
     png_b = next(f for f in mb["files"] if f["format"] == "png16")["encoding"]["channels"][0]["scale"]
     u8 = lambda e: png_b / 255.0 + 1e-4
+    for l in out:
+        if l.startswith("WL PNG ") and args.keep:
+            _, _, name, b64 = l.split(" ", 3)
+            (work / (name + ".png")).write_bytes(base64.b64decode(b64))
     reads = {}
     for l in out:
         if l.startswith("WL READ "):

@@ -2,6 +2,7 @@ extends Node
 ## The windloom add-on in a real Godot runtime (tests/godot/run.py builds the .pck and reads
 ## what this prints). Every line for the harness starts with "WL ":
 ##   WL READ <tag> <width> <height> <base64 RGBA8>   wind read back from the GPU
+##   WL PNG <name> <base64 PNG>   a picture of what was drawn
 ##   WL INFO <text>    WL FAIL <text>    WL DONE
 ## The harness compares each READ with the bake's own files; this script only drives the
 ## add-on as a game would: the exported-style bake in res://wind (imported resources only),
@@ -151,6 +152,9 @@ func _demo() -> void:
 	print("WL INFO demo built, %d ms" % Time.get_ticks_msec())
 	await _frames(30)
 	print("WL INFO demo drew 30 frames, %d ms" % Time.get_ticks_msec())
+	# What the demo showed, for a person to look at (run.py --keep writes demo.png).
+	var shot := get_viewport().get_texture().get_image()
+	print("WL PNG demo " + Marshalls.raw_to_base64(shot.save_png_to_buffer()))
 	var loaded := -1
 	for child in demo.get_children():
 		if child is WindloomWind:

@@ -62,11 +62,33 @@ func _ready() -> void:
 	var sun := DirectionalLight3D.new()
 	sun.rotation_degrees = Vector3(-50, 30, 0)
 	add_child(sun)
+	# The level's ground, and a sky to light it.
+	var ground := MeshInstance3D.new()
+	var plane := PlaneMesh.new()
+	plane.size = hi - lo
+	var soil := StandardMaterial3D.new()
+	soil.albedo_color = Color(0.16, 0.2, 0.08)
+	soil.roughness = 1.0
+	plane.material = soil
+	ground.mesh = plane
+	ground.position = Vector3((lo.x + hi.x) / 2.0, 0.0, (lo.y + hi.y) / 2.0)
+	add_child(ground)
+	var sky := Sky.new()
+	sky.sky_material = ProceduralSkyMaterial.new()
+	var environment := Environment.new()
+	environment.background_mode = Environment.BG_SKY
+	environment.sky = sky
+	environment.ambient_light_source = Environment.AMBIENT_SOURCE_SKY
+	var world := WorldEnvironment.new()
+	world.environment = environment
+	add_child(world)
+	# Looking over the level from its south edge, low enough to see the blades bend.
 	var camera := Camera3D.new()
 	var centre := Vector3((lo.x + hi.x) / 2.0, 0.0, (lo.y + hi.y) / 2.0)
-	camera.position = centre + Vector3(0, 0.35, 0.5) * (hi - lo).length()
+	var span := (hi - lo).length()
+	camera.position = Vector3(centre.x, 0.12 * span, hi.y + 0.08 * span)
 	add_child(camera)
-	camera.look_at(centre)
+	camera.look_at(centre - Vector3(0, 0, 0.1 * span))
 
 
 ## A blade: a thin strip along +Y, height 1, facing +Z, in four segments so it can bend.
