@@ -237,7 +237,7 @@ fn draw_backdrop(
         return;
     };
     let base = crate::io::layout_base(app.doc.path());
-    let file = base.join(&map.image);
+    let file = crate::io::layout_file(&base, &map.image);
     let stale = app.map.backdrop.as_ref().is_none_or(|(p, _)| p != &file);
     if stale {
         let texture = match crate::io::load_backdrop(&base, &map) {

@@ -407,6 +407,24 @@ fn bake_staged(
             "{p}; a bake without it would ship wrong wind"
         )));
     }
+    // A bake made here must open on every machine of the team: its folder's name and the
+    // files the layout names, as Windows (the strictest) allows them.
+    if let Some(p) = doc::portable::layout_problems(&layout).first() {
+        return Err(BakeError::Layout(format!(
+            "{p} (rename it so the layout opens on every platform)"
+        )));
+    }
+    if let Some(name) = out.file_name().map(|n| n.to_string_lossy())
+        && let Some(why) = doc::portable::name_problem(&name)
+    {
+        return Err(BakeError::Output {
+            path: out.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                format!("not every platform can hold it: {why}"),
+            ),
+        });
+    }
     let timing = FrameTiming::new(opts.fps, layout.sim.dt, opts.warmup);
     let (nx, ny) = (layout.world.grid[0] as usize, layout.world.grid[1] as usize);
     let n = opts.frames;

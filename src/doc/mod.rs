@@ -7,6 +7,7 @@ pub mod bounds;
 pub mod clipboard;
 mod edit;
 mod parse;
+pub mod portable;
 pub mod presets;
 pub mod stroke;
 pub mod transform;

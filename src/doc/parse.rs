@@ -345,7 +345,7 @@ pub fn parse(text: &str) -> Result<Layout, Diagnostics> {
         move_key(&mut value, &u.path, &u.key, u.suggestion());
     }
 
-    let layout: Layout = match serde_path_to_error::deserialize(&value) {
+    let mut layout: Layout = match serde_path_to_error::deserialize(&value) {
         Ok(l) => l,
         Err(e) => {
             let path = e.path().to_string();
@@ -357,6 +357,7 @@ pub fn parse(text: &str) -> Result<Layout, Diagnostics> {
     for issue in validate(&layout) {
         diags.push(diag(&issue.path, issue.message));
     }
+    super::portable::normalize_paths(&mut layout);
     if diags.is_empty() {
         Ok(layout)
     } else {

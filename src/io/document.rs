@@ -167,9 +167,10 @@ impl Document {
     pub fn write_to(&mut self, path: &Path) -> std::io::Result<()> {
         // The painted images first, each replaced atomically beside the layout: a layout
         // never names an image older than its strokes.
+        crate::io::check_portable(path, &self.layout)?;
         let base = crate::io::layout_base(Some(path));
         for (name, image) in painted_images(&self.layout, &self.saved_images) {
-            let file = base.join(&name);
+            let file = crate::io::layout_file(&base, &name);
             let bytes = encode_grey(&file, &image)
                 .map_err(|e| std::io::Error::other(format!("{}: {e}", file.display())))?;
             crate::io::write_atomic(&file, &bytes)

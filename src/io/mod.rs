@@ -88,6 +88,44 @@ pub fn relative_to(path: &Path, base: &Path) -> String {
     }
 }
 
+/// The file a path the layout stores names (`map.image`, a mask's, the heightmap's, the
+/// density map's): relative to `base`, the layout's folder, with `/` or `\` between folders
+/// (a layout written on Windows opens here, and back); an absolute path as it is.
+pub fn layout_file(base: &Path, stored: &str) -> PathBuf {
+    if Path::new(stored).is_absolute() {
+        return PathBuf::from(stored);
+    }
+    doc::portable::path_parts(stored).fold(base.to_path_buf(), |p, part| p.join(part))
+}
+
+/// Why a layout cannot be saved as `path` so that it opens on every platform: its file name,
+/// or a file it names, that Windows (the strictest) cannot hold. One line each.
+pub fn portability_problems(path: &Path, layout: &Layout) -> Vec<String> {
+    let mut problems = Vec::new();
+    if let Some(name) = path.file_name() {
+        let name = name.to_string_lossy();
+        if let Some(why) = doc::portable::name_problem(&name) {
+            problems.push(format!(
+                "the file name {:?}: {why}",
+                doc::printable(&name, 80)
+            ));
+        }
+    }
+    problems.extend(doc::portable::layout_problems(layout));
+    problems
+}
+
+/// [`portability_problems`] as the error a save returns: nothing is written.
+pub fn check_portable(path: &Path, layout: &Layout) -> std::io::Result<()> {
+    match portability_problems(path, layout).first() {
+        None => Ok(()),
+        Some(p) => Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            format!("not saved, so that it opens on every platform: {p}"),
+        )),
+    }
+}
+
 /// The layout's map backdrop decoded ([`load_backdrop`]), if it has one.
 pub fn layout_backdrop(
     layout: &Layout,
@@ -102,7 +140,7 @@ pub fn load_backdrop(
     base: &Path,
     map: &doc::MapBackdrop,
 ) -> Result<image::RgbaImage, BackdropError> {
-    let path = base.join(&map.image);
+    let path = layout_file(base, &map.image);
     let what = "map image";
     let bytes = read_image_file(&path, what)?;
     let (reader, _) = image_decoder(&path, what, &bytes)?;
@@ -357,7 +395,7 @@ pub fn load_mask(
     image: &str,
     what: &'static str,
 ) -> Result<doc::MaskImage, BackdropError> {
-    let path = base.join(image);
+    let path = layout_file(base, image);
     let bytes = read_image_file(&path, what)?;
     let decode = |e: &dyn std::fmt::Display| decode_error(&path, what, e);
     let has_pixels = |w: u32, h: u32| {
@@ -427,6 +465,7 @@ pub fn load_or_new(path: &Path) -> Result<(Layout, bool), LoadError> {
 
 /// Saves a layout atomically (see [`write_atomic`]).
 pub fn save(path: &Path, layout: &Layout) -> std::io::Result<()> {
+    check_portable(path, layout)?;
     write_atomic(path, doc::to_json(layout).as_bytes())
 }
 

@@ -1219,6 +1219,7 @@ fn saving_keeps_the_files_mode_and_writes_through_symlinks() {
 /// Fuzzing the loader (issue 13): arbitrary bytes and mutated layouts.
 mod editing;
 mod fuzz;
+mod portable;
 mod presets;
 
 /// The editor never makes a layout that windloom cannot open again: its own edit commands
