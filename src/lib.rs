@@ -11,5 +11,6 @@ pub mod engine;
 pub mod gpu;
 pub mod grass;
 pub mod io;
+pub mod platform;
 pub mod render;
 pub mod sim;

@@ -70,45 +70,11 @@ fn other(message: String) -> std::io::Error {
     std::io::Error::other(message)
 }
 
-/// Whether `dir` is the root of a mounted file system (it cannot be renamed).
-fn is_mount_root(dir: &Path) -> bool {
-    #[cfg(target_os = "linux")]
-    {
-        use rustix::fs::{AtFlags, CWD, StatxAttributes, StatxFlags, statx};
-        if let Ok(st) = statx(CWD, dir, AtFlags::empty(), StatxFlags::BASIC_STATS)
-            && st.stx_attributes_mask.contains(StatxAttributes::MOUNT_ROOT)
-        {
-            return st.stx_attributes.contains(StatxAttributes::MOUNT_ROOT);
-        }
-    }
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        let parent = dir.join("..");
-        match (std::fs::metadata(dir), std::fs::metadata(parent)) {
-            (Ok(a), Ok(b)) => a.dev() != b.dev() || a.ino() == b.ino(),
-            _ => false,
-        }
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = dir;
-        false
-    }
-}
-
 /// Who holds a staging folder, for a person reading the lock file.
 fn owner_record() -> String {
-    let read = |p: &str| {
-        std::fs::read_to_string(p)
-            .unwrap_or_default()
-            .trim()
-            .to_string()
-    };
+    let (host, boot) = crate::platform::process::host_and_boot();
     format!(
-        "windloom bake\nhost {}\nboot {}\npid {}\n",
-        read("/proc/sys/kernel/hostname"),
-        read("/proc/sys/kernel/random/boot_id"),
+        "windloom bake\nhost {host}\nboot {boot}\npid {}\n",
         std::process::id()
     )
 }
@@ -186,7 +152,7 @@ impl Staging {
             None
         };
         let previous_sequence = previous.as_ref().map_or(0, |_| previous_sequence(&out));
-        let mut in_place = exists && (force_in_place || is_mount_root(&out));
+        let mut in_place = exists && (force_in_place || crate::platform::fs::is_mount_root(&out));
         let made = if in_place {
             make_staging(&out)
         } else {
@@ -489,7 +455,7 @@ fn link_tree(from: &Path, to: &Path) -> std::io::Result<()> {
     let meta = std::fs::symlink_metadata(from)?;
     let kind = meta.file_type();
     if kind.is_symlink() {
-        copy_symlink(from, to)
+        crate::platform::fs::copy_symlink(from, to)
     } else if kind.is_dir() {
         std::fs::create_dir(to)?;
         for e in std::fs::read_dir(from)? {
@@ -514,32 +480,11 @@ fn copy_keeping(from: &Path, to: &Path, meta: &std::fs::Metadata) -> std::io::Re
     crate::io::keep_owner_and_mode(&f, meta)
 }
 
-#[cfg(unix)]
-fn copy_symlink(from: &Path, to: &Path) -> std::io::Result<()> {
-    std::os::unix::fs::symlink(std::fs::read_link(from)?, to)
-}
-
-#[cfg(not(unix))]
-fn copy_symlink(from: &Path, to: &Path) -> std::io::Result<()> {
-    std::fs::copy(from, to).map(|_| ())
-}
-
 /// Swaps two folders' names in one step where the system can; else renames `to` aside and
 /// `from` into its place, then the old one to `from`'s name.
 fn exchange(from: &Path, to: &Path) -> std::io::Result<()> {
-    #[cfg(any(target_os = "linux", target_os = "android"))]
-    {
-        use rustix::fs::{CWD, RenameFlags, renameat_with};
-        match renameat_with(CWD, from, CWD, to, RenameFlags::EXCHANGE) {
-            Ok(()) => return Ok(()),
-            // Not supported here (an old kernel, or a file system without it, such as
-            // overlayfs for folders of a lower layer): fall back to two renames.
-            Err(e)
-                if e == rustix::io::Errno::INVAL
-                    || e == rustix::io::Errno::NOSYS
-                    || e == rustix::io::Errno::XDEV => {}
-            Err(e) => return Err(e.into()),
-        }
+    if crate::platform::fs::exchange_folders(from, to)? {
+        return Ok(());
     }
     let mut aside = from.as_os_str().to_owned();
     aside.push("-old");
@@ -565,18 +510,10 @@ fn legacy_stale(home: &Path, name: &str) {
         .and_then(|p| p.parse::<u32>().ok());
     if let Some(pid) = pid
         && pid != std::process::id()
-        && !process_alive(pid)
+        // Where the system cannot tell, it lives: a leftover folder beats a lost bake.
+        && !crate::platform::process::alive(pid).unwrap_or(true)
     {
         let _ = std::fs::remove_dir_all(home.join(name));
-    }
-}
-
-fn process_alive(pid: u32) -> bool {
-    if cfg!(target_os = "linux") {
-        Path::new("/proc").join(pid.to_string()).exists()
-    } else {
-        // Without /proc, assume it lives: a leftover folder is better than a lost bake.
-        true
     }
 }
 

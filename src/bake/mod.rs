@@ -328,21 +328,6 @@ pub fn disk_need(
     need + 64 * 1024 + 1024 * output_names(formats, frames).len() as u64
 }
 
-/// Bytes free to this user on the file system holding `dir`, where the system says.
-fn free_space(dir: &Path) -> Option<u64> {
-    #[cfg(unix)]
-    {
-        rustix::fs::statvfs(dir)
-            .ok()
-            .map(|s| s.f_bavail.saturating_mul(s.f_frsize))
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = dir;
-        None
-    }
-}
-
 /// What an exporter hands back: file name, bytes, and its manifest entry (minus size).
 pub(crate) struct Output {
     pub name: String,
@@ -449,7 +434,7 @@ fn bake_staged(
         });
     }
     let staging = folder::Staging::new(out)?;
-    if let Some(free) = free_space(staging.path())
+    if let Some(free) = crate::platform::fs::free_space(staging.path())
         && need > free
     {
         return Err(BakeError::Disk {

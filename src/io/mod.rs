@@ -263,21 +263,8 @@ pub fn plain(e: std::io::Error) -> std::io::Error {
 /// What a path is, in words, for a message that refuses it ("a FIFO (named pipe)").
 pub fn kind_of(meta: &std::fs::Metadata) -> &'static str {
     let t = meta.file_type();
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::FileTypeExt;
-        if t.is_fifo() {
-            return "a FIFO (named pipe)";
-        }
-        if t.is_char_device() {
-            return "a character device";
-        }
-        if t.is_block_device() {
-            return "a block device";
-        }
-        if t.is_socket() {
-            return "a socket";
-        }
+    if let Some(kind) = crate::platform::fs::special_kind(&t) {
+        return kind;
     }
     if t.is_dir() {
         "a folder"
@@ -298,12 +285,7 @@ pub fn read_regular(path: &Path, max: u64, what: &str) -> std::io::Result<Vec<u8
     use std::io::Read;
     let mut options = std::fs::OpenOptions::new();
     options.read(true);
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::OpenOptionsExt;
-        // Opening a FIFO for reading otherwise waits for a writer, for ever.
-        options.custom_flags(rustix::fs::OFlags::NONBLOCK.bits() as i32);
-    }
+    crate::platform::fs::open_without_waiting(&mut options);
     let file = options.open(path)?;
     let meta = file.metadata()?;
     if !meta.is_file() {
@@ -505,11 +487,7 @@ pub fn parent_dir(path: &Path) -> &Path {
 
 /// Flushes a folder's entries to disk, so a rename inside it survives a power cut.
 pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
-    #[cfg(unix)]
-    std::fs::File::open(dir)?.sync_all()?;
-    #[cfg(not(unix))]
-    let _ = dir;
-    Ok(())
+    crate::platform::fs::sync_dir(dir)
 }
 
 /// Writes `bytes` to `path` so that readers see either the old file or the whole new one:
@@ -539,19 +517,13 @@ fn write_atomic_raw(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     };
     if let Some(m) = &old {
         check_replaceable(m)?;
-        #[cfg(unix)]
-        if std::os::unix::fs::MetadataExt::nlink(m) > 1 {
+        if crate::platform::fs::link_count(m) > 1 {
             return write_in_place(&path, bytes);
         }
     }
     let mut builder = tempfile::Builder::new();
     builder.prefix(".windloom-").suffix(".tmp");
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::PermissionsExt;
-        // open(2) takes the umask off this, as it does for any new file.
-        builder.permissions(std::fs::Permissions::from_mode(0o666));
-    }
+    crate::platform::fs::new_file_mode(&mut builder);
     // tempfile names its own temporary file in the error; the user wants the folder.
     let mut tmp = builder
         .tempfile_in(dir)
@@ -631,15 +603,6 @@ pub(crate) fn keep_owner_and_mode(
     file: &std::fs::File,
     old: &std::fs::Metadata,
 ) -> std::io::Result<()> {
-    #[cfg(unix)]
-    {
-        use std::os::unix::fs::MetadataExt;
-        let mine = file.metadata()?;
-        if (mine.uid(), mine.gid()) != (old.uid(), old.gid()) {
-            // Only root may give a file away; a member of the group may still keep the group.
-            let _ = std::os::unix::fs::fchown(file, Some(old.uid()), Some(old.gid()))
-                .or_else(|_| std::os::unix::fs::fchown(file, None, Some(old.gid())));
-        }
-    }
+    crate::platform::fs::keep_owner(file, old)?;
     file.set_permissions(old.permissions())
 }

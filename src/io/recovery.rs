@@ -97,22 +97,6 @@ fn fnv(s: &str) -> u64 {
     })
 }
 
-/// Whether process `pid` is still running (other platforms: assume it is gone).
-fn alive(pid: u32) -> bool {
-    #[cfg(unix)]
-    {
-        i32::try_from(pid)
-            .ok()
-            .and_then(rustix::process::Pid::from_raw)
-            .is_some_and(|p| rustix::process::test_kill_process(p).is_ok())
-    }
-    #[cfg(not(unix))]
-    {
-        let _ = pid;
-        false
-    }
-}
-
 impl Recovery {
     pub fn new(dir: PathBuf) -> Self {
         let nanos = std::time::SystemTime::now()
@@ -209,10 +193,12 @@ impl Recovery {
                 let owner: Option<Owner> = std::fs::read(layout.with_extension("owner"))
                     .ok()
                     .and_then(|b| serde_json::from_slice(&b).ok());
-                if owner
-                    .as_ref()
-                    .is_some_and(|o| o.pid != std::process::id() && alive(o.pid))
-                {
+                if owner.as_ref().is_some_and(|o| {
+                    // Where the system cannot tell, the owner is taken as gone: a
+                    // recovery offered twice beats one never offered.
+                    o.pid != std::process::id()
+                        && crate::platform::process::alive(o.pid).unwrap_or(false)
+                }) {
                     return None;
                 }
                 let modified = std::fs::metadata(&layout)

@@ -183,7 +183,7 @@ pub fn cpu_simd() -> &'static str {
             "x86_64+avx2" => name!("avx2"),
             "x86_64+sse4.1" => name!("sse4.1"),
             "x86_64" => name!("sse2"),
-            "aarch64" => "neon",
+            "aarch64" => name!("neon"),
             _ => "none",
         }
     }

@@ -98,25 +98,24 @@ fn meadow_path() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/meadow.json")
 }
 
+#[cfg(target_os = "linux")]
 fn is_root() -> bool {
     rustix::process::geteuid().is_root()
 }
 
+/// A FIFO at `p`, by the system's own `mkfifo` (Linux and macOS alike).
+#[cfg(unix)]
 fn mkfifo(p: &Path) {
-    rustix::fs::mknodat(
-        rustix::fs::CWD,
-        p,
-        rustix::fs::FileType::Fifo,
-        rustix::fs::Mode::from_raw_mode(0o644),
-        0,
-    )
-    .unwrap();
+    let made = Command::new("mkfifo").arg(p).status().unwrap();
+    assert!(made.success(), "mkfifo {}", p.display());
 }
 
 /// A mounted tmpfs of `size`, unmounted on drop; `None` (said loudly) where this user may
-/// not mount.
+/// not mount (Linux).
+#[cfg(target_os = "linux")]
 struct Mount(PathBuf);
 
+#[cfg(target_os = "linux")]
 impl Mount {
     fn tmpfs(at: &Path, size: &str) -> Option<Mount> {
         std::fs::create_dir_all(at).unwrap();
@@ -133,6 +132,7 @@ impl Mount {
     }
 }
 
+#[cfg(target_os = "linux")]
 impl Drop for Mount {
     fn drop(&mut self) {
         let _ = Command::new("umount").args(["-l", s(&self.0)]).status();
@@ -166,7 +166,12 @@ fn outputs_that_are_not_regular_files_are_refused() {
     let _listener = std::os::unix::net::UnixListener::bind(&socket).unwrap();
     let folder = dir.path().join("folder.png");
     std::fs::create_dir(&folder).unwrap();
+    #[cfg_attr(
+        not(target_os = "linux"),
+        expect(unused_mut, reason = "only Linux adds a device node")
+    )]
     let mut targets = vec![fifo.clone(), socket.clone(), folder.clone()];
+    #[cfg(target_os = "linux")]
     if is_root() {
         // A private /dev/null: the test never touches the machine's own.
         let null = dir.path().join("null");
@@ -341,6 +346,7 @@ fn inputs_that_never_end_or_are_not_text_are_refused() {
     assert!(png.is_file());
 }
 
+#[cfg(unix)]
 fn utf16(text: &str, le: bool, bom: bool) -> Vec<u8> {
     let units = (bom.then_some(0xFEFF))
         .into_iter()

@@ -64,7 +64,6 @@ impl Drop for Watcher {
     }
 }
 
-#[cfg(unix)]
 #[test]
 fn watch_rebakes_on_each_save_and_a_polling_engine_sees_whole_bakes() {
     let dir = tempfile::tempdir().unwrap();

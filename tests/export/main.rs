@@ -1433,7 +1433,8 @@ fn staging_folders(dir: &Path) -> Vec<PathBuf> {
 
 /// The engine-side scripts, run against bakes.
 mod engines;
-/// `bake --watch` and an engine polling its folder.
+/// `bake --watch` and an engine polling its folder (Unix: it stops the watch with SIGINT).
+#[cfg(unix)]
 mod live;
 /// The manifest's schema, and every file decoded by the manifest alone.
 mod manifest;
