@@ -354,8 +354,7 @@ fn sync_file(path: &Path) -> Result<u64, BakeError> {
         path: path.to_path_buf(),
         source,
     };
-    let f = std::fs::File::open(path).map_err(err)?;
-    f.sync_all().map_err(err)?;
+    let f = crate::platform::fs::flush_file(path).map_err(err)?;
     Ok(f.metadata().map_err(err)?.len())
 }
 

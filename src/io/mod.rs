@@ -577,7 +577,7 @@ fn write_in_place(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
     let name = path.file_name().unwrap_or_default().to_string_lossy();
     let backup = dir.join(format!(".{name}.windloom-backup"));
     std::fs::copy(path, &backup).map_err(|e| folder_error(dir, e.kind()))?;
-    std::fs::File::open(&backup)?.sync_all()?;
+    crate::platform::fs::flush_file(&backup)?;
     let mut file = std::fs::OpenOptions::new().write(true).open(path)?;
     file.write_all(bytes)?;
     file.set_len(bytes.len() as u64)?;

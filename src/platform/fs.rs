@@ -80,6 +80,15 @@ pub fn keep_owner(file: &std::fs::File, old: &std::fs::Metadata) -> std::io::Res
     Ok(())
 }
 
+/// Flushes the file at `path` to disk; returns it, open. Opened to write: Windows flushes
+/// only through a handle that may write (`FlushFileBuffers` needs `GENERIC_WRITE`; a
+/// read-only handle is refused, "permission denied"). Nothing is written or truncated.
+pub fn flush_file(path: &Path) -> std::io::Result<std::fs::File> {
+    let f = std::fs::OpenOptions::new().write(true).open(path)?;
+    f.sync_all()?;
+    Ok(f)
+}
+
 /// Flushes a folder's entries to disk, so a rename inside it survives a power cut (Unix;
 /// Windows flushes the entries with the files and cannot open a folder as a file).
 pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
