@@ -353,6 +353,7 @@ def main():
     (www / "index.html").write_text(PAGE)
     files = project_files([("a", work / "a"), ("b", work / "b"), ("broken", broken)])
     files += imported_bake(work / "a", ma)
+    files.append(("wind_not_imported/manifest.json", (work / "a" / "manifest.json").read_bytes()))
     (www / "check.pck").write_bytes(pck(files))
     built = time.monotonic()
 
@@ -384,7 +385,7 @@ def main():
     compile_failures = [l for l in errors if "Shader compilation failed" in l]
     if len(compile_failures) > 1:
         failures.append("%d shaders failed to compile, only broken.gdshader should" % len(compile_failures))
-    expected_errors = ("windloom_no_such_function", "Shader compilation failed", "flow16.png",
+    expected_errors = ("windloom_no_such_function", "wind_not_imported", "Shader compilation failed", "flow16.png",
                        'Condition "!success" is true. Returning: ERR_FILE_CORRUPT', "Failed to load image. Error 16", "Not a PNG file",
                        "Could not load global script cache")
     for l in errors:

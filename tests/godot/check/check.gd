@@ -139,6 +139,13 @@ func _exported() -> void:
 		return
 	await _read_bake("exported", wind, m)
 	wind.queue_free()
+	# An export made without importing the bake first: its manifest, no imported textures.
+	var bare := _wind("res://wind_not_imported", true)
+	if bare.sequence != -1 or not bare.last_error.contains("is not an imported"):
+		_fail("not imported: sequence %d, error \"%s\"" % [bare.sequence, bare.last_error])
+	else:
+		print("WL INFO not imported: reported \"%s\"" % bare.last_error)
+	bare.queue_free()
 
 
 ## The demo as shipped, over res://wind: its grass and particles drawn for a while.

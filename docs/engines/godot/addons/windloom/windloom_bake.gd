@@ -89,10 +89,7 @@ static func files_of(m: Dictionary, format: String) -> Array:
 static func load_texture(dir: String, name: String) -> Variant:
 	var path := dir.path_join(name)
 	if reads_imported(dir):
-		var texture = ResourceLoader.load(path, "Texture2D")
-		if texture == null:
-			return "%s is not an imported texture (import the bake in the editor before exporting)" % path
-		return texture
+		return _imported(path, "Texture2D")
 	if not can_read(dir, name):
 		return "%s: EXR cannot be read at run time on the web" % path
 	if not FileAccess.file_exists(path):
@@ -101,6 +98,15 @@ static func load_texture(dir: String, name: String) -> Variant:
 	if image == null or image.is_empty():
 		return "%s could not be read as an image" % path
 	return ImageTexture.create_from_image(image)
+
+
+## The resource the editor imported for `path` (an exported game carries it, not the file),
+## or a String.
+static func _imported(path: String, type: String) -> Variant:
+	var resource = ResourceLoader.load(path, type)
+	if resource == null:
+		return "%s is not an imported %s (import the bake in the editor before exporting)" % [path, type]
+	return resource
 
 
 ## Frames `first` … `first + count - 1` of the raw bake `name` (little-endian f32 pairs,
@@ -227,10 +233,7 @@ static func load_volume(dir: String, m: Dictionary, frame: int) -> Variant:
 	var name: String = v["files"][frame]
 	var path := dir.path_join(name)
 	if reads_imported(dir):
-		var texture = ResourceLoader.load(path, "Texture3D")
-		if texture == null:
-			return "%s is not an imported Texture3D (import the bake in the editor before exporting)" % path
-		return texture
+		return _imported(path, "Texture3D")
 	var layers := int(v["import"]["slices/vertical"])
 	if can_read(dir, name):
 		if not FileAccess.file_exists(path):
