@@ -42,7 +42,9 @@ pub fn speed_table_linear() -> Vec<[f32; 4]> {
 
 /// An sRGB-encoded byte as linear light in [0, 1] (the sRGB transfer function, with the
 /// constants egui's `ecolor` uses, so that the 3D view's wind colours and the map's agree
-/// to the bit).
+/// to the bit). The platform's `powf`, as egui's: on each platform the two agree to the bit
+/// (`crate::num`'s would not). No bake or map picture reads it; the GPU's grass pictures do,
+/// which differ by GPU anyway.
 pub fn linear(s: u8) -> f32 {
     if s <= 10 {
         f32::from(s) / 3294.6

@@ -11,6 +11,7 @@ pub mod engine;
 pub mod gpu;
 pub mod grass;
 pub mod io;
+pub mod num;
 pub mod platform;
 pub mod render;
 pub mod sim;

@@ -69,7 +69,7 @@ fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> 
     let name = ctx.name("wind", k, "exr");
     let bytes = rgb_bytes(&name, (f.nx, f.ny), ctx.half, |x, y| {
         let v = f.at(x, y);
-        (v[0], v[1], v[0].hypot(v[1]))
+        (v[0], v[1], crate::num::hypot(v[0], v[1]))
     })?;
     Ok(Output {
         entry: FileEntry {
@@ -156,7 +156,7 @@ pub(crate) fn atlas(
             return (0.0, 0.0, 0.0);
         };
         let v = f.at(x % nx, y % ny);
-        (v[0], v[1], v[0].hypot(v[1]))
+        (v[0], v[1], crate::num::hypot(v[0], v[1]))
     })?;
     if let Some(e) = failed.into_inner().unwrap_or_else(|e| e.into_inner()) {
         return Err(e);

@@ -40,7 +40,7 @@ impl FrameWriter {
         debug_assert_eq!(data.len(), self.cells);
         let mut bytes = Vec::with_capacity(data.len() * 8);
         for v in data {
-            self.max_speed = self.max_speed.max(v[0].hypot(v[1]));
+            self.max_speed = self.max_speed.max(crate::num::hypot(v[0], v[1]));
             bytes.extend_from_slice(&v[0].to_le_bytes());
             bytes.extend_from_slice(&v[1].to_le_bytes());
         }

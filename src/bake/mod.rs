@@ -61,7 +61,7 @@ impl Field {
     pub fn max_speed(&self) -> f32 {
         self.data
             .iter()
-            .map(|v| v[0].hypot(v[1]))
+            .map(|v| crate::num::hypot(v[0], v[1]))
             .fold(0.0, f32::max)
     }
 

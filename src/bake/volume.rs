@@ -79,7 +79,7 @@ fn dds(ctx: &ExportContext, k: usize, f: &Field, factors: &[f32]) -> Output {
         for j in 0..ny {
             for i in 0..nx {
                 let w = at(f, factors, i, j, layer);
-                for c in [w[0], w[1], w[2], w[0].hypot(w[2])] {
+                for c in [w[0], w[1], w[2], crate::num::hypot(w[0], w[2])] {
                     if ctx.half {
                         b.extend_from_slice(&half::f16::from_f32(c).to_le_bytes());
                     } else {

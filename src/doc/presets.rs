@@ -121,7 +121,10 @@ pub fn wind(name: &str, layout: &Layout) -> Option<Layout> {
             let points: Vec<Vec2> = (0..=10)
                 .map(|k| {
                     let a = k as f32 / 11.0 * std::f32::consts::TAU;
-                    [mid[0] + r * a.cos(), mid[1] + r * a.sin()]
+                    [
+                        mid[0] + r * crate::num::cos(a),
+                        mid[1] + r * crate::num::sin(a),
+                    ]
                 })
                 .collect();
             out.trees = vec![tree("Swirl", &points, 6.0, r / 3.0)];

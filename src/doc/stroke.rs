@@ -59,7 +59,7 @@ pub fn simplify(path: &[Vec2], tolerance: f32) -> Vec<Vec2> {
 }
 
 fn dist(a: Vec2, b: Vec2) -> f32 {
-    (a[0] - b[0]).hypot(a[1] - b[1])
+    crate::num::hypot(a[0] - b[0], a[1] - b[1])
 }
 
 /// The chain along `points` (from [`simplify`]): the first point's node holds the next, and

@@ -17,7 +17,7 @@ pub struct Transform {
 
 impl Transform {
     pub fn apply(&self, p: Vec2) -> Vec2 {
-        let (s, c) = self.angle.sin_cos();
+        let (s, c) = crate::num::sin_cos(self.angle);
         let d = [p[0] - self.pivot[0], p[1] - self.pivot[1]];
         [
             self.pivot[0] + self.scale * (c * d[0] - s * d[1]),

@@ -232,7 +232,7 @@ impl VerticalProfile {
         if h <= z0 {
             return 0.0;
         }
-        ((h / z0).ln() / (f64::from(self.reference_height) / z0).ln()) as f32
+        (crate::num::ln64(h / z0) / crate::num::ln64(f64::from(self.reference_height) / z0)) as f32
     }
 }
 
@@ -1253,5 +1253,5 @@ impl<'a> Iterator for NodeIter<'a> {
 /// Unit vector for an angle measured from `+x` toward `+z`.
 pub fn direction(deg: f32) -> Vec2 {
     let r = deg.to_radians();
-    [r.cos(), r.sin()]
+    [crate::num::cos(r), crate::num::sin(r)]
 }

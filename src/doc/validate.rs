@@ -474,7 +474,7 @@ fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &
     for (i, child) in n.children.iter().enumerate() {
         let cp = format!("{path}.children[{i}]");
         let (dx, dz) = (child.pos[0] - n.pos[0], child.pos[1] - n.pos[1]);
-        if here && dx.is_finite() && dz.is_finite() && dx.hypot(dz) < LENGTH_MIN {
+        if here && dx.is_finite() && dz.is_finite() && crate::num::hypot(dx, dz) < LENGTH_MIN {
             c.push(
                 &format!("{cp}.pos"),
                 format!("an arrow end point must be at least {LENGTH_MIN} m from its start point"),

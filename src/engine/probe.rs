@@ -16,14 +16,13 @@ pub struct Reading {
 
 impl Reading {
     pub fn speed(&self) -> f32 {
-        self.wind[0].hypot(self.wind[1])
+        crate::num::hypot(self.wind[0], self.wind[1])
     }
 
     /// The way the wind blows, in degrees from +x (east) toward +z (south), 0 to 360: the
     /// ambient layers' convention.
     pub fn direction_deg(&self) -> f32 {
-        self.wind[1]
-            .atan2(self.wind[0])
+        crate::num::atan2(self.wind[1], self.wind[0])
             .to_degrees()
             .rem_euclid(360.0)
     }

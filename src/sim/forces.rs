@@ -273,7 +273,7 @@ pub fn agc_splats(layout: &Layout, t: f32) -> Vec<ArrowSplat> {
             continue;
         };
         let (factor, turn) = doc::key_values(&tree.keys, t);
-        let (sin, cos) = turn.sin_cos();
+        let (sin, cos) = crate::num::sin_cos(turn);
         let root = tree.root.pos;
         let place = |p: [f32; 2]| -> [f32; 2] {
             if turn == 0.0 {
@@ -345,7 +345,7 @@ pub fn gradient_noise(x: f32, y: f32, seed: u32) -> f32 {
 #[inline]
 fn hash_angle(ix: i32, iy: i32, seed: u32) -> [f32; 2] {
     let a = (hash(ix, iy, seed) >> 8) as f32 * (std::f32::consts::TAU / 16_777_216.0);
-    [a.cos(), a.sin()]
+    [crate::num::cos(a), crate::num::sin(a)]
 }
 
 /// A lattice gradient's ramp at offset `(dx, dy)` from its point.
@@ -419,10 +419,10 @@ impl FftGusts {
                 let align = (kx * dir[0] + kz * dir[1]) / k;
                 // P(k) ∝ exp(-1/(kL)²)/k⁴ · |k̂·ŵ|², damping waves far below the tile size.
                 let small = tile / n as f32 * 0.5;
-                let p = (-1.0 / (kl * kl)).exp() / k.powi(4)
+                let p = crate::num::exp(-1.0 / (kl * kl)) / k.powi(4)
                     * align
                     * align
-                    * (-(k * small).powi(2)).exp();
+                    * crate::num::exp(-(k * small).powi(2));
                 let (g1, g2) = rng.gaussian_pair();
                 let s = (p * 0.5).sqrt();
                 h0[j * n + i] = Complex32::new(g1 * s, g2 * s);
@@ -456,7 +456,7 @@ impl FftGusts {
             for i in 0..n {
                 let m = ((n - j) % n) * n + (n - i) % n;
                 let w = self.omega[j * n + i] * t;
-                let e = Complex32::new(w.cos(), w.sin());
+                let e = Complex32::new(crate::num::cos(w), crate::num::sin(w));
                 h[j * n + i] = self.h0[j * n + i] * e + self.h0[m].conj() * e.conj();
             }
         }
@@ -525,9 +525,9 @@ impl SplitMix {
     }
 
     fn gaussian_pair(&mut self) -> (f32, f32) {
-        let r = (-2.0 * self.unit().ln()).sqrt();
+        let r = (-2.0 * crate::num::ln(self.unit())).sqrt();
         let a = std::f32::consts::TAU * self.unit();
-        (r * a.cos(), r * a.sin())
+        (r * crate::num::cos(a), r * crate::num::sin(a))
     }
 }
 
@@ -634,7 +634,7 @@ impl Ambient {
                 // frozen pattern still scrolls the authored way, so a turn does not sweep it).
                 let (f, turn) = doc::key_values(keys, t);
                 let turned = |d: [f32; 2]| -> [f32; 2] {
-                    let (s, c) = turn.sin_cos();
+                    let (s, c) = crate::num::sin_cos(turn);
                     [c * d[0] - s * d[1], s * d[0] + c * d[1]]
                 };
                 match kind {
@@ -648,7 +648,11 @@ impl Ambient {
                         let d = doc::direction(*direction_deg);
                         let pulse = 1.0
                             + pulse_magnitude
-                                * (0.5 + 0.5 * (std::f32::consts::TAU * pulse_frequency * t).sin());
+                                * (0.5
+                                    + 0.5
+                                        * crate::num::sin(
+                                            std::f32::consts::TAU * pulse_frequency * t,
+                                        ));
                         // Frozen turbulence scrolled with the mean wind (Taylor's hypothesis).
                         LayerParams {
                             kind: LAYER_DIRECTIONAL,
@@ -752,7 +756,7 @@ impl Ambient {
                 LAYER_FFT => l.a + l.b * fft.as_ref().map_or(0.0, |f| f.sample(q)),
                 _ => {
                     let x = p[0] * l.dir[0] + p[1] * l.dir[1];
-                    l.a * (std::f32::consts::TAU * (x / l.b - l.c)).sin()
+                    l.a * crate::num::sin(std::f32::consts::TAU * (x / l.b - l.c))
                 }
             };
             w[0] += l.dir[0] * speed;

@@ -7,4 +7,4 @@ pub mod obstacles;
 pub mod solver;
 pub mod terrain;
 
-pub use solver::{MAX_SPEED, PassTimes, Solver};
+pub use solver::{MAX_SPEED, PassTimes, Solver, WindSampler};

@@ -454,7 +454,7 @@ pub fn contour_interval(range: f32) -> f32 {
         return 0.0;
     }
     let raw = range / 10.0;
-    let p = 10f32.powf(raw.log10().floor());
+    let p = crate::num::powf(10.0, crate::num::log10(raw).floor());
     [1.0, 2.0, 5.0, 10.0]
         .into_iter()
         .map(|m| m * p)
@@ -488,13 +488,13 @@ fn coefficients(h: f32, axes: [f32; 4], diag: [f32; 4], l: f32, strength: f32) -
     let mean = 0.5 * (hxx + hzz);
     let r = (0.25 * (hxx - hzz) * (hxx - hzz) + hxz * hxz).sqrt();
     let (l1, l2) = (mean + r, mean - r);
-    let theta = 0.5 * (2.0 * hxz).atan2(hxx - hzz);
+    let theta = 0.5 * crate::num::atan2(2.0 * hxz, hxx - hzz);
     let valley = ((l1 - l2.max(0.0)).max(0.0) * l / CHANNEL_REF).min(1.0);
     Cell {
         slope: [g[0] / SLOPE_REF, g[1] / SLOPE_REF],
         base: 1.0 + strength * GAMMA_CURVATURE * omega_c,
         ws: strength * GAMMA_SLOPE * 0.5,
-        across: [theta.cos(), theta.sin()],
+        across: [crate::num::cos(theta), crate::num::sin(theta)],
         kappa: (strength * CHANNEL_MAX * valley).min(CHANNEL_LIMIT),
         _pad: 0.0,
     }
@@ -528,7 +528,7 @@ mod tests {
         assert!(c.kappa > 0.5, "{c:?}");
         assert!(c.across[0].abs() > 0.99, "{c:?}");
         let s = shape([1.0, 1.0], &c);
-        let angle = s[0].abs().atan2(s[1].abs()).to_degrees();
+        let angle = crate::num::atan2(s[0].abs(), s[1].abs()).to_degrees();
         assert!(angle < 15.0, "{angle}° from the valley's axis");
         let speed = (s[0] * s[0] + s[1] * s[1]).sqrt();
         assert!((speed / 2f32.sqrt() - c.base).abs() < 1e-5);

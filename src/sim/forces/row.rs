@@ -129,7 +129,8 @@ impl Ambient {
                 _ => {
                     for (o, &x) in out.iter_mut().zip(xs) {
                         let along = x * l.dir[0] + z * l.dir[1];
-                        let speed = l.a * (std::f32::consts::TAU * (along / l.b - l.c)).sin();
+                        let speed =
+                            l.a * crate::num::sin(std::f32::consts::TAU * (along / l.b - l.c));
                         *o += dc * speed;
                     }
                 }

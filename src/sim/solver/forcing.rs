@@ -21,7 +21,7 @@ impl Solver {
         let coupling = if self.ambient.is_empty() {
             0.0
         } else {
-            1.0 - (-self.params.ambient_coupling * dt).exp()
+            1.0 - crate::num::exp(-self.params.ambient_coupling * dt)
         };
         let mut f = Forcing {
             g: self.geometry(),

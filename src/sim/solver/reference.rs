@@ -90,7 +90,7 @@ impl Solver {
         let coupling = if self.ambient.is_empty() {
             0.0
         } else {
-            1.0 - (-self.params.ambient_coupling * dt).exp()
+            1.0 - crate::num::exp(-self.params.ambient_coupling * dt)
         };
         if splats.is_empty() && coupling == 0.0 {
             return;

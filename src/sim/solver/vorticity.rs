@@ -614,7 +614,7 @@ pub fn confinement_rate(eps: f32) -> f32 {
     if eps <= CONFINEMENT_KNEE {
         eps.max(0.0)
     } else {
-        CONFINEMENT_KNEE + span * ((eps - CONFINEMENT_KNEE) / span).tanh()
+        CONFINEMENT_KNEE + span * crate::num::tanh((eps - CONFINEMENT_KNEE) / span)
     }
 }
 

@@ -75,7 +75,7 @@ pub(crate) fn chebyshev_weights(passes: usize, low: f64) -> Vec<f32> {
     (0..passes)
         .map(|i| {
             let angle = std::f64::consts::PI * (2 * i + 1) as f64 / (2 * passes) as f64;
-            (1.0 / (mid + half * angle.cos())) as f32
+            (1.0 / (mid + half * crate::num::cos64(angle))) as f32
         })
         .rev()
         .collect()
