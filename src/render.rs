@@ -150,14 +150,14 @@ pub fn render_scaled(
     let field = solver.velocity_field();
     let peak = field
         .iter()
-        .map(|v| v[0].hypot(v[1]))
+        .map(|v| crate::num::hypot(v[0], v[1]))
         .fold(1e-3f32, f32::max);
     let max_speed = speed_scale
         .filter(|s| s.is_finite() && *s > 0.0)
         .unwrap_or(peak);
     if let Some(mut under) = Pixmap::new(solver.nx as u32, solver.ny as u32) {
         for (p, v) in under.pixels_mut().iter_mut().zip(&field) {
-            let t = (v[0].hypot(v[1]) / max_speed).min(1.0);
+            let t = (crate::num::hypot(v[0], v[1]) / max_speed).min(1.0);
             let c = speed_rgb(t);
             let a = (40.0 + 120.0 * t.sqrt()) as u8;
             *p = tiny_skia::ColorU8::from_rgba(c[0], c[1], c[2], a).premultiply();
@@ -378,9 +378,11 @@ fn draw_streamlines(
     };
     let min = view.min;
     let step_m = 0.6 * s.hx.min(s.hz);
+    // Shaped once for every line (over terrain, `velocity_at` shapes the field each call).
+    let wind = s.wind_sampler();
     let speed = |p: [f32; 2]| {
-        let v = s.velocity_at(p);
-        (v, v[0].hypot(v[1]))
+        let v = wind.at(p);
+        (v, crate::num::hypot(v[0], v[1]))
     };
     let inside = |p: [f32; 2]| s.cell_at(p).is_some_and(|(i, j)| !s.is_solid(i, j));
     let mut seeds = Vec::new();
@@ -495,7 +497,7 @@ fn draw_streamlines(
 
 fn chevron(pix: &mut Pixmap, a: (f32, f32), b: (f32, f32), size: f32, c: Color, ui: f32) {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len = dx.hypot(dy);
+    let len = crate::num::hypot(dx, dy);
     if len < 1e-3 {
         return;
     }
@@ -625,7 +627,7 @@ fn draw_trees(pix: &mut Pixmap, view: &View, layout: &Layout, ui: f32) {
 
 fn arrow(pix: &mut Pixmap, a: (f32, f32), b: (f32, f32), width: f32, c: Color, ui: f32) {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
-    let len = dx.hypot(dy);
+    let len = crate::num::hypot(dx, dy);
     if len < 1.0 {
         return;
     }

@@ -506,13 +506,22 @@ impl Solver {
         cell_centred(self.nx, self.ny, &u, &v)
     }
 
-    /// The wind at a world point (bilinear between faces), terrain-shaped.
+    /// The wind at a world point (bilinear between faces), terrain-shaped. Over terrain this
+    /// shapes the whole field for the one point: to read many points, take a
+    /// [`Self::wind_sampler`] once.
     pub fn velocity_at(&self, p: [f32; 2]) -> [f32; 2] {
-        let g = self.geometry();
-        let x = (p[0] - self.origin[0]) / self.hx;
-        let z = (p[1] - self.origin[1]) / self.hz;
+        self.wind_sampler().at(p)
+    }
+
+    /// The terrain-shaped wind ([`Self::wind_faces`]) shaped once, to read at many points.
+    pub fn wind_sampler(&self) -> WindSampler<'_> {
         let (u, v) = self.wind_faces();
-        [sample_u(&g, &u, x, z).0, sample_v(&g, &v, x, z).0]
+        WindSampler {
+            g: self.geometry(),
+            origin: self.origin,
+            u,
+            v,
+        }
     }
 
     /// The cell containing world point `p`, if inside the grid.
@@ -691,4 +700,24 @@ fn neighbours(i: usize, n: usize, periodic: bool) -> (usize, usize) {
 #[inline]
 fn clamp_speed(x: f32) -> f32 {
     x.clamp(-MAX_SPEED, MAX_SPEED)
+}
+
+/// The wind of one moment, shaped once ([`Solver::wind_sampler`]).
+pub struct WindSampler<'a> {
+    g: Geometry,
+    origin: [f32; 2],
+    u: std::borrow::Cow<'a, [f32]>,
+    v: std::borrow::Cow<'a, [f32]>,
+}
+
+impl WindSampler<'_> {
+    /// The wind at a world point, m/s, bilinear between faces: [`Solver::velocity_at`].
+    pub fn at(&self, p: [f32; 2]) -> [f32; 2] {
+        let x = (p[0] - self.origin[0]) / self.g.hx;
+        let z = (p[1] - self.origin[1]) / self.g.hz;
+        [
+            sample_u(&self.g, &self.u, x, z).0,
+            sample_v(&self.g, &self.v, x, z).0,
+        ]
+    }
 }
