@@ -52,61 +52,81 @@ pub fn path_problem(stored: &str) -> Option<String> {
         .find_map(|part| name_problem(part).map(|why| format!("{part:?}: {why}")))
 }
 
-/// Every file `layout` names, with the field that names it (`world.map.image`,
-/// `obstacles[3].shape.image`, `world.terrain.heightmap`, `grass.density_map.image`).
-pub fn layout_files(layout: &super::Layout) -> Vec<(String, &str)> {
+/// A grey image a layout reads (a mask obstacle's image, the terrain's heightmap, the grass's
+/// density map): its pixels as read, and what it is, for messages ("mask image").
+pub type Grey<'a> = (&'a super::MaskPixels, &'static str);
+
+/// Every file `layout` names, in one order: the field that names it (`world.map.image`,
+/// `obstacles[3].shape.image`, `world.terrain.heightmap`, `grass.density_map.image`), the
+/// path as stored, and for a grey image its pixels. The one list of a layout's files: a new
+/// image field is added here and in [`for_each_file_mut`], and every reader of files sees it.
+pub fn files(layout: &super::Layout) -> Vec<(String, &str, Option<Grey<'_>>)> {
     let mut files = Vec::new();
     if let Some(m) = &layout.world.map {
-        files.push(("world.map.image".to_owned(), m.image.as_str()));
+        files.push(("world.map.image".to_owned(), m.image.as_str(), None));
     }
     for (k, o) in layout.obstacles.iter().enumerate() {
-        if let super::Shape::Mask { image, .. } = &o.shape {
-            files.push((format!("obstacles[{k}].shape.image"), image.as_str()));
+        if let super::Shape::Mask { image, pixels, .. } = &o.shape {
+            let field = format!("obstacles[{k}].shape.image");
+            files.push((field, image.as_str(), Some((pixels, "mask image"))));
         }
     }
     if let Some(t) = &layout.world.terrain {
-        files.push(("world.terrain.heightmap".to_owned(), t.heightmap.as_str()));
+        let grey = Some((&t.pixels, "heightmap"));
+        files.push((
+            "world.terrain.heightmap".to_owned(),
+            t.heightmap.as_str(),
+            grey,
+        ));
     }
     if let Some(m) = &layout.grass.density_map {
-        files.push(("grass.density_map.image".to_owned(), m.image.as_str()));
+        let grey = Some((&m.pixels, "density map"));
+        files.push(("grass.density_map.image".to_owned(), m.image.as_str(), grey));
     }
     files
+}
+
+/// [`files`] to change: `f` gets each path and, for a grey image, its pixels and what it is.
+pub fn for_each_file_mut(
+    layout: &mut super::Layout,
+    mut f: impl FnMut(&mut String, Option<(&mut super::MaskPixels, &'static str)>),
+) {
+    if let Some(m) = &mut layout.world.map {
+        f(&mut m.image, None);
+    }
+    for o in &mut layout.obstacles {
+        if let super::Shape::Mask { image, pixels, .. } = &mut o.shape {
+            f(image, Some((pixels, "mask image")));
+        }
+    }
+    if let Some(t) = &mut layout.world.terrain {
+        f(&mut t.heightmap, Some((&mut t.pixels, "heightmap")));
+    }
+    if let Some(m) = &mut layout.grass.density_map {
+        f(&mut m.image, Some((&mut m.pixels, "density map")));
+    }
 }
 
 /// The layout's relative file paths written with `/` (a path typed on Windows, `maps\grass.png`,
 /// becomes `maps/grass.png`), so a layout saved anywhere opens everywhere. Absolute paths
 /// (`/…`, `\\server\…`, `C:\…`) stay as they are: they name one machine's files.
 pub fn normalize_paths(layout: &mut super::Layout) {
-    let fix = |path: &mut String| {
+    for_each_file_mut(layout, |path, _| {
         let b = path.as_bytes();
         let absolute = b.first().is_some_and(|c| matches!(c, b'/' | b'\\'))
             || (b.len() >= 2 && b[0].is_ascii_alphabetic() && b[1] == b':');
         if !absolute && path.contains('\\') {
             *path = path.replace('\\', "/");
         }
-    };
-    if let Some(m) = &mut layout.world.map {
-        fix(&mut m.image);
-    }
-    for o in &mut layout.obstacles {
-        if let super::Shape::Mask { image, .. } = &mut o.shape {
-            fix(image);
-        }
-    }
-    if let Some(t) = &mut layout.world.terrain {
-        fix(&mut t.heightmap);
-    }
-    if let Some(m) = &mut layout.grass.density_map {
-        fix(&mut m.image);
-    }
+    });
 }
 
 /// One line for each file `layout` names that some platform cannot hold: the field, the
 /// part of its path and why.
 pub fn layout_problems(layout: &super::Layout) -> Vec<String> {
-    layout_files(layout)
+    files(layout)
         .into_iter()
-        .filter_map(|(field, path)| path_problem(path).map(|why| format!("{field}: {why}")))
+        .filter_map(|(field, path, _)| path_problem(path).map(|why| format!("{field}: {why}")))
         .collect()
 }
 

@@ -308,24 +308,13 @@ impl Document {
 /// The layout's read grey images by the file each names: its mask obstacles', the terrain's
 /// heightmap and the grass's density map.
 fn grey_images(layout: &Layout) -> Vec<(String, Arc<doc::MaskImage>)> {
-    let mut out = Vec::new();
-    let mut add = |name: &str, p: &doc::MaskPixels| {
-        if let doc::MaskPixels::Loaded(i) = p {
-            out.push((name.to_owned(), i.clone()));
-        }
-    };
-    for o in &layout.obstacles {
-        if let doc::Shape::Mask { image, pixels, .. } = &o.shape {
-            add(image, pixels);
-        }
-    }
-    if let Some(t) = &layout.world.terrain {
-        add(&t.heightmap, &t.pixels);
-    }
-    if let Some(m) = &layout.grass.density_map {
-        add(&m.image, &m.pixels);
-    }
-    out
+    doc::portable::files(layout)
+        .into_iter()
+        .filter_map(|(_, path, grey)| match grey {
+            Some((doc::MaskPixels::Loaded(i), _)) => Some((path.to_owned(), i.clone())),
+            _ => None,
+        })
+        .collect()
 }
 
 /// The images of `layout` painted since `saved` was taken: those whose pixels are not the

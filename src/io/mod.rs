@@ -158,6 +158,19 @@ fn read_image_file(path: &Path, what: &'static str) -> Result<Vec<u8>, BackdropE
         path: path.to_path_buf(),
         source: plain(source),
     };
+    // Where a name such as CON or NUL opens a device (Windows: the console, the null
+    // device), it is refused before it is opened; elsewhere the file is read, and a save or
+    // a bake refuses the name as one Windows cannot hold.
+    if let Some(why) = path
+        .file_name()
+        .filter(|_| crate::platform::fs::DEVICE_NAMES)
+        .and_then(|n| doc::portable::name_problem(&n.to_string_lossy()))
+    {
+        return Err(io(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            why,
+        )));
+    }
     let size = std::fs::metadata(path).map_err(io)?.len();
     if size > BACKDROP_MAX_BYTES {
         return Err(BackdropError::TooManyBytes {
@@ -341,23 +354,13 @@ pub fn load(path: &Path) -> Result<Layout, LoadError> {
 /// folder `base`), into its `pixels`: loaded, or failed with the reason. Images already
 /// loaded stay.
 pub fn load_masks(layout: &mut Layout, base: &Path) {
-    if let Some(t) = &mut layout.world.terrain
-        && !matches!(t.pixels, doc::MaskPixels::Loaded(_))
-    {
-        t.pixels = grey_pixels(base, &t.heightmap, "heightmap");
-    }
-    if let Some(map) = &mut layout.grass.density_map
-        && !matches!(map.pixels, doc::MaskPixels::Loaded(_))
-    {
-        map.pixels = grey_pixels(base, &map.image, "density map");
-    }
-    for o in &mut layout.obstacles {
-        if let doc::Shape::Mask { image, pixels, .. } = &mut o.shape
+    doc::portable::for_each_file_mut(layout, |image, grey| {
+        if let Some((pixels, what)) = grey
             && !matches!(pixels, doc::MaskPixels::Loaded(_))
         {
-            *pixels = grey_pixels(base, image, "mask image");
+            *pixels = grey_pixels(base, image, what);
         }
-    }
+    });
 }
 
 /// [`load_mask`] as a layout keeps it: the pixels, or why they could not be read.
