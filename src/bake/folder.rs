@@ -36,6 +36,10 @@ pub(super) const MARK: &str = ".windloom-bake-";
 /// The commit plan inside a staging folder that commits in place: the old bake's names to
 /// remove once the new files are in.
 const PLAN: &str = ".windloom-commit";
+/// The file a folder's commit lock is taken on where a folder cannot be locked itself
+/// (Windows: `platform::fs::lock_folder`). It starts with [`MARK`], so it is no one's output
+/// and no one's file; the sweep leaves it be.
+const FOLDER_LOCK: &str = ".windloom-bake-folder";
 /// How long a half-made lock file (`.lock-new`) is left alone: it is locked and renamed
 /// within microseconds of its making, so one this old belongs to a bake that died then.
 const HALF_MADE_GRACE: std::time::Duration = std::time::Duration::from_secs(60);
@@ -241,6 +245,13 @@ impl Staging {
     pub(crate) fn commit(mut self) -> Result<(), BakeError> {
         let parent = parent_dir(&self.out).to_path_buf();
         sync_dir(&self.dir).map_err(|e| output_error(&self.out, e))?;
+        // Windows will neither rename a folder with a file in it held open nor replace that
+        // file: found before anything moves, so the previous bake stays whole.
+        if self.previous.is_some()
+            && let Some(file) = held_file(&self.out)
+        {
+            return Err(held_error(&self.out, &file));
+        }
         if self.in_place {
             // One in-place commit at a time into a folder, from any process or machine (a
             // lock on the folder itself), and against the bake there now: another may have
@@ -269,7 +280,11 @@ impl Staging {
                     .map_err(|e| output_error(&self.out.join(&name), e))?;
             }
         }
-        exchange(&self.dir, &self.out).map_err(|e| output_error(&self.out, e))?;
+        exchange(&self.dir, &self.out).map_err(|e| match held_file(&self.out) {
+            // Opened between the check and the swap.
+            Some(file) => held_error(&self.out, &file),
+            None => output_error(&self.out, e),
+        })?;
         self.committed = true;
         // `self.dir` now holds the old bake. Anything of the user's that appeared in it
         // after the links were made moves across; the rest goes.
@@ -349,6 +364,9 @@ fn sweep_holding(home: &Path, held: bool) {
             legacy_stale(home, name);
             continue;
         }
+        if name == FOLDER_LOCK {
+            continue;
+        }
         let path = home.join(name);
         if let Some(base) = name.strip_suffix(".lock-new") {
             let old = std::fs::metadata(&path)
@@ -382,9 +400,45 @@ fn finish(dir: &Path, home: &Path, held: bool) {
 
 /// Waits for, and holds, the lock on a folder that in-place commits into it share.
 fn lock_folder(dir: &Path) -> std::io::Result<File> {
-    let f = File::open(dir)?;
-    f.lock()?;
-    Ok(f)
+    crate::platform::fs::lock_folder(dir, FOLDER_LOCK)
+}
+
+/// The first file under `dir` that another program holds open where that stops the folder
+/// being replaced (Windows: an engine importing a texture, a viewer showing one); `None`
+/// elsewhere, where a file held open is renamed and removed under its holder.
+fn held_file(dir: &Path) -> Option<PathBuf> {
+    if !crate::platform::fs::OPEN_FILES_PIN {
+        return None;
+    }
+    for e in std::fs::read_dir(dir).ok()?.flatten() {
+        if e.file_name().to_string_lossy().starts_with(MARK) {
+            continue;
+        }
+        let path = e.path();
+        let found = match e.file_type() {
+            Ok(t) if t.is_dir() => held_file(&path),
+            Ok(_) => crate::platform::fs::held_open(&path).then_some(path),
+            Err(_) => None,
+        };
+        if found.is_some() {
+            return found;
+        }
+    }
+    None
+}
+
+/// The error of a bake that cannot replace its folder because `file` in it is held open:
+/// the previous bake is left as it was.
+fn held_error(out: &Path, file: &Path) -> BakeError {
+    output_error(
+        out,
+        other(format!(
+            "{} is open in another program (an engine importing it, a viewer showing it), and \
+             Windows cannot replace a folder while a file in it is open; the previous bake is \
+             left as it was: close the file there, or wait for the import, and bake again",
+            file.display()
+        )),
+    )
 }
 
 /// The lock file at `path`, locked by this process, if no one else holds it.
@@ -438,8 +492,15 @@ fn previous_bake(out: &Path) -> Result<BTreeSet<String>, BakeError> {
         return Err(refuse("its manifest.json is not a windloom bake manifest"));
     }
     let mut set = BTreeSet::from([MANIFEST.to_string()]);
-    for f in value["files"].as_array().into_iter().flatten() {
-        if let Some(name) = f["name"].as_str() {
+    // The bake's files, and the terrain's heightmap (`terrain.file`), which it wrote too.
+    let names = value["files"]
+        .as_array()
+        .into_iter()
+        .flatten()
+        .map(|f| &f["name"])
+        .chain([&value["terrain"]["file"]]);
+    for name in names {
+        if let Some(name) = name.as_str() {
             // Only plain names: a manifest cannot make a bake claim files elsewhere.
             if !name.contains(['/', '\\']) && name != "." && name != ".." {
                 set.insert(name.to_string());

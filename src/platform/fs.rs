@@ -1,6 +1,6 @@
 //! The file system: the kinds of special file, opening without blocking, hard links,
-//! ownership, flushing a folder, symbolic links, mount points, the atomic folder swap and
-//! free space.
+//! ownership, flushing a folder, locking a folder, files held open, symbolic links, mount
+//! points, the atomic folder swap and free space.
 
 use std::path::Path;
 
@@ -98,6 +98,58 @@ pub fn sync_dir(dir: &Path) -> std::io::Result<()> {
     Ok(())
 }
 
+/// Whether file names such as `CON`, `NUL` or `COM1.png` name devices here, in any folder
+/// (Windows), so that opening one opens the console or a port instead of a file.
+pub const DEVICE_NAMES: bool = cfg!(windows);
+
+/// Waits for, and holds (until the returned file is dropped), an exclusive lock on the folder
+/// `dir`. Unix locks the folder itself (`flock`). Windows cannot open a folder as a file, so
+/// it locks the file `stand_in` inside it, made if missing and left there (a name the caller
+/// keeps out of its listings).
+pub fn lock_folder(dir: &Path, stand_in: &str) -> std::io::Result<std::fs::File> {
+    #[cfg(unix)]
+    let f = {
+        let _ = stand_in;
+        std::fs::File::open(dir)?
+    };
+    #[cfg(not(unix))]
+    let f = std::fs::OpenOptions::new()
+        .read(true)
+        .write(true)
+        .create(true)
+        .truncate(false)
+        .open(dir.join(stand_in))?;
+    f.lock()?;
+    Ok(f)
+}
+
+/// Whether a file held open by another program stops its folder being renamed or the file
+/// being replaced (Windows); elsewhere such a file is renamed and removed under its holder.
+pub const OPEN_FILES_PIN: bool = cfg!(windows);
+
+/// Whether another program holds the file at `path` open, so that Windows refuses to rename
+/// or remove it, or the folder it is in. Windows: an exclusive open is refused with a
+/// sharing violation. Unix renames and removes files held open (their holder keeps the old
+/// file): always `false`.
+pub fn held_open(path: &Path) -> bool {
+    #[cfg(windows)]
+    {
+        use std::os::windows::fs::OpenOptionsExt;
+        /// `ERROR_SHARING_VIOLATION`.
+        const SHARING_VIOLATION: i32 = 32;
+        let open = std::fs::OpenOptions::new()
+            .read(true)
+            .share_mode(0)
+            .open(path);
+        matches!(open, Err(e) if e.raw_os_error() == Some(SHARING_VIOLATION))
+    }
+    #[cfg(not(windows))]
+    {
+        let _ = path;
+        false
+    }
+}
+
 /// Makes `to` a symbolic link like `from` (Unix); elsewhere a copy of what it points to.
 pub fn copy_symlink(from: &Path, to: &Path) -> std::io::Result<()> {
     #[cfg(unix)]
@@ -138,21 +190,23 @@ pub fn is_mount_root(dir: &Path) -> bool {
     }
 }
 
-/// Swaps the names of the folders `from` and `to` in one atomic step where the system can
-/// (Linux's `renameat2(RENAME_EXCHANGE)`): `Ok(true)`. `Ok(false)` where it cannot (another
-/// system, an old kernel, a file system without it): the caller renames in two steps.
+/// Swaps the names of the folders `from` and `to` in one atomic step where the system can:
+/// `Ok(true)`. Linux has `renameat2(RENAME_EXCHANGE)`, macOS `renameatx_np(RENAME_SWAP)`
+/// (APFS; not HFS+). `Ok(false)` where it cannot (Windows, an old kernel, a file system
+/// without it): the caller renames in two steps.
 pub fn exchange_folders(from: &Path, to: &Path) -> std::io::Result<bool> {
-    #[cfg(any(target_os = "linux", target_os = "android"))]
+    #[cfg(any(target_os = "linux", target_os = "android", target_vendor = "apple"))]
     {
         use rustix::fs::{CWD, RenameFlags, renameat_with};
         match renameat_with(CWD, from, CWD, to, RenameFlags::EXCHANGE) {
             Ok(()) => return Ok(true),
-            // Not supported here (an old kernel, or a file system without it, such as
-            // overlayfs for folders of a lower layer).
+            // Not supported here (an old kernel or macOS, or a file system without it, such
+            // as overlayfs for folders of a lower layer, or HFS+).
             Err(e)
                 if e == rustix::io::Errno::INVAL
                     || e == rustix::io::Errno::NOSYS
-                    || e == rustix::io::Errno::XDEV => {}
+                    || e == rustix::io::Errno::XDEV
+                    || e == rustix::io::Errno::NOTSUP => {}
             Err(e) => return Err(e.into()),
         }
     }

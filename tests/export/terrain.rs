@@ -1,6 +1,6 @@
 //! A bake of a level with terrain carries the terrain-shaped wind and the ground itself,
-//! `heights.png`, decoded by the manifest's `terrain` block alone; a bake whose heightmap
-//! cannot be read is refused.
+//! `heights.png`, decoded by the manifest's `terrain` block alone, and bakes again over
+//! itself; a bake whose heightmap cannot be read is refused.
 
 use super::*;
 use windloom::doc::{AmbientKind, AmbientLayer, MaskPixels, Terrain};
@@ -88,6 +88,16 @@ fn a_bake_carries_the_terrain_shaped_wind_and_its_heights() {
             .iter()
             .all(|f| f["name"] != "heights.png"),
         "heights are the terrain block's, not a wind file"
+    );
+    // A re-bake into the folder replaces the heights with the rest, the user's file kept
+    // (the first bake's heights.png is the bake's, not the user's).
+    std::fs::write(dir.join("notes.txt"), "mine").unwrap();
+    run(&l, &dir, &opts);
+    assert_eq!(manifest(&dir)["sequence"], 2);
+    assert!(dir.join("heights.png").is_file());
+    assert_eq!(
+        std::fs::read_to_string(dir.join("notes.txt")).unwrap(),
+        "mine"
     );
 }
 
