@@ -51,9 +51,9 @@ fn window_hint(e: &eframe::Error) -> &'static str {
              `windloom bake` and `windloom render` need no display)"
         }
         eframe::Error::Wgpu(_) => {
-            " (the editor draws with wgpu: Vulkan, Metal, DX12 or OpenGL; on Linux install a \
-             Vulkan driver, for software rendering: apt-get install mesa-vulkan-drivers \
-             libvulkan1)"
+            " (the editor draws with wgpu: Vulkan, Metal, DX12 or OpenGL; try another with \
+             WGPU_BACKEND=vulkan, dx12 or gl; on Linux install a Vulkan driver, for software \
+             rendering: apt-get install mesa-vulkan-drivers libvulkan1)"
         }
         _ => "",
     }

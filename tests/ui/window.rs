@@ -113,7 +113,8 @@ fn an_editor_that_cannot_open_its_window_says_what_to_do() {
     assert!(!out.status.success(), "no backend: {stderr}");
     assert!(
         stderr.contains("could not open the editor window")
-            && stderr.contains("apt-get install mesa-vulkan-drivers"),
+            && stderr.contains("apt-get install mesa-vulkan-drivers")
+            && stderr.contains("WGPU_BACKEND=vulkan"),
         "no backend: {stderr}"
     );
     assert!(!stderr.contains("panicked"), "{stderr}");
