@@ -230,7 +230,9 @@ pub struct Manifest {
     pub solver: String,
     pub notes: Vec<String>,
     pub files: Vec<FileEntry>,
-    /// The vertical profile the volume files (`dds`) were baked with.
+    /// The vertical profile: the height the baked wind stands for, the law that carries it
+    /// up and down (what the runtime answers with), and the layers of the volume files
+    /// (`dds`). Every bake since 2026-12 has it; earlier ones only with `dds`.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profile: Option<ProfileInfo>,
     /// The settings each engine's guide and script import these files with.
@@ -264,7 +266,8 @@ pub struct TerrainInfo {
     pub bytes: u64,
 }
 
-/// The volume's vertical profile: layer `k` holds the simulated wind times `factors[k]`.
+/// The vertical profile: the baked wind stands for the wind at `reference_height` above the
+/// ground; a volume's layer `k` holds it times `factors[k]`.
 #[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
 #[schemars(deny_unknown_fields)]
 pub struct ProfileInfo {

@@ -613,9 +613,7 @@ fn bake_staged(
             .chain(doc::advise(&layout).iter().map(|a| format!("{ADVICE}{a}")))
             .chain(field_notes(&layout, max_speed))
             .collect(),
-        profile: formats
-            .contains(&Format::Dds)
-            .then(|| manifest::ProfileInfo::new(&layout.world.profile)),
+        profile: Some(manifest::ProfileInfo::new(&layout.world.profile)),
         engines: engines::engines(&ctx, &files),
         files,
         terrain,
