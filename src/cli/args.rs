@@ -25,7 +25,8 @@ Examples:
   windloom render layouts/obstacles.json -o obstacles.png --size 1600x1200 --time 8
   windloom render layouts/meadow.json --view grass -o grass.png --camera \"40,1.6,52,48,0.2,40\"
   windloom bench --grass 1000000 --model cwd --json
-  windloom bench --backend cpu --grid 1000 --iterations 20 --steps 30 --json";
+  windloom bench --backend cpu --grid 1000 --iterations 20 --steps 30 --json
+  windloom bench --runtime bake --samples 100000 --json";
 
 /// Author wind over a top-down map of a level, simulate it, and export it for game engines.
 #[derive(Parser)]
@@ -273,6 +274,13 @@ pub enum Command {
         /// to time what the order saves (the picture is the same).
         #[arg(long, requires = "grass")]
         stored_order: bool,
+        /// Time the runtime instead (`src/runtime`, what a game links): `wind_at_many` over
+        /// --samples points a call, --steps calls, one thread, on the bake in this folder.
+        #[arg(long, value_name = "BAKE_DIR", conflicts_with = "grass")]
+        runtime: Option<PathBuf>,
+        /// With --runtime: points a call.
+        #[arg(long, default_value_t = 100_000, requires = "runtime")]
+        samples: usize,
     },
 }
 

@@ -72,10 +72,15 @@ pub fn run(command: Command) -> Result<ExitCode, CliError> {
         wind_colours,
         estimate,
         stored_order,
+        runtime,
+        samples,
     } = command
     else {
         unreachable!("bench::run is called with a bench command");
     };
+    if let Some(dir) = runtime {
+        return super::runtime_bench::run(&dir, samples, steps, json);
+    }
     if let Some(blades) = grass {
         let l = match &layout {
             Some(p) => io::load(p)?,

@@ -10,6 +10,7 @@ mod editor;
 mod fmt;
 mod probe;
 mod render;
+mod runtime_bench;
 mod validate;
 
 pub use args::{Cli, Command, OnOff, RenderView};
