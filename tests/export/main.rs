@@ -1440,6 +1440,8 @@ mod live;
 mod manifest;
 /// `windloom probe` and the probes' statistics.
 mod probes;
+/// The runtime: a bake read back as a game reads it, from Rust and from C.
+mod runtime;
 /// Terrain: the shaped wind and the heights in a bake.
 mod terrain;
 /// What a studio must be able to trust: frame timing, other EXR readers, one bake per
