@@ -169,10 +169,26 @@ fn pick(folder: &Path, m: &Manifest, options: &Options) -> Result<Picked, Error>
         frames.sort_unstable();
         (g.2.len() == 1 && g.2[0].frame.is_none()) || frames == (0..count).collect::<Vec<_>>()
     });
+    // The most precise first, the raw file first among equals (the bake's own numbers).
+    groups.sort_by_key(|g| (rank(&g.2[0]), g.1 != Kind::Raw));
+    // A game may ship only the files it reads: the first format whose every file is there.
+    // When none is whole, the best one's first missing file is named.
+    let missing = |g: &(String, Kind, Vec<FileEntry>)| {
+        g.2.iter()
+            .map(|e| folder.join(&e.name))
+            .find(|p| !p.is_file())
+    };
+    if !groups.is_empty() && groups.iter().all(|g| missing(g).is_some()) {
+        return Err(Error::Bake {
+            path: missing(&groups[0]).expect("every group misses a file"),
+            message: "not there, and the manifest lists it (ship the files of at least one \
+                      format with manifest.json)"
+                .into(),
+        });
+    }
     let best = groups
         .into_iter()
-        // The raw file first among equals: it is the bake's own numbers.
-        .min_by_key(|g| (rank(&g.2[0]), g.1 != Kind::Raw))
+        .find(|g| missing(g).is_none())
         .ok_or_else(|| Error::Bake {
             path: path.clone(),
             message: format!(

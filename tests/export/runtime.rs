@@ -98,6 +98,64 @@ fn every_format_reads_back_to_the_raw_wind() {
                 }
             }
         }
+        // A game ships only the files it reads: the volume as Unity's VF or Godot's EXR
+        // slices, or the 8-bit flowmaps, each read alone, and nothing but the manifest is
+        // refused naming the file it lacks.
+        for (what, keep, tol) in [
+            ("VF volume", "wind_volume", ".vf", 2e-6 * peak),
+            (
+                "EXR slices",
+                "wind_volume",
+                ".exr",
+                if half { 2e-3 * peak } else { 2e-6 * peak },
+            ),
+            ("8-bit flowmaps", "flow8", ".png", 2.0 * peak / 255.0 * 0.51),
+        ]
+        .map(|(w, stem, ext, tol)| (w, (stem, ext), tol))
+        {
+            let shipped = tempfile::tempdir().unwrap();
+            std::fs::copy(
+                dir.path().join("manifest.json"),
+                shipped.path().join("manifest.json"),
+            )
+            .unwrap();
+            let names: Vec<&String> = m
+                .files
+                .iter()
+                .map(|f| &f.name)
+                .filter(|n| n.starts_with(keep.0) && n.ends_with(keep.1))
+                .collect();
+            assert!(!names.is_empty(), "{what}");
+            for n in &names {
+                std::fs::copy(dir.path().join(n), shipped.path().join(n)).unwrap();
+            }
+            let b = Bake::open(shipped.path(), &Options::default()).unwrap();
+            assert_eq!(b.source().1.len(), names.len(), "{what}: {:?}", b.source());
+            for k in 0..3 {
+                for j in 0..raw.ny {
+                    for i in 0..raw.nx {
+                        let (x, z) = centre(&m, i, j);
+                        let w = b.wind_at([x, y, z], k as f32 / m.frames.fps);
+                        let v = raw.at(k, i, j);
+                        assert!(
+                            (w[0] - v[0]).abs() <= tol + POSITION_ROUNDING
+                                && (w[2] - v[1]).abs() <= tol + POSITION_ROUNDING,
+                            "{layout}, {what} alone, frame {k} cell ({i}, {j}): {w:?}, raw {v:?}"
+                        );
+                    }
+                }
+            }
+        }
+        let bare = tempfile::tempdir().unwrap();
+        std::fs::copy(
+            dir.path().join("manifest.json"),
+            bare.path().join("manifest.json"),
+        )
+        .unwrap();
+        let e = Bake::open(bare.path(), &Options::default())
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("wind.f32: not there"), "{e}");
         // FGA (area-averaged cm/s text) is not read: asked for, it says what the bake has.
         let e = Bake::open(dir.path(), &opts("fga"))
             .unwrap_err()
