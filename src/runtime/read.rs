@@ -107,10 +107,10 @@ fn dds(entry: &FileEntry, bytes: &[u8]) -> Result<Vec<f32>, String> {
     }
 }
 
+/// A PNG's one image as stored (16-bit samples kept, big-endian; nothing expanded).
 #[cfg(feature = "png")]
-fn png_samples(bytes: &[u8], channels: usize) -> Result<Stored, String> {
+fn decode_png(bytes: &[u8]) -> Result<(png::OutputInfo, Vec<u8>), String> {
     let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-    // Keep 16-bit samples as they are; expand nothing else.
     decoder.set_transformations(png::Transformations::IDENTITY);
     let mut reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
     let size = reader
@@ -120,7 +120,13 @@ fn png_samples(bytes: &[u8], channels: usize) -> Result<Stored, String> {
     let info = reader
         .next_frame(&mut buf)
         .map_err(|e| format!("PNG: {e}"))?;
-    let buf = &buf[..info.buffer_size()];
+    buf.truncate(info.buffer_size());
+    Ok((info, buf))
+}
+
+#[cfg(feature = "png")]
+fn png_samples(bytes: &[u8], channels: usize) -> Result<Stored, String> {
+    let (info, buf) = decode_png(bytes)?;
     let per_pixel = info.color_type.samples();
     if per_pixel < channels {
         return Err(format!(
@@ -190,23 +196,14 @@ fn exr_samples(_: &FileEntry, _: &[u8]) -> Result<Vec<f32>, String> {
 /// The grey samples of the terrain's 16-bit PNG, `n / 65535`, row after row.
 #[cfg(feature = "png")]
 pub(crate) fn grey16(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
-    let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
-    decoder.set_transformations(png::Transformations::IDENTITY);
-    let mut reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
-    let size = reader
-        .output_buffer_size()
-        .ok_or("PNG: the image is too large")?;
-    let mut buf = vec![0; size];
-    let info = reader
-        .next_frame(&mut buf)
-        .map_err(|e| format!("PNG: {e}"))?;
+    let (info, buf) = decode_png(bytes)?;
     if info.color_type != png::ColorType::Grayscale || info.bit_depth != png::BitDepth::Sixteen {
         return Err(format!(
             "PNG: {:?} {:?}-bit; the heights are 16-bit grey",
             info.color_type, info.bit_depth
         ));
     }
-    let values = buf[..info.buffer_size()]
+    let values = buf
         .chunks_exact(2)
         .map(|c| f32::from(u16::from_be_bytes([c[0], c[1]])) / 65535.0)
         .collect();
