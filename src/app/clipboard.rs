@@ -90,7 +90,7 @@ impl EditorApp {
             },
         };
         // Masks from elsewhere: their images read beside this layout.
-        crate::io::load_masks(&mut copied, &crate::io::layout_base(self.doc.path()));
+        self.doc.read_images(&mut copied);
         let at_pointer = self.map.cursor_world.filter(|_| {
             self.map
                 .rect

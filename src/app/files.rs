@@ -72,6 +72,11 @@ impl EditorApp {
         {
             self.edit(ctx, Edit::Rename(stem));
         }
+        // The images keep naming their files from the new folder, and a new image takes a
+        // free name where a file this editor never read is in the way (one undo step).
+        if let Some(plan) = self.doc.save_plan(path) {
+            self.edit(ctx, plan);
+        }
         match self.doc.write_to(path) {
             Ok(()) => {
                 self.remember_recent(path);
@@ -230,7 +235,7 @@ impl EditorApp {
     }
 
     /// Shows the next recovery copy left by an editor that is gone, if any.
-    pub(crate) fn next_recovery(&mut self) {
+    pub fn next_recovery(&mut self) {
         if self.dialog.is_none()
             && let Some(found) = self.doc.next_found()
         {
@@ -247,10 +252,12 @@ impl EditorApp {
     }
 
     /// Restores a recovery copy: its layout, unsaved, with the path of the file it was
-    /// editing (so Save goes back there).
+    /// editing (so Save goes back there), its unsaved images from the copy and every other
+    /// image from the level's folder, as the layout names them.
     pub fn restore(&mut self, found: &recovery::Found) -> Result<(), String> {
-        let doc = crate::io::load(&found.layout).map_err(|e| e.to_string())?;
-        self.replace_document(doc, found.origin.clone(), false);
+        let restored = found.restore()?;
+        self.replace_document(restored.layout, found.origin.clone(), false);
+        self.doc.mark_recovered(&restored.recovered);
         // Our own copy first, then the old one goes (unless it is the same file).
         let ours = self.doc.write_recovery().ok();
         if ours.as_deref() != Some(found.layout.as_path()) {

@@ -542,8 +542,7 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
     if let Shape::Mask { image, pixels, .. } = &mut o.shape {
         // A new image path is read at once (relative to the layout's folder).
         if changed && !matches!(pixels, doc::MaskPixels::Loaded(_)) {
-            let base = crate::io::layout_base(app.doc.path());
-            *pixels = crate::io::grey_pixels(&base, image, "mask image");
+            *pixels = app.doc.read_grey(image, "mask image");
         }
         match pixels {
             doc::MaskPixels::Loaded(m) => {
@@ -995,8 +994,7 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                     changed = true;
                     let old = w.terrain.take();
                     w.terrain = (!path.trim().is_empty()).then(|| {
-                        let base = crate::io::layout_base(app.doc.path());
-                        let pixels = crate::io::grey_pixels(&base, path.trim(), "heightmap");
+                        let pixels = app.doc.read_grey(path.trim(), "heightmap");
                         match old {
                             Some(t) => doc::Terrain {
                                 heightmap: path.trim().to_owned(),
@@ -1236,13 +1234,10 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 )
             }) {
                 changed = true;
-                g.density_map = (!path.trim().is_empty()).then(|| {
-                    let base = crate::io::layout_base(app.doc.path());
-                    doc::DensityMap {
-                        image: path.trim().to_owned(),
-                        rect: g.density_map.as_ref().and_then(|m| m.rect),
-                        pixels: crate::io::grey_pixels(&base, path.trim(), "density map"),
-                    }
+                g.density_map = (!path.trim().is_empty()).then(|| doc::DensityMap {
+                    image: path.trim().to_owned(),
+                    rect: g.density_map.as_ref().and_then(|m| m.rect),
+                    pixels: app.doc.read_grey(path.trim(), "density map"),
                 });
             }
             if let Some(doc::MaskPixels::Failed(why)) = g.density_map.as_ref().map(|m| &m.pixels) {

@@ -419,10 +419,7 @@ impl EditorApp {
             // The single shared copy of earlier versions.
             let legacy = dir.join("recovery.json");
             if legacy.exists() {
-                found.push(recovery::Found {
-                    layout: legacy,
-                    origin: None,
-                });
+                found.push(recovery::Found::at(legacy));
             }
             app.doc.offer_found(found);
             app.next_recovery();

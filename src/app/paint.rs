@@ -72,23 +72,58 @@ fn image_of(layout: &doc::Layout, t: Target) -> Option<(&MaskPixels, [doc::Vec2;
     }
 }
 
-/// The edit that puts `image` in place of `t`'s pixels.
-fn edit_for(layout: &doc::Layout, t: Target, image: MaskImage) -> Option<Edit> {
+/// The edit that puts `image` in place of `t`'s pixels, and the new file name it takes when
+/// another item names the same file (which keeps its pixels: two items never hold different
+/// pixels under one name).
+fn edit_for(app: &EditorApp, t: Target, image: MaskImage) -> Option<(Edit, Option<String>)> {
+    let layout: &doc::Layout = &app.doc;
     let pixels = MaskPixels::Loaded(std::sync::Arc::new(image));
-    match t {
+    let name =
+        match t {
+            Target::Mask(id) => layout
+                .obstacles
+                .iter()
+                .find(|o| o.id == id)
+                .and_then(|o| match &o.shape {
+                    Shape::Mask { image, .. } => Some(image.clone()),
+                    _ => None,
+                }),
+            Target::Density => layout.grass.density_map.as_ref().map(|m| m.image.clone()),
+        }?;
+    let files = doc::portable::files(layout);
+    let shared = files.iter().filter(|(_, n, _)| *n == name).count() > 1;
+    let renamed = shared.then(|| {
+        let base = app.doc.base();
+        crate::io::images::free_name(&name, |n| {
+            !files.iter().any(|(_, m, _)| *m == n)
+                && !crate::io::images::file_key(&base, n).exists()
+        })
+    });
+    let edit = match t {
         Target::Mask(id) => {
             let mut o = layout.obstacles.iter().find(|o| o.id == id)?.clone();
-            if let Shape::Mask { pixels: p, .. } = &mut o.shape {
+            if let Shape::Mask {
+                pixels: p, image, ..
+            } = &mut o.shape
+            {
                 *p = pixels;
+                if let Some(n) = &renamed {
+                    image.clone_from(n);
+                }
             }
-            Some(Edit::SetObstacle { obstacle: o })
+            Edit::SetObstacle { obstacle: o }
         }
         Target::Density => {
             let mut g = layout.grass.clone();
-            g.density_map.as_mut()?.pixels = pixels;
-            Some(Edit::SetGrass(g))
+            let m = g.density_map.as_mut()?;
+            m.pixels = pixels;
+            if let Some(n) = &renamed {
+                m.image.clone_from(n);
+            }
+            Edit::SetGrass(g)
         }
-    }
+    };
+    Some((edit, renamed))
 }
 
 /// One frame of the paint tool on the map.
@@ -198,8 +233,14 @@ fn finish(app: &mut EditorApp, ctx: &egui::Context) {
     if unchanged {
         return;
     }
-    if let Some(e) = edit_for(&app.doc, s.target, s.image) {
-        app.edit(ctx, e);
+    if let Some((e, renamed)) = edit_for(app, s.target, s.image)
+        && app.edit(ctx, e)
+        && let Some(n) = renamed
+    {
+        app.say(
+            ctx,
+            format!("Painted as {n}: another item names the original, which keeps its pixels"),
+        );
     }
 }
 

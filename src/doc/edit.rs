@@ -104,6 +104,11 @@ pub enum Edit {
     SetSim(SimParams),
     SetGrass(GrassParams),
     Rename(String),
+    /// Renames the files the layout names (its backdrop, masks, heightmap, density map):
+    /// every path equal to a pair's first becomes its second, all at once. Pixels stay as
+    /// they are: the same images under new names (a Save As into another folder keeps each
+    /// read image's file; a new image takes a free name).
+    Repath(Vec<(String, String)>),
     /// Several edits as one undo step; applied in order, undone in reverse.
     Batch(Vec<Edit>),
     /// An edit named for what the user did ("Apply preset", "Paste"), for the Undo menu.
@@ -167,6 +172,7 @@ impl Edit {
             Self::SetSim(_) => "Change simulation",
             Self::SetGrass(_) => "Change grass",
             Self::Rename(_) => "Rename layout",
+            Self::Repath(_) => "Rename image files",
             Self::Named(label, _) => label,
             // A batch is named after what it does where that is one thing: the edits' own
             // name when they share it, "Delete selection" for a mixed deletion.
@@ -334,6 +340,14 @@ impl Edit {
             Self::SetSim(s) => Self::SetSim(std::mem::replace(&mut doc.sim, s)),
             Self::SetGrass(g) => Self::SetGrass(std::mem::replace(&mut doc.grass, g)),
             Self::Rename(n) => Self::Rename(std::mem::replace(&mut doc.name, n)),
+            Self::Repath(pairs) => {
+                super::portable::for_each_file_mut(doc, |path, _| {
+                    if let Some((_, to)) = pairs.iter().find(|(from, _)| from == path) {
+                        path.clone_from(to);
+                    }
+                });
+                Self::Repath(pairs.into_iter().map(|(a, b)| (b, a)).collect())
+            }
             Self::Batch(edits) => {
                 let mut inverses = Vec::with_capacity(edits.len());
                 for e in edits {

@@ -7,10 +7,10 @@
 //! (one undo step, or one gesture) or by replacing it whole (New, Open, Restore), so every
 //! change is undoable, validated and noticed.
 
+use super::images::{self, ImageFiles};
 use super::{disk, recovery};
 use crate::doc::{self, Edit, EditError, History, Layout};
 use std::path::{Path, PathBuf};
-use std::sync::Arc;
 
 /// Seconds between two autosaves of unsaved work.
 pub const AUTOSAVE_SECONDS: f64 = 20.0;
@@ -22,9 +22,10 @@ pub struct Document {
     path: Option<PathBuf>,
     /// The layout's JSON as the file last held it (empty: no file, or one to overwrite).
     saved_json: String,
-    /// The grey images (masks, the density map, the heightmap) as their files last held them
-    /// ([`painted_images`]): a painted one is unsaved work, written beside the layout on save.
-    saved_images: Vec<(String, Arc<doc::MaskImage>)>,
+    /// The grey images (masks, the density map, the heightmap) against their files: one not
+    /// as its file holds it (painted, newly made, pasted, recovered) is unsaved work, written
+    /// on save and into every recovery copy.
+    images: ImageFiles,
     dirty: bool,
     /// Changed since the editor last looked ([`Self::take_changed`]).
     changed: bool,
@@ -56,9 +57,11 @@ impl Document {
     /// `layout`, read from `path` if any (so unchanged: not dirty), its file watched by
     /// `poller`.
     pub fn new(layout: Layout, path: Option<PathBuf>, poller: disk::Poller) -> Self {
+        let mut images = ImageFiles::default();
+        images.note_layout(&layout, &crate::io::layout_base(path.as_deref()));
         Self {
             saved_json: doc::to_json(&layout),
-            saved_images: grey_images(&layout),
+            images,
             disk: path.as_deref().map(disk::Watch::read),
             layout,
             history: History::new(),
@@ -84,6 +87,56 @@ impl Document {
     /// The file the document was read from or last saved to.
     pub fn path(&self) -> Option<&Path> {
         self.path.as_deref()
+    }
+
+    /// The folder the layout's relative paths start from: its file's, or the working folder
+    /// for a layout not saved yet.
+    pub fn base(&self) -> PathBuf {
+        crate::io::layout_base(self.path.as_deref())
+    }
+
+    /// Reads the grey image `name` (relative to [`Self::base`]; `what` it is, for messages)
+    /// for the layout to hold: the pixels, as its file holds them, or why not. Every image
+    /// the editor attaches is read here, so that only painted or new pixels count as unsaved.
+    pub fn read_grey(&mut self, name: &str, what: &'static str) -> doc::MaskPixels {
+        let base = self.base();
+        let pixels = crate::io::grey_pixels(&base, name, what);
+        if let doc::MaskPixels::Loaded(image) = &pixels {
+            self.images
+                .note(images::file_key(&base, name), image.clone());
+        }
+        pixels
+    }
+
+    /// Reads the grey images of `layout` (one to paste in) that are not loaded yet, beside
+    /// this document's file; images already loaded (painted in this editor) stay unsaved
+    /// work.
+    pub fn read_images(&mut self, layout: &mut Layout) {
+        let base = self.base();
+        let had = images::greys(layout, &base);
+        crate::io::load_masks(layout, &base);
+        for g in images::greys(layout, &base) {
+            if !had
+                .iter()
+                .any(|h| std::sync::Arc::ptr_eq(&h.image, &g.image))
+            {
+                self.images.note(g.file, g.image);
+            }
+        }
+    }
+
+    /// The grey images that are unsaved work: their files do not hold these pixels.
+    pub fn unsaved_images(&self) -> Vec<images::Grey> {
+        self.images.unsaved(&self.layout, &self.base())
+    }
+
+    /// The edit a save to `path` needs first (`None`: none): the images keep naming their
+    /// files from `path`'s folder, and a new image takes a free name where a file this editor
+    /// never read is in the way ([`ImageFiles::plan_save`]).
+    pub fn save_plan(&self, path: &Path) -> Option<Edit> {
+        let to = crate::io::layout_base(Some(path));
+        let pairs = self.images.plan_save(&self.layout, &self.base(), &to);
+        (!pairs.is_empty()).then_some(Edit::Repath(pairs))
     }
 
     /// Where Save writes, without saving (a test, or the Export dialog's guess of a folder).
@@ -138,7 +191,9 @@ impl Document {
     /// Replaces the whole layout (New, Open, Restore), from `path` if any; `saved`: as that
     /// file holds it (else it counts as unsaved). The history starts anew.
     pub fn replace(&mut self, layout: Layout, path: Option<PathBuf>, saved: bool) {
-        self.saved_images = grey_images(&layout);
+        self.images.clear();
+        self.images
+            .note_layout(&layout, &crate::io::layout_base(path.as_deref()));
         self.saved_json = if saved {
             doc::to_json(&layout)
         } else {
@@ -158,25 +213,31 @@ impl Document {
         if !std::mem::take(&mut self.changed) {
             return false;
         }
-        self.dirty = doc::to_json(&self.layout) != self.saved_json
-            || !painted_images(&self.layout, &self.saved_images).is_empty();
+        self.dirty =
+            doc::to_json(&self.layout) != self.saved_json || !self.unsaved_images().is_empty();
         true
     }
 
-    /// Writes the layout to `path` atomically; it is then the document's file, saved.
+    /// The images `names` of a restored copy are the copy's, not their files': unsaved work
+    /// (their files stay the document's to write).
+    pub fn mark_recovered(&mut self, names: &[String]) {
+        let base = self.base();
+        self.images.unsave(&self.layout, &base, names);
+        self.changed = true;
+    }
+
+    /// Writes the layout to `path` atomically, its unsaved images first (each replaced
+    /// atomically where the layout names it from `path`'s folder: a layout never names an
+    /// image older than its strokes); it is then the document's file, saved. Nothing is
+    /// written when a name is not portable, when two items name one file with different
+    /// pixels, or when an image would replace a file this editor never read.
     pub fn write_to(&mut self, path: &Path) -> std::io::Result<()> {
-        // The painted images first, each replaced atomically beside the layout: a layout
-        // never names an image older than its strokes.
         crate::io::check_portable(path, &self.layout)?;
         let base = crate::io::layout_base(Some(path));
-        for (name, image) in painted_images(&self.layout, &self.saved_images) {
-            let file = crate::io::layout_file(&base, &name);
-            let bytes = encode_grey(&file, &image)
-                .map_err(|e| std::io::Error::other(format!("{}: {e}", file.display())))?;
-            crate::io::write_atomic(&file, &bytes)
-                .map_err(|e| std::io::Error::new(e.kind(), format!("{}: {e}", file.display())))?;
-        }
-        self.saved_images = grey_images(&self.layout);
+        let mut images = std::mem::take(&mut self.images);
+        let written = images.write(&self.layout, &base);
+        self.images = images;
+        written?;
         let json = doc::to_json(&self.layout);
         crate::io::write_atomic(path, json.as_bytes())?;
         self.disk = Some(disk::Watch::written(path, json.as_bytes()));
@@ -266,7 +327,9 @@ impl Document {
         let Some(r) = &mut self.recovery else {
             return Err("no recovery folder".into());
         };
-        match r.write(&self.layout, self.path.as_deref()) {
+        let base = crate::io::layout_base(self.path.as_deref());
+        let unsaved = self.images.unsaved(&self.layout, &base);
+        match r.write(&self.layout, self.path.as_deref(), &base, &unsaved) {
             Ok(written) => {
                 self.recovery_error = None;
                 Ok(written)
@@ -303,62 +366,4 @@ impl Document {
     pub fn next_autosave(&self) -> Option<f64> {
         self.dirty.then_some(self.last_autosave + AUTOSAVE_SECONDS)
     }
-}
-
-/// The layout's read grey images by the file each names: its mask obstacles', the terrain's
-/// heightmap and the grass's density map.
-fn grey_images(layout: &Layout) -> Vec<(String, Arc<doc::MaskImage>)> {
-    doc::portable::files(layout)
-        .into_iter()
-        .filter_map(|(_, path, grey)| match grey {
-            Some((doc::MaskPixels::Loaded(i), _)) => Some((path.to_owned(), i.clone())),
-            _ => None,
-        })
-        .collect()
-}
-
-/// The images of `layout` painted since `saved` was taken: those whose pixels are not the
-/// ones their file held (a new path read from disk is not painted).
-pub fn painted_images(
-    layout: &Layout,
-    saved: &[(String, Arc<doc::MaskImage>)],
-) -> Vec<(String, Arc<doc::MaskImage>)> {
-    grey_images(layout)
-        .into_iter()
-        .filter(|(name, image)| {
-            saved
-                .iter()
-                .find(|(n, _)| n == name)
-                .is_some_and(|(_, s)| !Arc::ptr_eq(s, image))
-        })
-        .collect()
-}
-
-/// A grey image's bytes for `file`: an EXR (grey in R, G and B, half floats) where its name
-/// ends in `.exr`, else a 16-bit grey PNG.
-fn encode_grey(file: &Path, image: &doc::MaskImage) -> Result<Vec<u8>, String> {
-    let (w, h) = (image.width as usize, image.height as usize);
-    let exr = file
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("exr"));
-    if exr {
-        use exr::prelude::*;
-        let l = |p: Vec2<usize>| f32::from(image.luminance[p.y() * w + p.x()]) / 65535.0;
-        let img = Image::from_channels((w, h), SpecificChannels::rgb(|p| (l(p), l(p), l(p))));
-        let mut out = std::io::Cursor::new(Vec::new());
-        img.write()
-            .to_buffered(&mut out)
-            .map_err(|e| e.to_string())?;
-        return Ok(out.into_inner());
-    }
-    let buf = image::ImageBuffer::<image::Luma<u16>, Vec<u16>>::from_raw(
-        image.width,
-        image.height,
-        image.luminance.clone(),
-    )
-    .ok_or("the image's pixels do not fill it")?;
-    let mut out = Vec::new();
-    buf.write_to(&mut std::io::Cursor::new(&mut out), image::ImageFormat::Png)
-        .map_err(|e| e.to_string())?;
-    Ok(out)
 }

@@ -2,6 +2,7 @@
 
 pub mod disk;
 mod document;
+pub mod images;
 pub mod presets;
 pub mod recovery;
 
@@ -335,19 +336,26 @@ fn mib(bytes: u64) -> String {
     format!("{} MiB", bytes >> 20)
 }
 
-/// Reads and validates a layout file: a regular file of at most [`doc::LAYOUT_MAX_BYTES`].
+/// Reads and validates a layout file: a regular file of at most [`doc::LAYOUT_MAX_BYTES`],
+/// with its images read beside it.
 pub fn load(path: &Path) -> Result<Layout, LoadError> {
+    let mut layout = load_unread(path)?;
+    load_masks(&mut layout, &layout_base(Some(path)));
+    Ok(layout)
+}
+
+/// [`load`] without reading the images it names (a recovery copy, whose images live
+/// elsewhere).
+pub fn load_unread(path: &Path) -> Result<Layout, LoadError> {
     let bytes =
         read_regular(path, doc::LAYOUT_MAX_BYTES, "a layout").map_err(|source| LoadError::Io {
             path: path.to_path_buf(),
             source: plain(source),
         })?;
-    let mut layout = doc::parse_bytes(&bytes).map_err(|diagnostics| LoadError::Invalid {
+    doc::parse_bytes(&bytes).map_err(|diagnostics| LoadError::Invalid {
         path: path.to_path_buf(),
         diagnostics,
-    })?;
-    load_masks(&mut layout, &layout_base(Some(path)));
-    Ok(layout)
+    })
 }
 
 /// Reads each mask obstacle's image, the terrain's heightmap and the grass's density map (relative to the layout's

@@ -1,17 +1,30 @@
 //! Autosaved copies of unsaved work, one per document: `<key>.json` (the layout) beside
-//! `<key>.owner` (which process wrote it and which file it belongs to) in the recovery folder.
-//! Two editors never share a copy — the key is the document's path, or a session id for a new
-//! document — and a copy is offered back only when the editor that wrote it is gone, with the
-//! path of the file it was editing, so the next Save goes there. No egui here.
+//! `<key>.owner` (which process wrote it, which file it belongs to, the folder its paths start
+//! from, and which of its images are unsaved) and `<key>.images/` (those images, 16-bit PNGs
+//! named by their pixels' hash) in the recovery folder. Two editors never share a copy — the
+//! key is the document's path, or a session id for a new document — and a copy is offered back
+//! only when the editor that wrote it is gone, with the path of the file it was editing, so
+//! the next Save goes there. Restoring reads the layout's other images from the level's own
+//! folder, as the layout names them. No egui here.
 
-use crate::doc::Layout;
+use super::images::Grey;
+use crate::doc::{Layout, MaskImage};
 use std::path::{Path, PathBuf};
+use std::sync::{Arc, Weak};
 
-/// Who wrote a recovery copy (`<key>.owner`).
+/// Who wrote a recovery copy (`<key>.owner`), and what else the copy needs to come back.
 #[derive(Debug, Clone, PartialEq, serde::Serialize, serde::Deserialize)]
 struct Owner {
     pid: u32,
     path: Option<PathBuf>,
+    /// The folder the layout's relative paths started from (the file's, or the working
+    /// folder of a new layout).
+    #[serde(default)]
+    base: Option<PathBuf>,
+    /// Each unsaved image: the path the layout names it by, and its file in the copy's
+    /// images folder.
+    #[serde(default)]
+    images: Vec<(String, String)>,
 }
 
 /// A recovery copy left by an editor that is no longer running.
@@ -21,9 +34,38 @@ pub struct Found {
     pub layout: PathBuf,
     /// The file that editor was editing (`None`: a new, never-saved document).
     pub origin: Option<PathBuf>,
+    /// The folder its relative paths started from (`None`: a copy of an earlier version:
+    /// the origin's folder).
+    pub base: Option<PathBuf>,
+    /// The unsaved images it holds: the path the layout names each by, and the copy's file.
+    pub images: Vec<(String, PathBuf)>,
+}
+
+/// A recovery copy read back: the layout with every image loaded (the unsaved ones from the
+/// copy, the rest from the level's folder), and which images are the copy's.
+#[derive(Debug)]
+pub struct Restored {
+    pub layout: Layout,
+    pub recovered: Vec<String>,
+}
+
+/// The folder of a copy's images, beside its layout.
+fn images_dir(layout: &Path) -> PathBuf {
+    layout.with_extension("images")
 }
 
 impl Found {
+    /// The copy at `layout` with nothing else known of it (an earlier version's, or one to
+    /// remove).
+    pub fn at(layout: PathBuf) -> Self {
+        Self {
+            layout,
+            origin: None,
+            base: None,
+            images: Vec::new(),
+        }
+    }
+
     /// What the "Restore unsaved work?" dialog says of this copy to an editor that has
     /// `open` open: whose copy it is, and, when that is not the open file, that Restore
     /// replaces it (an editor started on one layout can be offered another's copy).
@@ -50,6 +92,48 @@ impl Found {
     pub fn remove(&self) {
         let _ = std::fs::remove_file(&self.layout);
         let _ = std::fs::remove_file(self.layout.with_extension("owner"));
+        let _ = std::fs::remove_dir_all(images_dir(&self.layout));
+    }
+
+    /// Reads the copy back as the editor that wrote it had it: its layout, its unsaved images
+    /// from the copy, and every other image from the level's folder (the origin's, or the
+    /// folder a new layout's paths started from), as the layout names them. A new layout's
+    /// relative paths are made absolute when that folder is not the working folder now.
+    pub fn restore(&self) -> Result<Restored, String> {
+        let mut layout = super::load_unread(&self.layout).map_err(|e| e.to_string())?;
+        let base = match (&self.origin, &self.base) {
+            (Some(origin), _) => super::layout_base(Some(origin)),
+            (None, Some(base)) => base.clone(),
+            (None, None) => PathBuf::from("."),
+        };
+        let mut recovered = Vec::new();
+        for (name, file) in &self.images {
+            let dir = file.parent().unwrap_or(Path::new("."));
+            let leaf = file.file_name().unwrap_or_default().to_string_lossy();
+            let image = super::load_mask(dir, &leaf, "recovered image")
+                .map_err(|e| format!("the recovery copy's image for {name}: {e}"))?;
+            let image = Arc::new(image);
+            crate::doc::portable::for_each_file_mut(&mut layout, |path, grey| {
+                if path == name
+                    && let Some((pixels, _)) = grey
+                {
+                    *pixels = crate::doc::MaskPixels::Loaded(image.clone());
+                }
+            });
+            recovered.push(name.clone());
+        }
+        if self.origin.is_none() {
+            let here = super::images::file_key(Path::new("."), ".");
+            if super::images::file_key(&base, ".") != here {
+                crate::doc::portable::for_each_file_mut(&mut layout, |path, _| {
+                    if !Path::new(path.as_str()).is_absolute() && !recovered.contains(path) {
+                        *path = super::images::file_key(&base, path).display().to_string();
+                    }
+                });
+            }
+        }
+        super::load_masks(&mut layout, &base);
+        Ok(Restored { layout, recovered })
     }
 }
 
@@ -61,6 +145,9 @@ pub struct Recovery {
     session: String,
     /// The copy last written (removed when the document's path changes or it is saved).
     written: Option<PathBuf>,
+    /// The images last written into the copy: each by its pixels (while the editor holds
+    /// them) and its file, so an image unchanged since is not encoded again.
+    images: Vec<(Weak<MaskImage>, PathBuf)>,
 }
 
 /// How old a temporary file of an atomic write must be before it counts as left by a killed
@@ -90,6 +177,19 @@ pub fn sweep_temporaries(dir: &Path, older_than: std::time::Duration) -> usize {
         .count()
 }
 
+/// A recovery image's file name: the hash of its size and pixels (SHA-256, 16 hex digits).
+fn image_hash(image: &MaskImage) -> String {
+    use sha2::Digest;
+    let mut h = sha2::Sha256::new();
+    h.update(image.width.to_le_bytes());
+    h.update(image.height.to_le_bytes());
+    h.update(bytemuck::cast_slice::<u16, u8>(&image.luminance));
+    h.finalize()[..8]
+        .iter()
+        .map(|b| format!("{b:02x}"))
+        .collect()
+}
+
 /// A short stable hash of a path (FNV-1a), for file names.
 fn fnv(s: &str) -> u64 {
     s.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
@@ -106,6 +206,7 @@ impl Recovery {
             dir,
             session: format!("untitled-{}-{nanos:x}", std::process::id()),
             written: None,
+            images: Vec::new(),
         }
     }
 
@@ -139,32 +240,86 @@ impl Recovery {
         self.dir.join(format!("{key}.json"))
     }
 
-    /// Writes `doc` (being edited at `doc_path`) as this document's copy, atomically; a copy
-    /// for the document's previous path is removed.
-    pub fn write(&mut self, doc: &Layout, doc_path: Option<&Path>) -> Result<PathBuf, String> {
+    /// Writes `doc` (being edited at `doc_path`, its relative paths from `base`) and its
+    /// unsaved images as this document's copy, each file atomically: the images first (named
+    /// by their pixels, so a file once written never changes), then the owner that names
+    /// them, then the layout; images no longer named go last. A copy for the document's
+    /// previous path is removed.
+    pub fn write(
+        &mut self,
+        doc: &Layout,
+        doc_path: Option<&Path>,
+        base: &Path,
+        unsaved: &[Grey],
+    ) -> Result<PathBuf, String> {
         let path = self.path_for(doc_path);
         std::fs::create_dir_all(&self.dir)
             .map_err(|e| format!("could not create {}: {e}", self.dir.display()))?;
+        let dir = images_dir(&path);
+        let mut images = Vec::new();
+        let mut kept = Vec::new();
+        for g in unsaved {
+            let file =
+                match self.images.iter().find(|(w, f)| {
+                    w.upgrade().is_some_and(|i| Arc::ptr_eq(&i, &g.image)) && f.exists()
+                }) {
+                    Some((_, f)) => f.clone(),
+                    None => {
+                        let file = dir.join(format!("{}.png", image_hash(&g.image)));
+                        if !file.exists() {
+                            std::fs::create_dir_all(&dir)
+                                .map_err(|e| format!("could not create {}: {e}", dir.display()))?;
+                            let bytes = super::images::encode_grey(&file, &g.image, true)
+                                .map_err(|e| format!("{}: {e}", file.display()))?;
+                            crate::io::write_atomic(&file, &bytes)
+                                .map_err(|e| format!("{}: {e}", file.display()))?;
+                        }
+                        file
+                    }
+                };
+            kept.push((Arc::downgrade(&g.image), file.clone()));
+            let leaf = file
+                .file_name()
+                .unwrap_or_default()
+                .to_string_lossy()
+                .into_owned();
+            images.push((g.name.clone(), leaf));
+        }
         // The owner (which file the copy is of) first: an editor killed between the two
         // writes then leaves the old copy with its owner, never a new copy without one
         // (restored as untitled, its way back to the level's file lost).
         let owner = Owner {
             pid: std::process::id(),
             path: doc_path.map(|p| p.canonicalize().unwrap_or_else(|_| p.to_path_buf())),
+            base: Some(super::images::file_key(base, ".")),
+            images,
         };
         let json = serde_json::to_vec(&owner).map_err(|e| e.to_string())?;
         let owner_path = path.with_extension("owner");
         crate::io::write_atomic(&owner_path, &json)
             .map_err(|e| format!("{}: {e}", owner_path.display()))?;
         crate::io::save(&path, doc).map_err(|e| format!("{}: {e}", path.display()))?;
+        // Images the copy no longer names.
+        if let Ok(entries) = std::fs::read_dir(&dir) {
+            for e in entries.flatten() {
+                let p = e.path();
+                let named = kept.iter().any(|(_, f)| *f == p);
+                let temporary = p
+                    .file_name()
+                    .is_some_and(|n| n.to_string_lossy().starts_with(".windloom-"));
+                if !named && !temporary {
+                    let _ = std::fs::remove_file(&p);
+                }
+            }
+        }
+        if kept.is_empty() {
+            let _ = std::fs::remove_dir(&dir);
+        }
+        self.images = kept;
         if let Some(old) = self.written.replace(path.clone())
             && old != path
         {
-            Found {
-                layout: old,
-                origin: None,
-            }
-            .remove();
+            Found::at(old).remove();
         }
         Ok(path)
     }
@@ -172,12 +327,9 @@ impl Recovery {
     /// Removes this editor's copy (the work was saved, or discarded on purpose).
     pub fn remove(&mut self) {
         if let Some(p) = self.written.take() {
-            Found {
-                layout: p,
-                origin: None,
-            }
-            .remove();
+            Found::at(p).remove();
         }
+        self.images.clear();
     }
 
     /// The copies in `dir` whose editors are gone, newest first. A copy without a readable
@@ -204,11 +356,24 @@ impl Recovery {
                 let modified = std::fs::metadata(&layout)
                     .and_then(|m| m.modified())
                     .unwrap_or(std::time::UNIX_EPOCH);
+                let dir = images_dir(&layout);
+                let (origin, base, images) = match owner {
+                    Some(o) => (
+                        o.path,
+                        o.base,
+                        (o.images.into_iter())
+                            .map(|(name, file)| (name, dir.join(file)))
+                            .collect(),
+                    ),
+                    None => (None, None, Vec::new()),
+                };
                 Some((
                     modified,
                     Found {
                         layout,
-                        origin: owner.and_then(|o| o.path),
+                        origin,
+                        base,
+                        images,
                     },
                 ))
             })
@@ -227,8 +392,8 @@ mod tests {
     #[test]
     fn the_offer_says_whose_copy_and_what_restore_replaces() {
         let found = |origin: Option<&str>| Found {
-            layout: PathBuf::from("/r/copy.json"),
             origin: origin.map(PathBuf::from),
+            ..Found::at(PathBuf::from("/r/copy.json"))
         };
         let (level, other) = (Path::new("/levels/a.json"), Path::new("/levels/b.json"));
         let same = found(Some("/levels/a.json")).offer(Some(level));
@@ -252,8 +417,8 @@ mod tests {
         std::fs::write(&real, b"{}").unwrap();
         let canonical = real.canonicalize().unwrap();
         let copy = Found {
-            layout: PathBuf::from("/r/copy.json"),
             origin: Some(canonical.clone()),
+            ..Found::at(PathBuf::from("/r/copy.json"))
         };
         let spelled = copy.offer(Some(&dir.path().join("sub/../a.json")));
         assert!(!spelled.contains("in place of"), "{spelled}");

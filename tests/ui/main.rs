@@ -219,6 +219,8 @@ mod export;
 /// Files: bad files, autosave and recovery, a typed path without a dialog, changes on disk,
 /// concurrent saves, and a killed editor's last edit.
 mod files;
+/// Painted and attached images: saved, autosaved and restored.
+mod images;
 /// Shapes edited with handles, transforms, several points at once.
 mod shapes;
 /// The timeline: keys, scrubbing, a looping range.
