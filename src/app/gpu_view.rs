@@ -289,6 +289,8 @@ pub struct GrassView {
     pub hover_ground: Option<[f32; 2]>,
     /// The ground point of the last click (a plain left click, not a drag), until taken.
     pub clicked_ground: Option<[f32; 2]>,
+    /// A press that closed a menu: it and its drag do nothing here.
+    pub swallowed: bool,
     /// Where the map's pointer was marked on the view last frame (beside the map).
     pub mark: Option<egui::Pos2>,
     /// What the last frame showed, and when that last changed (editor seconds).
@@ -323,6 +325,7 @@ impl Default for GrassView {
             rect: None,
             hover_ground: None,
             clicked_ground: None,
+            swallowed: false,
             mark: None,
             shown: None,
             changed_at: 0.0,
@@ -357,8 +360,12 @@ impl GrassView {
         base: &std::path::Path,
     ) {
         self.controls.ui(ui);
-        let (rect, response) =
-            ui.allocate_exact_size(ui.available_size(), egui::Sense::click_and_drag());
+        let sense = if self.swallowed {
+            egui::Sense::hover()
+        } else {
+            egui::Sense::click_and_drag()
+        };
+        let (rect, response) = ui.allocate_exact_size(ui.available_size(), sense);
         self.rect = Some(rect);
         let aspect = rect.width() / rect.height().max(1.0);
         let camera = self.navigate(ui, &response, rect, doc);

@@ -7,6 +7,9 @@ use crate::doc::bounds::{self, Bound};
 use crate::doc::{self, AmbientKind, Edit, Emission, Shape, TimeWindow, TreeProps};
 use eframe::egui::{self, RichText};
 
+/// The widths the inspector may take, points (it is as wide as the user drags it).
+pub const INSPECTOR_WIDTH: std::ops::RangeInclusive<f32> = 240.0..=460.0;
+
 /// One grid row: a label and the widget it names (for screen readers and tests too).
 fn row(ui: &mut egui::Ui, label: &str, add: impl FnOnce(&mut egui::Ui) -> egui::Response) -> bool {
     let l = ui.label(label);
@@ -183,10 +186,15 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
     egui::Panel::right("inspector")
         .resizable(true)
         .default_size(290.0)
+        // Whatever it shows, never wider than this (a width remembered from an earlier run
+        // too): a long warning wraps inside it.
+        .size_range(INSPECTOR_WIDTH)
         .show(ui, |ui| {
             // Fill the panel's width whatever is selected: a panel that shrank to its content
-            // would move the map under the pointer each time the selection changes.
-            egui::ScrollArea::vertical()
+            // would move the map under the pointer each time the selection changes. And never
+            // grow with it: what is wider than the panel scrolls (a vertical-only area would
+            // widen the panel to its widest row).
+            egui::ScrollArea::both()
                 .auto_shrink([false, false])
                 .show(ui, |ui| {
                     ui.heading("Inspector");
@@ -490,6 +498,9 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
     };
     ui.label(RichText::new("Obstacle").strong());
     let mut changed = false;
+    let mut new_image = false;
+    let mut dialog_failed = false;
+    let base = app.doc.base();
     egui::Grid::new("obstacle").num_columns(2).show(ui, |ui| {
         changed |= row(ui, "Name", |ui| ui.text_edit_singleline(&mut o.name));
         match &mut o.shape {
@@ -505,13 +516,21 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
                 pixels,
                 ..
             } => {
-                let before = image.clone();
-                changed |= row(ui, "Mask image", |ui| {
-                    ui.add(egui::TextEdit::singleline(image).desired_width(140.0))
-                        .on_hover_text("PNG or EXR, relative to the layout's folder")
-                });
-                if *image != before {
+                if let Some(path) = file_row(
+                    ui,
+                    "Mask image",
+                    image,
+                    "a grey image",
+                    "PNG or EXR, relative to the layout's folder",
+                    GREY_FILES,
+                    &base,
+                    &mut dialog_failed,
+                )
+                .filter(|p| !p.is_empty())
+                {
+                    *image = path;
                     *pixels = doc::MaskPixels::NotLoaded;
+                    new_image = true;
                 }
                 changed |= row(ui, "Threshold", |ui| {
                     ui.add(egui::Slider::new(threshold, bounds::MASK_THRESHOLD.range()))
@@ -541,21 +560,24 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
     });
     if let Shape::Mask { image, pixels, .. } = &mut o.shape {
         // A new image path is read at once (relative to the layout's folder).
-        if changed && !matches!(pixels, doc::MaskPixels::Loaded(_)) {
+        if new_image {
             *pixels = app.doc.read_grey(image, "mask image");
         }
         match pixels {
             doc::MaskPixels::Loaded(m) => {
                 ui.weak(format!("{} × {} pixels", m.width, m.height));
             }
-            doc::MaskPixels::Failed(why) => {
-                ui.colored_label(ui.visuals().warn_fg_color, format!("Not read: {why}"));
-            }
+            doc::MaskPixels::Failed(why) => not_read(ui, why),
             doc::MaskPixels::NotLoaded => {}
         }
     }
-    if changed {
+    if new_image {
+        app.edit(ctx, Edit::SetObstacle { obstacle: o });
+    } else if changed {
         app.edit_merged(ctx, Edit::SetObstacle { obstacle: o }, ("obstacle", id));
+    }
+    if dialog_failed {
+        app.say(ctx, DIALOG_FAILED);
     }
 }
 
@@ -829,84 +851,92 @@ fn keys_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, own
     }
 }
 
-/// The backdrop image's row: its path (relative to the layout's folder; typed, committed on
-/// Enter or when the field loses focus), **Choose…** (the system's file dialog) and **×**
-/// (none). Returns whether `map` changed; sets `dialog_failed` when the system's file dialog
-/// could not open.
-fn map_image_row(
+/// A file the layout names, as a grid row: its path (relative to the layout's folder; typed,
+/// committed on Enter or when the field loses focus, never a read per keystroke),
+/// **Choose…** (the system's file dialog, `filter` its name and extensions) and **×**
+/// (none). Returns the new path ("" for none) when one was committed; sets `dialog_failed`
+/// when the system's file dialog could not open.
+#[allow(
+    clippy::too_many_arguments,
+    reason = "one row's label, text, tip and dialog"
+)]
+fn file_row(
     ui: &mut egui::Ui,
-    map: &mut Option<doc::MapBackdrop>,
-    layout_path: Option<&std::path::Path>,
+    label: &str,
+    current: &str,
+    hint: &str,
+    tip: &str,
+    filter: (&str, &[&str]),
+    base: &std::path::Path,
     dialog_failed: &mut bool,
-) -> bool {
-    let l = ui.label("Map image");
-    let current = map.as_ref().map_or(String::new(), |m| m.image.clone());
-    let set = |map: &mut Option<doc::MapBackdrop>, image: String| {
-        let opacity = map.as_ref().map_or(1.0, |m| m.opacity);
-        let rect = map.as_ref().and_then(|m| m.rect);
-        *map = (!image.trim().is_empty()).then(|| doc::MapBackdrop {
-            image: image.trim().to_owned(),
-            opacity,
-            rect,
-        });
-    };
-    let mut changed = false;
+) -> Option<String> {
+    let l = ui.label(label);
+    let mut committed = None;
     ui.horizontal(|ui| {
         // The text being typed lives in egui's memory until committed.
-        let id = egui::Id::unique("inspector map image");
+        let id = egui::Id::unique(("inspector file row", label));
         let mut text = ui
             .data(|d| d.get_temp::<(String, String)>(id))
-            .filter(|(from, _)| *from == current)
-            .map_or_else(|| current.clone(), |(_, t)| t);
+            .filter(|(from, _)| from == current)
+            .map_or_else(|| current.to_owned(), |(_, t)| t);
         let r = ui
             .add(
                 egui::TextEdit::singleline(&mut text)
-                    .hint_text("none")
-                    .desired_width(140.0),
+                    .hint_text(hint)
+                    .desired_width(100.0),
             )
             .labelled_by(l.id)
-            .on_hover_text(
-                "A top-down picture of the level (PNG or JPEG), relative to the layout's folder",
-            );
+            .on_hover_text(tip);
         if r.lost_focus() && text.trim() != current {
-            set(map, text.clone());
-            changed = true;
+            committed = Some(text.trim().to_owned());
         }
-        ui.data_mut(|d| d.insert_temp(id, (current.clone(), text)));
-    });
-    ui.end_row();
-    // The buttons on a row of their own, so the inspector keeps its width.
-    ui.label("");
-    ui.horizontal(|ui| {
+        ui.data_mut(|d| d.insert_temp(id, (current.to_owned(), text)));
         if ui
-            .button("Choose…")
-            .on_hover_text("Pick the level's top-down picture")
+            .small_button("…")
+            .on_hover_text(format!("Choose the {}", label.to_lowercase()))
             .clicked()
         {
-            let base = crate::io::layout_base(layout_path);
-            let mut dialog =
-                rfd::FileDialog::new().add_filter("PNG or JPEG image", &["png", "jpg", "jpeg"]);
+            let mut dialog = rfd::FileDialog::new().add_filter(filter.0, filter.1);
             if base.is_dir() {
-                dialog = dialog.set_directory(&base);
+                dialog = dialog.set_directory(base);
             }
             let started = std::time::Instant::now();
             match dialog.pick_file() {
-                Some(p) => {
-                    set(map, crate::io::relative_to(&p, &base));
-                    changed = true;
-                }
+                Some(p) => committed = Some(crate::io::images::stored_name(&p, base)),
                 None if super::native_dialog_failed(started) => *dialog_failed = true,
                 None => {}
             }
         }
-        if map.is_some() && ui.small_button("×").on_hover_text("No map image").clicked() {
-            *map = None;
-            changed = true;
+        if !current.is_empty() && ui.small_button("×").on_hover_text("None").clicked() {
+            committed = Some(String::new());
         }
     });
     ui.end_row();
-    changed
+    committed
 }
+
+/// A file that could not be read, said in the panel's width: its name (the whole message,
+/// with the full path, on hover), wrapped, so the panel never widens.
+fn not_read(ui: &mut egui::Ui, why: &str) {
+    let short: Vec<String> = why
+        .split(' ')
+        .map(|w| {
+            let bare = w.trim_end_matches([':', ',', ';']);
+            if bare.len() > 24 && bare.contains(['/', '\\']) {
+                let leaf = bare.rsplit(['/', '\\']).next().unwrap_or(bare);
+                format!("{leaf}{}", &w[bare.len()..])
+            } else {
+                w.to_owned()
+            }
+        })
+        .collect();
+    let text =
+        RichText::new(format!("Not read: {}", short.join(" "))).color(ui.visuals().warn_fg_color);
+    ui.add(egui::Label::new(text).wrap()).on_hover_text(why);
+}
+
+/// The image types a grey image may be.
+const GREY_FILES: (&str, &[&str]) = ("PNG or EXR image", &["png", "exr", "PNG", "EXR"]);
 
 fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     let l = ui.label(RichText::new("Layout name").strong());
@@ -949,7 +979,30 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 .changed();
         });
         ui.end_row();
-        image_changed = map_image_row(ui, &mut w.map, app.doc.path(), &mut dialog_failed);
+        let base = app.doc.base();
+        let current = w.map.as_ref().map_or(String::new(), |m| m.image.clone());
+        if let Some(image) = file_row(
+            ui,
+            "Map image",
+            &current,
+            "none",
+            "A top-down picture of the level (PNG or JPEG), relative to the layout's folder",
+            (
+                "PNG or JPEG image",
+                &["png", "jpg", "jpeg", "PNG", "JPG", "JPEG"],
+            ),
+            &base,
+            &mut dialog_failed,
+        ) {
+            let opacity = w.map.as_ref().map_or(1.0, |m| m.opacity);
+            let rect = w.map.as_ref().and_then(|m| m.rect);
+            w.map = (!image.is_empty()).then_some(doc::MapBackdrop {
+                image,
+                opacity,
+                rect,
+            });
+            image_changed = true;
+        }
         let world_bounds = app.doc.bounds();
         if let Some(map) = &mut w.map {
             changed |= row(ui, "Map opacity", |ui| {
@@ -975,34 +1028,33 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         .default_open(w.terrain.is_some())
         .show(ui, |ui| {
             egui::Grid::new("terrain").num_columns(2).show(ui, |ui| {
-                let mut path = w
+                let current = w
                     .terrain
                     .as_ref()
                     .map_or(String::new(), |t| t.heightmap.clone());
-                if row(ui, "Heightmap", |ui| {
-                    ui.add(
-                        egui::TextEdit::singleline(&mut path)
-                            .hint_text("none: flat")
-                            .desired_width(140.0),
-                    )
-                    .on_hover_text(
-                        "A grey image over the world (16-bit PNG for smooth slopes, or EXR), \
-                         relative to the layout's folder: black the lowest height, white the \
-                         highest",
-                    )
-                }) {
-                    changed = true;
+                if let Some(path) = file_row(
+                    ui,
+                    "Heightmap",
+                    &current,
+                    "none: flat",
+                    "A grey image over the world (16-bit PNG for smooth slopes, or EXR), relative \
+                     to the layout's folder: black the lowest height, white the highest",
+                    GREY_FILES,
+                    &app.doc.base(),
+                    &mut dialog_failed,
+                ) {
+                    image_changed = true;
                     let old = w.terrain.take();
-                    w.terrain = (!path.trim().is_empty()).then(|| {
-                        let pixels = app.doc.read_grey(path.trim(), "heightmap");
+                    w.terrain = (!path.is_empty()).then(|| {
+                        let pixels = app.doc.read_grey(&path, "heightmap");
                         match old {
                             Some(t) => doc::Terrain {
-                                heightmap: path.trim().to_owned(),
+                                heightmap: path.clone(),
                                 pixels,
                                 ..t
                             },
                             None => doc::Terrain {
-                                heightmap: path.trim().to_owned(),
+                                heightmap: path.clone(),
                                 heights: [0.0, 10.0],
                                 rect: None,
                                 strength: 1.0,
@@ -1013,11 +1065,6 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                     });
                 }
                 if let Some(t) = &mut w.terrain {
-                    if let doc::MaskPixels::Failed(why) = &t.pixels {
-                        ui.label("");
-                        ui.colored_label(ui.visuals().warn_fg_color, format!("Not read: {why}"));
-                        ui.end_row();
-                    }
                     let mut h = t.heights;
                     if min_max(ui, "Heights", &mut h, bounds::TERRAIN_HEIGHT, 0.1, " m")
                         && h[0] <= h[1]
@@ -1042,6 +1089,9 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                     }
                 }
             });
+            if let Some(doc::MaskPixels::Failed(why)) = w.terrain.as_ref().map(|t| &t.pixels) {
+                not_read(ui, why);
+            }
             if w.terrain.is_some() {
                 ui.weak(
                     "Crests speed the wind up, lee slopes and hollows slow it, valleys turn it \
@@ -1098,12 +1148,7 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         app.edit_merged(ctx, Edit::SetWorld(w), "world");
     }
     if dialog_failed {
-        app.say(
-            ctx,
-            "The system's file dialog could not open (is a desktop portal running?): type the \
-             image's path in the Map image field"
-                .to_string(),
-        );
+        app.say(ctx, DIALOG_FAILED);
     }
 }
 
@@ -1208,7 +1253,11 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     egui::CollapsingHeader::new(RichText::new("Grass").strong()).show(ui, |ui| {
         let mut g = app.doc.grass.clone();
         let mut changed = false;
-        egui::Grid::new("grass").num_columns(2).show(ui, |ui| {
+        let mut image_changed = false;
+        let mut dialog_failed = false;
+        // The density map in a grid of its own: the settings' long names would push its
+        // buttons out of the panel.
+        egui::Grid::new("grass map").num_columns(2).show(ui, |ui| {
             changed |= num(
                 ui,
                 "Density",
@@ -1217,34 +1266,34 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 1.0,
                 " /m²",
             );
-            // Where the level has grass: a grey image over the world (typed; read at once).
-            let mut path = g
+            // Where the level has grass: a grey image over the world (read when committed).
+            let current = g
                 .density_map
                 .as_ref()
                 .map_or(String::new(), |m| m.image.clone());
-            if row(ui, "Density map", |ui| {
-                ui.add(
-                    egui::TextEdit::singleline(&mut path)
-                        .hint_text("none")
-                        .desired_width(140.0),
-                )
-                .on_hover_text(
-                    "A grey image over the world (PNG or EXR, relative to the layout's folder): \
-                     white grows the full density, black none",
-                )
-            }) {
-                changed = true;
-                g.density_map = (!path.trim().is_empty()).then(|| doc::DensityMap {
-                    image: path.trim().to_owned(),
+            if let Some(path) = file_row(
+                ui,
+                "Density map",
+                &current,
+                "none",
+                "A grey image over the world (PNG or EXR, relative to the layout's folder): \
+                 white grows the full density, black none",
+                GREY_FILES,
+                &app.doc.base(),
+                &mut dialog_failed,
+            ) {
+                image_changed = true;
+                g.density_map = (!path.is_empty()).then(|| doc::DensityMap {
+                    pixels: app.doc.read_grey(&path, "density map"),
+                    image: path,
                     rect: g.density_map.as_ref().and_then(|m| m.rect),
-                    pixels: app.doc.read_grey(path.trim(), "density map"),
                 });
             }
-            if let Some(doc::MaskPixels::Failed(why)) = g.density_map.as_ref().map(|m| &m.pixels) {
-                ui.label("");
-                ui.colored_label(ui.visuals().warn_fg_color, format!("Not read: {why}"));
-                ui.end_row();
-            }
+        });
+        if let Some(doc::MaskPixels::Failed(why)) = g.density_map.as_ref().map(|m| &m.pixels) {
+            not_read(ui, why);
+        }
+        egui::Grid::new("grass").num_columns(2).show(ui, |ui| {
             changed |= num_tip(ui, GRAVITY_BEND, &mut g.k1, bounds::BEND, 0.005, "");
             changed |= num_tip(ui, FORWARD_LEAN, &mut g.k2, bounds::BEND, 0.005, "");
             changed |= num_tip(ui, STIFFNESS, &mut g.lambda, bounds::LAMBDA, 0.01, "");
@@ -1310,11 +1359,21 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             }
             changed |= choice(ui, "Model", &mut g.model);
         });
-        if changed {
+        if image_changed {
+            // A new image is its own undo step.
+            app.edit(ctx, Edit::SetGrass(g));
+        } else if changed {
             app.edit_merged(ctx, Edit::SetGrass(g), "grass");
+        }
+        if dialog_failed {
+            app.say(ctx, DIALOG_FAILED);
         }
     });
 }
+
+/// What the status bar says when the system's file dialog could not open.
+const DIALOG_FAILED: &str = "The system's file dialog could not open (is a desktop portal \
+                             running?): type the image's path in its field";
 
 /// The grass settings' names, for what they do, with the CWD-Sim paper's symbol on hover.
 const GRAVITY_BEND: (&str, &str) = (

@@ -63,6 +63,13 @@ pub struct MapState {
     pub cursor_world: Option<doc::Vec2>,
     /// The top of the map's colour scale as its legend last read (0: no legend).
     pub legend_scale: f32,
+    /// The window's size and the central view when the pane last changed size: only their
+    /// change scales the map; a panel coming or going beside it moves no point on screen.
+    pub(super) window: Vec2,
+    pub(super) central: super::Central,
+    /// A press that closed a menu or a popup: it and its drag do nothing on the map (a click
+    /// outside an open menu only closes it, as everywhere on the desktop).
+    pub swallowed: bool,
 }
 
 impl Default for MapState {
@@ -78,6 +85,9 @@ impl Default for MapState {
             relief: None,
             cursor_world: None,
             legend_scale: 0.0,
+            window: Vec2::ZERO,
+            central: super::Central::Map,
+            swallowed: false,
         }
     }
 }
@@ -86,13 +96,31 @@ impl Default for MapState {
 pub(super) const HIT: f32 = 10.0;
 
 pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
-    let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+    let sense = if app.map.swallowed {
+        Sense::hover()
+    } else {
+        Sense::click_and_drag()
+    };
+    let (rect, response) = ui.allocate_exact_size(ui.available_size(), sense);
     let before = std::mem::replace(&mut app.map.rect, rect);
-    if let Some(cam) = &mut app.map.camera {
-        // A pane that changed size (the window resized, the 3D view put beside the map) keeps
-        // showing what it showed.
-        if before.size() != rect.size() && before.width() > 0.0 && before.height() > 0.0 {
+    let window = ui.ctx().content_rect().size();
+    let resized = std::mem::replace(&mut app.map.window, window) != window
+        || std::mem::replace(&mut app.map.central, app.settings.central) != app.settings.central;
+    if let Some(cam) = &mut app.map.camera
+        && before != rect
+        && before.width() > 0.0
+        && before.height() > 0.0
+    {
+        if resized && before.size() != rect.size() {
+            // The window resized, or the 3D view put beside the map: the pane keeps showing
+            // what it showed.
             cam.refit(&app.doc, before, rect);
+        } else {
+            // A panel came or went beside the map (the probes, a wrapped toolbar): every
+            // world point stays where it was on screen, at the same scale.
+            let d = rect.center() - before.center();
+            cam.center[0] += d.x / cam.zoom;
+            cam.center[1] += d.y / cam.zoom;
         }
     }
     let cam = *app
@@ -204,6 +232,16 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     );
     let at = rect.left_bottom() + Vec2::new(10.0, -10.0 - hint.size().y);
     painter.galley(at, hint, Color32::from_white_alpha(170));
+}
+
+/// Where the drag that starts this frame was pressed: the press itself, not where the
+/// pointer was a frame ago (at a few frames a second that was metres short).
+pub(super) fn drag_origin(ctx: &egui::Context, response: &egui::Response) -> Option<Pos2> {
+    ctx.input(|i| i.pointer.press_origin()).or_else(|| {
+        response
+            .interact_pointer_pos()
+            .map(|p| p - response.drag_delta())
+    })
 }
 
 fn navigate(map: &mut MapState, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
@@ -552,9 +590,7 @@ fn interact(
         }
         Tool::AddArrow => {
             if response.drag_started_by(egui::PointerButton::Primary) {
-                let start = response
-                    .interact_pointer_pos()
-                    .map(|p| p - response.drag_delta());
+                let start = drag_origin(ctx, response);
                 let parent = start
                     .and_then(|p| view::hit_node(&app.doc, cam, rect, p, HIT))
                     .or_else(|| match app.selection.as_slice() {
@@ -607,9 +643,8 @@ fn interact(
         }
         Tool::Circle => {
             if response.drag_started_by(egui::PointerButton::Primary)
-                && let Some(p) = response.interact_pointer_pos()
+                && let Some(start) = drag_origin(ctx, response)
             {
-                let start = p - response.drag_delta();
                 app.map.gesture = Some(Gesture::Circle {
                     center: app.snap(cam.to_world(rect, start)),
                 });
@@ -748,9 +783,8 @@ fn select_tool(
         }
     }
     if response.drag_started_by(egui::PointerButton::Primary)
-        && let Some(p) = response.interact_pointer_pos()
+        && let Some(start) = drag_origin(ctx, response)
     {
-        let start = p - response.drag_delta();
         let key = super::gesture_key(("drag", ctx.input(|i| i.time).to_bits()));
         if let Some(h) = super::handles::hit(&handles, start) {
             super::handles::start(app, ctx, h, cam.to_world(rect, start), key);

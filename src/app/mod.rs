@@ -10,6 +10,7 @@ pub mod export;
 mod files;
 mod gpu_view;
 mod handles;
+pub mod input;
 pub use crate::gpu::grass::Orbit;
 pub use gpu_view::SOFTWARE_BLADE_BUDGET;
 mod grass_controls;
@@ -181,6 +182,8 @@ pub struct Settings {
     pub speed_scale: Option<f32>,
     /// The Stroke tool's arrows.
     pub stroke: doc::stroke::StrokeSettings,
+    /// The probes' panel open (plots and statistics) or folded to one line of readings.
+    pub probes_open: bool,
 }
 
 /// What a colour scale was found for: the snapshot, the view, the fixed speed scale.
@@ -204,6 +207,7 @@ impl Default for Settings {
             grass_arrows: true,
             speed_scale: None,
             stroke: Default::default(),
+            probes_open: true,
         }
     }
 }
@@ -318,6 +322,8 @@ pub struct EditorApp {
     pub probe_log: probes::ProbeLog,
     /// The timeline under the map: play range, loop, scrubbing.
     pub timeline: timeline::Timeline,
+    /// The pointer's events, paced so a slow frame loses no gesture ([`input`]).
+    pacer: input::InputPacer,
 }
 
 impl EditorApp {
@@ -363,7 +369,15 @@ impl EditorApp {
             transform_input: (90.0, 200.0),
             probe_log: Default::default(),
             timeline: Default::default(),
+            pacer: Default::default(),
         }
+    }
+
+    /// Paces a frame's events as the window's hook does ([`input::InputPacer`]): those egui
+    /// should see now stay in `events`; whether some are held for the next frame. For a
+    /// harness that feeds events itself (eframe calls [`eframe::App::raw_input_hook`]).
+    pub fn pace(&mut self, events: &mut Vec<egui::Event>) -> bool {
+        self.pacer.pace(events)
     }
 
     /// Takes the settings of an earlier run, the 3D view's wind colours and arrows with them.
@@ -934,9 +948,19 @@ impl EditorApp {
 }
 
 impl eframe::App for EditorApp {
+    fn raw_input_hook(&mut self, ctx: &egui::Context, raw_input: &mut egui::RawInput) {
+        self.pacer.pace_raw(ctx, raw_input);
+    }
+
     fn ui(&mut self, ui: &mut egui::Ui, _frame: &mut eframe::Frame) {
         let ctx = ui.ctx().clone();
         let started = std::time::Instant::now();
+        // A press while a menu or popup is open closes it and does nothing else: it never
+        // reaches the map or the 3D view (until its release).
+        if ctx.input(|i| i.pointer.any_pressed()) && egui::Popup::is_any_open(&ctx) {
+            self.map.swallowed = true;
+        }
+        self.grass_view.swallowed = self.map.swallowed;
         self.submit_gpu_work();
         let now = ctx.input(|i| i.time);
         if let Some((_, at)) = &mut self.message
@@ -1048,6 +1072,9 @@ impl eframe::App for EditorApp {
             ctx.request_repaint_after(std::time::Duration::from_secs_f64(IDLE_GAP * 1.1));
         }
         self.submit_gpu_work();
+        if ctx.input(|i| i.pointer.any_released() || !i.pointer.any_down()) {
+            self.map.swallowed = false;
+        }
         let ui_ms = started.elapsed().as_secs_f32() * 1e3;
         self.ui_ms = if self.ui_ms == 0.0 {
             ui_ms

@@ -431,14 +431,18 @@ fn frame_times(app: &EditorApp, snap: &crate::engine::live::Snapshot, ui: &mut e
         });
 }
 
+/// The widths the Layers list may take, points.
+pub const LAYERS_WIDTH: std::ops::RangeInclusive<f32> = 180.0..=420.0;
+
 pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
     let ctx = ui.ctx().clone();
     egui::Panel::left("layers")
         .resizable(true)
         .default_size(262.0)
+        .size_range(LAYERS_WIDTH)
         .show(ui, |ui| {
             // The panel keeps its width as layers come and go (see the inspector's).
-            egui::ScrollArea::vertical()
+            egui::ScrollArea::both()
                 .auto_shrink([false, false])
                 .show(ui, |ui| {
                     ui.heading("Layers");

@@ -130,8 +130,39 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
     egui::Panel::bottom("probes")
         .resizable(false)
         .show(ui, |ui| {
+            let open = app.settings.probes_open;
             ui.horizontal(|ui| {
-                ui.strong("Probes");
+                // Folded, the probes' readings now on one line; open, their plots.
+                let size = egui::vec2(ui.spacing().icon_width, ui.spacing().interact_size.y);
+                let (_, icon) = ui.allocate_exact_size(size, egui::Sense::click());
+                let title = ui.add(
+                    egui::Label::new(RichText::new("Probes").strong()).sense(egui::Sense::click()),
+                );
+                egui::collapsing_header::paint_default_icon(ui, if open { 1.0 } else { 0.0 }, &icon);
+                let toggle = icon.union(title).on_hover_text(if open {
+                    "Fold the probes away (their readings stay on this line)"
+                } else {
+                    "Show the probes' plots and statistics"
+                });
+                if toggle.clicked() {
+                    app.settings.probes_open = !open;
+                }
+                if !open {
+                    for (k, p) in app.doc.probes.iter().enumerate() {
+                        let now = app.probe_log.records.get(&p.id).and_then(|r| r.last());
+                        let text = match now {
+                            Some(r) => format!(
+                                "{} {:.1} m/s {:.0}°",
+                                p.name,
+                                r.speed(),
+                                r.direction_deg()
+                            ),
+                            None => p.name.clone(),
+                        };
+                        ui.colored_label(colour(k), text);
+                    }
+                    return;
+                }
                 ui.weak("the live wind where each probe stands, since the last Reset");
                 ui.with_layout(egui::Layout::right_to_left(egui::Align::Center), |ui| {
                     if ui
@@ -146,6 +177,9 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                     }
                 });
             });
+            if !app.settings.probes_open {
+                return;
+            }
             let probes = app.doc.probes.clone();
             egui::Grid::new("probe stats").striped(true).show(ui, |ui| {
                 for h in ["probe", "min", "mean", "max", "gust factor", "direction"] {

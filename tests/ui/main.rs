@@ -223,6 +223,8 @@ mod files;
 mod images;
 /// Shapes edited with handles, transforms, several points at once.
 mod shapes;
+/// A map that holds still: panels, menus, drags at a low frame rate.
+mod steady;
 /// The timeline: keys, scrubbing, a looping range.
 mod timeline;
 /// The map and the 3D view on the GPU.
