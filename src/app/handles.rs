@@ -12,11 +12,22 @@ use eframe::egui::{self, Color32, Pos2, Rect, Stroke};
 /// What a handle does.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Handle {
-    Corner { obstacle: u32, index: usize },
-    Midpoint { obstacle: u32, after: usize },
-    Radius { obstacle: u32 },
+    Corner {
+        obstacle: u32,
+        index: usize,
+    },
+    Midpoint {
+        obstacle: u32,
+        after: usize,
+    },
+    Radius {
+        obstacle: u32,
+    },
     Rotate,
     Scale,
+    /// A corner of the selected backdrop (0 top-left, then clockwise): drag to scale it from
+    /// the opposite corner, its aspect kept (Shift frees it).
+    BackdropCorner(usize),
 }
 
 /// Screen points within which a handle is hit.
@@ -30,12 +41,13 @@ const BOX_MARGIN: f32 = 10.0;
 /// The selection as items of the document.
 pub fn items(selection: &[Sel]) -> Vec<Item> {
     (selection.iter())
-        .map(|s| match *s {
-            Sel::Node(id) => Item::Node(id),
-            Sel::Tree(id) => Item::Tree(id),
-            Sel::Obstacle(id) => Item::Obstacle(id),
-            Sel::Ambient(id) => Item::Ambient(id),
-            Sel::Probe(id) => Item::Probe(id),
+        .filter_map(|s| match *s {
+            Sel::Node(id) => Some(Item::Node(id)),
+            Sel::Tree(id) => Some(Item::Tree(id)),
+            Sel::Obstacle(id) => Some(Item::Obstacle(id)),
+            Sel::Ambient(id) => Some(Item::Ambient(id)),
+            Sel::Probe(id) => Some(Item::Probe(id)),
+            Sel::Backdrop => None,
         })
         .collect()
 }
@@ -65,9 +77,30 @@ fn selection_box(app: &EditorApp, cam: &Camera, rect: Rect) -> Option<Rect> {
     (r.width() > 2.0 || r.height() > 2.0).then(|| r.expand(BOX_MARGIN))
 }
 
+/// The selected backdrop's corners in the world (top-left, then clockwise), if the selection
+/// is the backdrop.
+fn backdrop_corners(app: &EditorApp) -> Option<[doc::Vec2; 4]> {
+    let ([Sel::Backdrop], Some(m)) = (app.selection.as_slice(), &app.doc.world.map) else {
+        return None;
+    };
+    let [a, b] = m.placed(app.doc.bounds());
+    Some([a, [b[0], a[1]], b, [a[0], b[1]]])
+}
+
+/// Whether world point `w` lies on the selected backdrop (a drag there moves it).
+pub fn on_backdrop(app: &EditorApp, w: doc::Vec2) -> bool {
+    backdrop_corners(app)
+        .is_some_and(|[a, _, b, _]| (a[0]..=b[0]).contains(&w[0]) && (a[1]..=b[1]).contains(&w[1]))
+}
+
 /// Every handle of the selection, with where it is on screen.
 pub fn handles(app: &EditorApp, cam: &Camera, rect: Rect) -> Vec<(Handle, Pos2)> {
     let mut out = Vec::new();
+    if let Some(corners) = backdrop_corners(app) {
+        for (k, c) in corners.iter().enumerate() {
+            out.push((Handle::BackdropCorner(k), cam.to_screen(rect, *c)));
+        }
+    }
     if let Some(o) = single_obstacle(app) {
         match &o.shape {
             Shape::Polygon { points } => {
@@ -120,6 +153,11 @@ pub fn hit(handles: &[(Handle, Pos2)], p: Pos2) -> Option<Handle> {
 
 pub fn draw(app: &EditorApp, painter: &egui::Painter, cam: &Camera, rect: Rect) {
     let ink = view::SELECT_COLOUR;
+    if let Some(corners) = backdrop_corners(app) {
+        let mut line: Vec<Pos2> = corners.iter().map(|c| cam.to_screen(rect, *c)).collect();
+        line.push(line[0]);
+        painter.add(egui::Shape::line(line, Stroke::new(1.5, ink)));
+    }
     if let Some(b) = selection_box(app, cam, rect) {
         let dashes = egui::Shape::dashed_line(
             &[
@@ -142,7 +180,7 @@ pub fn draw(app: &EditorApp, painter: &egui::Painter, cam: &Camera, rect: Rect) 
     }
     for (h, at) in handles(app, cam, rect) {
         match h {
-            Handle::Corner { .. } | Handle::Scale => {
+            Handle::Corner { .. } | Handle::Scale | Handle::BackdropCorner(_) => {
                 painter.rect(
                     Rect::from_center_size(at, egui::vec2(8.0, 8.0)),
                     1.0,
@@ -189,6 +227,17 @@ pub fn start(app: &mut EditorApp, ctx: &egui::Context, h: Handle, w: doc::Vec2, 
             }
         }
         Handle::Radius { obstacle } => Gesture::Radius { obstacle, key },
+        Handle::BackdropCorner(k) => {
+            let Some(corners) = backdrop_corners(app) else {
+                return;
+            };
+            let (anchor, corner) = (corners[(k + 2) % 4], corners[k]);
+            Gesture::Backdrop {
+                anchor,
+                diagonal: [corner[0] - anchor[0], corner[1] - anchor[1]],
+                key,
+            }
+        }
         Handle::Rotate | Handle::Scale => {
             let items = items(&app.selection);
             let Some(pivot) = transform::pivot(&app.doc, &items) else {
@@ -208,8 +257,9 @@ pub fn start(app: &mut EditorApp, ctx: &egui::Context, h: Handle, w: doc::Vec2, 
 }
 
 /// Continues a handle's drag with the pointer at world point `w` (`fine`: Shift held, which
-/// turns by 15° steps).
+/// turns by 15° steps, and frees a backdrop's aspect).
 pub fn drag(app: &mut EditorApp, ctx: &egui::Context, w: doc::Vec2, fine: bool) {
+    let w_at = w;
     let Some(g) = app.map.gesture.clone() else {
         return;
     };
@@ -235,6 +285,39 @@ pub fn drag(app: &mut EditorApp, ctx: &egui::Context, w: doc::Vec2, fine: bool) 
                 *radius = doc::bounds::RADIUS.clamp((w[0] - center[0]).hypot(w[1] - center[1]));
             }
             app.edit_merged(ctx, Edit::SetObstacle { obstacle: o }, key);
+        }
+        Gesture::Backdrop {
+            anchor,
+            diagonal,
+            key,
+        } => {
+            let mut w = app.doc.world.clone();
+            let Some(m) = &mut w.map else {
+                return;
+            };
+            let to = [w_at[0] - anchor[0], w_at[1] - anchor[1]];
+            let far = if fine {
+                // Free: the corner under the pointer, on the side it started on.
+                let side = |t: f32, d: f32| d.signum() * (t * d.signum()).max(0.1);
+                [
+                    anchor[0] + side(to[0], diagonal[0]),
+                    anchor[1] + side(to[1], diagonal[1]),
+                ]
+            } else {
+                // The aspect kept: the pointer projected on the diagonal.
+                let d2 = diagonal[0] * diagonal[0] + diagonal[1] * diagonal[1];
+                let s = ((to[0] * diagonal[0] + to[1] * diagonal[1]) / d2.max(1e-9)).max(0.01);
+                [anchor[0] + s * diagonal[0], anchor[1] + s * diagonal[1]]
+            };
+            m.rect = Some([
+                [anchor[0].min(far[0]), anchor[1].min(far[1])],
+                [anchor[0].max(far[0]), anchor[1].max(far[1])],
+            ]);
+            app.edit_merged(
+                ctx,
+                Edit::Named("Scale backdrop", Box::new(Edit::SetWorld(w))),
+                key,
+            );
         }
         Gesture::Transform {
             rotate,

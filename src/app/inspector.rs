@@ -222,6 +222,9 @@ pub fn inspector_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                             transform_section(app, &ctx, ui);
                         }
                         Some(Sel::Ambient(id)) => ambient_inspector(app, &ctx, ui, id),
+                        Some(Sel::Backdrop) if app.selection.len() == 1 => {
+                            backdrop_inspector(app, &ctx, ui)
+                        }
                         Some(Sel::Probe(id)) if app.selection.len() == 1 => {
                             probe_inspector(app, &ctx, ui, id)
                         }
@@ -524,6 +527,7 @@ fn obstacle_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::U
                     "PNG or EXR, relative to the layout's folder",
                     GREY_FILES,
                     &base,
+                    false,
                     &mut dialog_failed,
                 )
                 .filter(|p| !p.is_empty())
@@ -868,6 +872,7 @@ fn file_row(
     tip: &str,
     filter: (&str, &[&str]),
     base: &std::path::Path,
+    clearable: bool,
     dialog_failed: &mut bool,
 ) -> Option<String> {
     let l = ui.label(label);
@@ -907,7 +912,8 @@ fn file_row(
                 None => {}
             }
         }
-        if !current.is_empty() && ui.small_button("×").on_hover_text("None").clicked() {
+        if clearable && !current.is_empty() && ui.small_button("×").on_hover_text("None").clicked()
+        {
             committed = Some(String::new());
         }
     });
@@ -937,6 +943,63 @@ fn not_read(ui: &mut egui::Ui, why: &str) {
 
 /// The image types a grey image may be.
 const GREY_FILES: (&str, &[&str]) = ("PNG or EXR image", &["png", "exr", "PNG", "EXR"]);
+
+/// The backdrop, selected: its picture, opacity and corners, and where to place it.
+fn backdrop_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
+    let Some(mut m) = app.doc.world.map.clone() else {
+        return;
+    };
+    ui.label(RichText::new("Backdrop").strong());
+    let bounds = app.doc.bounds();
+    let mut changed = false;
+    egui::Grid::new("backdrop").num_columns(2).show(ui, |ui| {
+        changed |= row(ui, "Map opacity", |ui| {
+            ui.add(egui::Slider::new(&mut m.opacity, bounds::OPACITY.range()))
+        });
+        let [mut a, mut b] = m.placed(bounds);
+        let mut xs = [a[0], b[0]];
+        let mut zs = [a[1], b[1]];
+        let moved = min_max(ui, "Map placed x", &mut xs, bounds::COORD, 0.1, " m")
+            | min_max(ui, "Map placed z", &mut zs, bounds::COORD, 0.1, " m");
+        if moved && xs[0] < xs[1] && zs[0] < zs[1] {
+            (a, b) = ([xs[0], zs[0]], [xs[1], zs[1]]);
+            m.rect = Some([a, b]);
+            changed = true;
+        }
+    });
+    ui.weak(format!(
+        "{}: drag it on the map to move it, a corner to scale it (its aspect kept; Shift frees \
+         it).",
+        m.image
+    ));
+    ui.horizontal(|ui| {
+        if ui
+            .button("Fit to the world")
+            .on_hover_text("Stretch it over the world rectangle")
+            .clicked()
+        {
+            m.rect = None;
+            changed = true;
+        }
+        let picture = app.map.backdrop_size();
+        if ui
+            .add_enabled(picture.is_some(), egui::Button::new("Its own aspect"))
+            .on_hover_text("Keep its width and make its depth match the picture's proportions")
+            .clicked()
+            && let Some([pw, ph]) = picture
+        {
+            let [a, b] = m.placed(bounds);
+            let depth = (b[0] - a[0]) * ph / pw.max(1.0);
+            m.rect = Some([a, [b[0], a[1] + depth]]);
+            changed = true;
+        }
+    });
+    if changed {
+        let mut w = app.doc.world.clone();
+        w.map = Some(m);
+        app.edit_merged(ctx, Edit::SetWorld(w), "backdrop");
+    }
+}
 
 fn layout_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     let l = ui.label(RichText::new("Layout name").strong());
@@ -992,6 +1055,7 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 &["png", "jpg", "jpeg", "PNG", "JPG", "JPEG"],
             ),
             &base,
+            true,
             &mut dialog_failed,
         ) {
             let opacity = w.map.as_ref().map_or(1.0, |m| m.opacity);
@@ -1003,6 +1067,10 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
             });
             image_changed = true;
         }
+    });
+    // Where the picture lies, in a grid of its own: its long names would push the picture's
+    // buttons out of the panel.
+    egui::Grid::new("world map").num_columns(2).show(ui, |ui| {
         let world_bounds = app.doc.bounds();
         if let Some(map) = &mut w.map {
             changed |= row(ui, "Map opacity", |ui| {
@@ -1041,6 +1109,7 @@ fn world_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                      to the layout's folder: black the lowest height, white the highest",
                     GREY_FILES,
                     &app.doc.base(),
+                    true,
                     &mut dialog_failed,
                 ) {
                     image_changed = true;
@@ -1280,6 +1349,7 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                  white grows the full density, black none",
                 GREY_FILES,
                 &app.doc.base(),
+                true,
                 &mut dialog_failed,
             ) {
                 image_changed = true;
@@ -1292,6 +1362,16 @@ fn grass_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         });
         if let Some(doc::MaskPixels::Failed(why)) = g.density_map.as_ref().map(|m| &m.pixels) {
             not_read(ui, why);
+        }
+        if ui
+            .button("New density map…")
+            .on_hover_text(
+                "Where the grass grows, made here to paint: blank (grass everywhere), or from a \
+                 picture of the level by a threshold",
+            )
+            .clicked()
+        {
+            app.new_image(super::new_image::Kind::Density);
         }
         egui::Grid::new("grass").num_columns(2).show(ui, |ui| {
             changed |= num_tip(ui, GRAVITY_BEND, &mut g.k1, bounds::BEND, 0.005, "");

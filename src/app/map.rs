@@ -35,6 +35,14 @@ pub enum Gesture {
         items: Vec<doc::Item>,
         key: u64,
     },
+    /// The selected backdrop scaled by a corner: the opposite corner stays at `anchor`; the
+    /// dragged one moves along the `diagonal` it had (its aspect kept) or, Shift held, to
+    /// the pointer.
+    Backdrop {
+        anchor: doc::Vec2,
+        diagonal: doc::Vec2,
+        key: u64,
+    },
     /// A stroke being drawn: the path so far (world), and the point it continues, if any.
     Stroke {
         from: Option<u32>,
@@ -67,9 +75,22 @@ pub struct MapState {
     /// change scales the map; a panel coming or going beside it moves no point on screen.
     pub(super) window: Vec2,
     pub(super) central: super::Central,
+    /// Frames drawn since the camera was made: while the window's panels settle (their first
+    /// frames), the pane's changes refit the view as a window's resize does.
+    pub(super) camera_age: u32,
     /// A press that closed a menu or a popup: it and its drag do nothing on the map (a click
     /// outside an open menu only closes it, as everywhere on the desktop).
     pub swallowed: bool,
+}
+
+impl MapState {
+    /// The backdrop picture's size in pixels, once read.
+    pub fn backdrop_size(&self) -> Option<[f32; 2]> {
+        match &self.backdrop {
+            Some((_, Some(t))) => Some(t.size_vec2().into()),
+            _ => None,
+        }
+    }
 }
 
 impl Default for MapState {
@@ -87,10 +108,14 @@ impl Default for MapState {
             legend_scale: 0.0,
             window: Vec2::ZERO,
             central: super::Central::Map,
+            camera_age: 0,
             swallowed: false,
         }
     }
 }
+
+/// The frames a new view takes to settle: the panels around the map find their sizes.
+const SETTLING_FRAMES: u32 = 4;
 
 /// Hit radius for points, in screen points.
 pub(super) const HIT: f32 = 10.0;
@@ -104,8 +129,11 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     let (rect, response) = ui.allocate_exact_size(ui.available_size(), sense);
     let before = std::mem::replace(&mut app.map.rect, rect);
     let window = ui.ctx().content_rect().size();
+    let settling = app.map.camera_age < SETTLING_FRAMES;
+    app.map.camera_age = app.map.camera_age.saturating_add(1);
     let resized = std::mem::replace(&mut app.map.window, window) != window
-        || std::mem::replace(&mut app.map.central, app.settings.central) != app.settings.central;
+        || std::mem::replace(&mut app.map.central, app.settings.central) != app.settings.central
+        || settling;
     if let Some(cam) = &mut app.map.camera
         && before != rect
         && before.width() > 0.0
@@ -122,6 +150,9 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
             cam.center[0] += d.x / cam.zoom;
             cam.center[1] += d.y / cam.zoom;
         }
+    }
+    if app.map.camera.is_none() {
+        app.map.camera_age = 0;
     }
     let cam = *app
         .map
@@ -224,8 +255,22 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
     }
 
     // Hint for the current tool, wrapped to the map's width (narrow beside the 3D view).
+    let hint = match app.tool {
+        Tool::Paint => {
+            let on = match super::paint::target(app) {
+                Some(super::paint::Target::Mask(_)) => "the selected mask solid",
+                Some(super::paint::Target::Density) => "grass on the density map",
+                None => "a selected mask obstacle, or the density map (Edit menu, New…)",
+            };
+            format!(
+                "{} — paints {on}; Shift erases; [ and ] size the brush",
+                app.settings.brush.mark.hint()
+            )
+        }
+        t => t.hint().to_owned(),
+    };
     let hint = painter.layout(
-        app.tool.hint().to_owned(),
+        hint,
         egui::FontId::proportional(13.0),
         Color32::from_white_alpha(170),
         (rect.width() - 20.0).max(40.0),
@@ -789,7 +834,15 @@ fn select_tool(
         if let Some(h) = super::handles::hit(&handles, start) {
             super::handles::start(app, ctx, h, cam.to_world(rect, start), key);
         } else {
+            let backdrop = super::handles::on_backdrop(app, cam.to_world(rect, start));
             match hit_at(app, start) {
+                None if backdrop => {
+                    // The selected backdrop, dragged where it lies: moved.
+                    app.map.gesture = Some(Gesture::Move {
+                        last: cam.to_world(rect, start),
+                        key,
+                    });
+                }
                 Some(s) => {
                     if !app.selection.contains(&s) {
                         if shift {
@@ -814,7 +867,12 @@ fn select_tool(
     }
     if matches!(
         app.map.gesture,
-        Some(Gesture::Corner { .. } | Gesture::Radius { .. } | Gesture::Transform { .. })
+        Some(
+            Gesture::Corner { .. }
+                | Gesture::Radius { .. }
+                | Gesture::Transform { .. }
+                | Gesture::Backdrop { .. }
+        )
     ) {
         // While the button is down: the release's frame has ended the gesture's undo step.
         if let Some(p) = response.interact_pointer_pos()
@@ -935,6 +993,14 @@ fn moves(app: &EditorApp, d: doc::Vec2) -> Vec<Edit> {
                 }
             }
             Sel::Ambient(_) => {}
+            Sel::Backdrop => {
+                let mut w = app.doc.world.clone();
+                if let Some(m) = &mut w.map {
+                    let [a, b] = m.placed(app.doc.bounds());
+                    m.rect = Some([[a[0] + d[0], a[1] + d[1]], [b[0] + d[0], b[1] + d[1]]]);
+                    edits.push(Edit::Named("Move backdrop", Box::new(Edit::SetWorld(w))));
+                }
+            }
             Sel::Probe(id) => {
                 if let Some(p) = app.doc.probes.iter().find(|p| p.id == id) {
                     edits.push(Edit::SetProbe {

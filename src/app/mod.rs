@@ -16,7 +16,8 @@ pub use gpu_view::SOFTWARE_BLADE_BUDGET;
 mod grass_controls;
 mod inspector;
 mod map;
-mod paint;
+pub mod new_image;
+pub mod paint;
 mod panels;
 pub mod presets;
 mod probes;
@@ -128,6 +129,8 @@ pub enum Sel {
     Obstacle(u32),
     Ambient(u32),
     Probe(u32),
+    /// The map's backdrop picture (picked in the Layers list): moved and scaled on the map.
+    Backdrop,
 }
 
 /// Command buffers from the simulation thread, each with the acknowledgement it waits for.
@@ -184,6 +187,8 @@ pub struct Settings {
     pub stroke: doc::stroke::StrokeSettings,
     /// The probes' panel open (plots and statistics) or folded to one line of readings.
     pub probes_open: bool,
+    /// The paint tool's mark, hardness and opacity.
+    pub brush: paint::Brush,
 }
 
 /// What a colour scale was found for: the snapshot, the view, the fixed speed scale.
@@ -208,6 +213,7 @@ impl Default for Settings {
             speed_scale: None,
             stroke: Default::default(),
             probes_open: true,
+            brush: Default::default(),
         }
     }
 }
@@ -251,6 +257,8 @@ pub enum Dialog {
         note: Option<String>,
     },
     Shortcuts,
+    /// A new mask obstacle or density map, blank or from a picture.
+    NewImage(Box<new_image::NewImage>),
     /// Save as preset: its kind, the name typed so far, why the last one was refused.
     SavePreset {
         kind: crate::io::presets::Kind,
@@ -380,6 +388,13 @@ impl EditorApp {
         self.pacer.pace(events)
     }
 
+    /// Opens the dialog that makes a new mask obstacle or density map.
+    pub fn new_image(&mut self, kind: new_image::Kind) {
+        self.dialog = Some(Dialog::NewImage(Box::new(new_image::NewImage::new(
+            self, kind,
+        ))));
+    }
+
     /// Takes the settings of an earlier run, the 3D view's wind colours and arrows with them.
     pub fn apply_settings(&mut self, s: Settings) {
         let c = &mut self.grass_view.controls;
@@ -392,6 +407,7 @@ impl EditorApp {
             Settings::default().wind_opacity
         };
         self.settings = s;
+        self.settings.brush = self.settings.brush.sane();
         self.settings.speed_scale = self
             .settings
             .speed_scale
@@ -646,6 +662,7 @@ impl EditorApp {
             Sel::Obstacle(id) => doc.obstacles.iter().any(|o| o.id == id),
             Sel::Ambient(id) => doc.ambient.iter().any(|a| a.id == id),
             Sel::Probe(id) => doc.probes.iter().any(|p| p.id == id),
+            Sel::Backdrop => doc.world.map.is_some(),
         });
     }
 
@@ -697,6 +714,12 @@ impl EditorApp {
                 Sel::Obstacle(id) => edits.push(Edit::RemoveObstacle { id }),
                 Sel::Ambient(id) => edits.push(Edit::RemoveAmbient { id }),
                 Sel::Probe(id) => edits.push(Edit::RemoveProbe { id }),
+                Sel::Backdrop => {
+                    let mut w = self.doc.world.clone();
+                    if w.map.take().is_some() {
+                        edits.push(Edit::SetWorld(w));
+                    }
+                }
             }
         }
         if edits.is_empty() {
@@ -806,6 +829,11 @@ impl EditorApp {
 
     fn shortcuts(&mut self, ctx: &egui::Context) {
         use egui::{Key, KeyboardShortcut as KS, Modifiers as M};
+        // A dialog open (a question, a path being typed): its keys are its own, never a tool
+        // switch or an edit behind it.
+        if self.dialog.is_some() {
+            return;
+        }
         let typing = ctx.egui_wants_keyboard_input();
         let pressed = |s: KS| ctx.input_mut(|i| i.consume_shortcut(&s));
         if pressed(KS::new(M::COMMAND | M::SHIFT, Key::Z)) || pressed(KS::new(M::COMMAND, Key::Y)) {
@@ -923,7 +951,7 @@ impl EditorApp {
             Some(Sel::Tree(id)) => doc.trees.iter().any(|t| t.id == id && t.locked),
             Some(Sel::Obstacle(id)) => doc.obstacles.iter().any(|o| o.id == id && o.locked),
             Some(Sel::Ambient(id)) => doc.ambient.iter().any(|a| a.id == id && a.locked),
-            Some(Sel::Probe(_)) => false,
+            Some(Sel::Probe(_) | Sel::Backdrop) => false,
             None => false,
         }
     }
@@ -943,6 +971,7 @@ impl EditorApp {
                 .any(|o| o.id == id && o.pickable()),
             Sel::Ambient(_) => false,
             Sel::Probe(_) => true,
+            Sel::Backdrop => self.doc.world.map.is_some(),
         })
     }
 }

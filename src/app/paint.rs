@@ -1,12 +1,17 @@
-//! The paint tool: a brush over a mask obstacle's pixels (paint makes them solid, Shift
-//! erases) or, with no mask selected, over the grass density map (paint grows grass, Shift
-//! clears it). A stroke paints a copy of the image and lands as one edit when the button comes
-//! up: one undo step a stroke, and the wind and grass rebuilt once. Saving writes the painted
-//! image beside the layout (`io::Document::write_to`).
+//! The paint tool: over a mask obstacle's pixels (paint makes them solid, Shift erases) or,
+//! with no mask selected, over the grass density map (paint grows grass, Shift clears it).
+//! Three marks: a soft **brush** (its radius, hardness and opacity), a **rectangle** dragged
+//! corner to corner, and a **fill** of the region clicked (a mask's solid or open pixels
+//! joined to the one clicked; the density map's of about the same density). A stroke lays
+//! its marks on a coverage of the image as it was (`doc::raster`) and lands as one edit when
+//! the button comes up: one undo step a stroke, the wind and grass rebuilt once, and a
+//! stroke's dabs never build up past its opacity. Saving writes the painted image beside the
+//! layout (`io::Document::write_to`).
 
 use super::{EditorApp, Sel};
-use crate::doc::{self, Edit, MaskImage, MaskPixels, Shape};
+use crate::doc::{self, Edit, MaskImage, MaskPixels, Shape, raster};
 use eframe::egui::{self, Color32, Rect, Stroke};
+use std::sync::Arc;
 
 /// What a stroke paints.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -17,13 +22,88 @@ pub enum Target {
     Density,
 }
 
-/// A stroke in progress: the painted copy, where it lies, the value it paints, and the dabs
-/// so far (drawn on the map until the stroke lands).
+/// The paint tool's mark.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, serde::Serialize, serde::Deserialize)]
+pub enum Mark {
+    /// A soft round brush dragged over the image.
+    #[default]
+    Brush,
+    /// A rectangle dragged from one corner to the other.
+    Rectangle,
+    /// The region joined to the pixel clicked.
+    Fill,
+}
+
+impl Mark {
+    pub const ALL: [Mark; 3] = [Mark::Brush, Mark::Rectangle, Mark::Fill];
+
+    pub fn label(self) -> &'static str {
+        match self {
+            Mark::Brush => "Brush",
+            Mark::Rectangle => "Rect",
+            Mark::Fill => "Fill",
+        }
+    }
+
+    pub fn hint(self) -> &'static str {
+        match self {
+            Mark::Brush => "A soft round brush: drag over the image",
+            Mark::Rectangle => "Drag a rectangle from one corner to the other",
+            Mark::Fill => {
+                "Click to fill the region joined to the pixel clicked (a mask's solid or open \
+                 pixels, the density map's of about the same density)"
+            }
+        }
+    }
+}
+
+/// The paint tool's settings (kept between runs).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(default)]
+pub struct Brush {
+    pub mark: Mark,
+    /// The share of the radius painted at full strength, 0 (soft all the way) to 1 (a hard
+    /// edge).
+    pub hardness: f32,
+    /// How far a stroke moves the pixels toward the paint, 0 to 1.
+    pub opacity: f32,
+}
+
+impl Default for Brush {
+    fn default() -> Self {
+        Self {
+            mark: Mark::Brush,
+            hardness: 0.7,
+            opacity: 1.0,
+        }
+    }
+}
+
+impl Brush {
+    /// Within range, whatever an earlier run's settings file holds.
+    pub fn sane(self) -> Self {
+        let unit = |v: f32, d: f32| if v.is_finite() { v.clamp(0.0, 1.0) } else { d };
+        let d = Self::default();
+        Self {
+            mark: self.mark,
+            hardness: unit(self.hardness, d.hardness),
+            opacity: unit(self.opacity, d.opacity),
+        }
+    }
+}
+
+/// A stroke in progress: the image as it was, each pixel's coverage so far, where it lies,
+/// the value it paints, the mark and its opacity, and what to draw on the map until it
+/// lands.
 pub struct PaintStroke {
     target: Target,
-    image: MaskImage,
+    original: Arc<MaskImage>,
+    cover: Vec<f32>,
     rect: [doc::Vec2; 2],
     value: u16,
+    brush: Brush,
+    /// Where the stroke started (a rectangle's first corner) and the pointer's last point.
+    start: doc::Vec2,
     last: doc::Vec2,
     dabs: Vec<doc::Vec2>,
 }
@@ -45,8 +125,11 @@ pub fn target(app: &EditorApp) -> Option<Target> {
     app.doc.grass.density_map.as_ref().map(|_| Target::Density)
 }
 
-/// The image `t` paints, where it lies, and whether a mask is inverted.
-fn image_of(layout: &doc::Layout, t: Target) -> Option<(&MaskPixels, [doc::Vec2; 2], bool)> {
+/// The image a stroke paints, where it lies, and for a mask its threshold and inversion.
+type Painted<'a> = (&'a MaskPixels, [doc::Vec2; 2], Option<(f32, bool)>);
+
+/// The image `t` paints ([`Painted`]).
+fn image_of(layout: &doc::Layout, t: Target) -> Option<Painted<'_>> {
     let bounds = layout.bounds();
     match t {
         Target::Mask(id) => {
@@ -58,9 +141,14 @@ fn image_of(layout: &doc::Layout, t: Target) -> Option<(&MaskPixels, [doc::Vec2;
                     Shape::Mask {
                         pixels,
                         rect,
+                        threshold,
                         invert,
                         ..
-                    } => Some((pixels, doc::placed(rect, bounds), *invert)),
+                    } => Some((
+                        pixels,
+                        doc::placed(rect, bounds),
+                        Some((*threshold, *invert)),
+                    )),
                     _ => None,
                 })
         }
@@ -68,7 +156,7 @@ fn image_of(layout: &doc::Layout, t: Target) -> Option<(&MaskPixels, [doc::Vec2;
             .grass
             .density_map
             .as_ref()
-            .map(|m| (&m.pixels, doc::placed(&m.rect, bounds), false)),
+            .map(|m| (&m.pixels, doc::placed(&m.rect, bounds), None)),
     }
 }
 
@@ -143,23 +231,32 @@ pub fn tool(
     if app.paint.is_none()
         && response.is_pointer_button_down_on()
         && down
-        && let Some(p) = world
+        && let Some(p) = ctx
+            .input(|i| i.pointer.press_origin())
+            .map(|p| cam.to_world(rect, p))
+            .or(world)
     {
         start(app, ctx, p, erase);
     }
     if let Some(s) = &mut app.paint {
         if let Some(p) = world.filter(|_| down) {
-            // Dabs a third of the radius apart, so a fast drag leaves no gaps.
-            let d = ((p[0] - s.last[0]).powi(2) + (p[1] - s.last[1]).powi(2)).sqrt();
-            let n = (d / (radius / 3.0)).ceil().max(1.0) as usize;
-            for k in 1..=n {
-                let t = k as f32 / n as f32;
-                let q = [
-                    s.last[0] + (p[0] - s.last[0]) * t,
-                    s.last[1] + (p[1] - s.last[1]) * t,
-                ];
-                s.image.paint_disc(s.rect, q, radius, s.value);
-                s.dabs.push(q);
+            let size = (s.original.width, s.original.height);
+            match s.brush.mark {
+                Mark::Brush => {
+                    // Dabs a third of the radius apart, so a fast drag leaves no gaps.
+                    let d = (p[0] - s.last[0]).hypot(p[1] - s.last[1]);
+                    let n = (d / (radius / 3.0)).ceil().max(1.0) as usize;
+                    for k in 1..=n {
+                        let t = k as f32 / n as f32;
+                        let q = [
+                            s.last[0] + (p[0] - s.last[0]) * t,
+                            s.last[1] + (p[1] - s.last[1]) * t,
+                        ];
+                        raster::dab(size, s.rect, q, radius, s.brush.hardness, &mut s.cover);
+                        s.dabs.push(q);
+                    }
+                }
+                Mark::Rectangle | Mark::Fill => {}
             }
             s.last = p;
         }
@@ -170,21 +267,52 @@ pub fn tool(
     // The stroke so far, and the brush under the pointer.
     let px = |r: f32| r * cam.zoom;
     if let Some(s) = &app.paint {
-        let fill = if s.value == 0 {
-            Color32::from_rgba_unmultiplied(20, 20, 20, 110)
+        let alpha = (40.0 + 80.0 * s.brush.opacity) as u8;
+        let fill = if s.value < u16::MAX / 2 {
+            Color32::from_rgba_unmultiplied(20, 20, 20, alpha)
         } else {
-            Color32::from_rgba_unmultiplied(240, 240, 240, 90)
+            Color32::from_rgba_unmultiplied(240, 240, 240, alpha)
         };
-        for d in &s.dabs {
-            painter.circle_filled(cam.to_screen(rect, *d), px(radius), fill);
+        match s.brush.mark {
+            Mark::Brush => {
+                for d in &s.dabs {
+                    painter.circle_filled(cam.to_screen(rect, *d), px(radius), fill);
+                }
+            }
+            Mark::Rectangle => {
+                let r =
+                    Rect::from_two_pos(cam.to_screen(rect, s.start), cam.to_screen(rect, s.last));
+                painter.rect(
+                    r,
+                    0.0,
+                    fill,
+                    Stroke::new(1.0, Color32::from_white_alpha(200)),
+                    egui::StrokeKind::Inside,
+                );
+            }
+            Mark::Fill => {}
         }
     }
     if let Some(p) = response.hover_pos() {
-        painter.circle_stroke(
-            p,
-            px(radius),
-            Stroke::new(1.5, Color32::from_white_alpha(200)),
-        );
+        let ring = Stroke::new(1.5, Color32::from_white_alpha(200));
+        match app.settings.brush.mark {
+            Mark::Brush => {
+                painter.circle_stroke(p, px(radius), ring);
+                // The hard core, where the brush paints at full strength.
+                let core = app.settings.brush.hardness;
+                if core > 0.02 && core < 0.98 {
+                    painter.circle_stroke(
+                        p,
+                        px(radius * core),
+                        Stroke::new(1.0, Color32::from_white_alpha(90)),
+                    );
+                }
+            }
+            Mark::Rectangle | Mark::Fill => {
+                painter.line_segment([p - egui::vec2(8.0, 0.0), p + egui::vec2(8.0, 0.0)], ring);
+                painter.line_segment([p - egui::vec2(0.0, 8.0), p + egui::vec2(0.0, 8.0)], ring);
+            }
+        }
     }
 }
 
@@ -196,44 +324,79 @@ fn start(app: &mut EditorApp, ctx: &egui::Context, p: doc::Vec2, erase: bool) {
         );
         return;
     };
-    let Some((pixels, rect, invert)) = image_of(&app.doc, t) else {
+    let Some((pixels, rect, mask)) = image_of(&app.doc, t) else {
         return;
     };
-    let Some(image) = pixels.image() else {
+    let MaskPixels::Loaded(original) = pixels else {
         app.say(ctx, "The image is not loaded, so it cannot be painted");
         return;
     };
+    let original = original.clone();
     // A mask's solid value is dark (light when inverted); the density map's grass is white.
-    let solid = if invert { u16::MAX } else { 0 };
-    let value = match (t, erase) {
-        (Target::Mask(_), false) => solid,
-        (Target::Mask(_), true) => u16::MAX - solid,
-        (Target::Density, false) => u16::MAX,
-        (Target::Density, true) => 0,
+    let solid = if mask.is_some_and(|(_, invert)| invert) {
+        u16::MAX
+    } else {
+        0
     };
-    let mut image = image.clone();
-    image.paint_disc(rect, p, app.brush_radius, value);
+    let value = match (mask, erase) {
+        (Some(_), false) => solid,
+        (Some(_), true) => u16::MAX - solid,
+        (None, false) => u16::MAX,
+        (None, true) => 0,
+    };
+    let brush = app.settings.brush;
+    let size = (original.width, original.height);
+    let mut cover = vec![0.0; original.luminance.len()];
+    match brush.mark {
+        Mark::Brush => {
+            raster::dab(size, rect, p, app.brush_radius, brush.hardness, &mut cover);
+        }
+        Mark::Rectangle => {}
+        Mark::Fill => {
+            // A mask's pixels as solid or open, as the clicked one is; the density map's
+            // within a tenth of its density.
+            let same: Box<dyn Fn(u16) -> bool> = match (mask, doc::image_uv(rect, p)) {
+                (_, None) => Box::new(|_| false),
+                (Some((threshold, invert)), Some([u, v])) => {
+                    let solid_at = original.solid_at(u, v, threshold, invert);
+                    Box::new(move |l: u16| {
+                        (((f32::from(l) / 65535.0) < threshold) != invert) == solid_at
+                    })
+                }
+                (None, Some([u, v])) => {
+                    let l0 = original.luminance_at(u, v);
+                    Box::new(move |l: u16| (f32::from(l) / 65535.0 - l0).abs() <= 0.1)
+                }
+            };
+            raster::fill(&original, rect, p, same, &mut cover);
+        }
+    }
     app.paint = Some(PaintStroke {
         target: t,
-        image,
+        original,
+        cover,
         rect,
         value,
+        brush,
+        start: p,
         last: p,
         dabs: vec![p],
     });
 }
 
 fn finish(app: &mut EditorApp, ctx: &egui::Context) {
-    let Some(s) = app.paint.take() else {
+    let Some(mut s) = app.paint.take() else {
         return;
     };
-    let unchanged = image_of(&app.doc, s.target)
-        .and_then(|(p, _, _)| p.image())
-        .is_some_and(|i| *i == s.image);
-    if unchanged {
+    if s.brush.mark == Mark::Rectangle {
+        let size = (s.original.width, s.original.height);
+        raster::rectangle(size, s.rect, s.start, s.last, &mut s.cover);
+    }
+    let image = raster::blend(&s.original, &s.cover, s.value, s.brush.opacity);
+    if image == *s.original {
         return;
     }
-    if let Some((e, renamed)) = edit_for(app, s.target, s.image)
+    if let Some((e, renamed)) = edit_for(app, s.target, image)
         && app.edit(ctx, e)
         && let Some(n) = renamed
     {

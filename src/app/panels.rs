@@ -153,6 +153,25 @@ fn edit_menu(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         ctx.send_viewport_cmd(egui::ViewportCommand::RequestPaste);
     }
     ui.separator();
+    if ui
+        .button("New mask obstacle…")
+        .on_hover_text("A grey image over the world to paint walls on: blank, or from a picture")
+        .clicked()
+    {
+        app.new_image(super::new_image::Kind::Mask);
+        ui.close();
+    }
+    if ui
+        .button("New density map…")
+        .on_hover_text(
+            "Where the grass grows, to paint: blank (grass everywhere), or from a picture",
+        )
+        .clicked()
+    {
+        app.new_image(super::new_image::Kind::Density);
+        ui.close();
+    }
+    ui.separator();
     ui.checkbox(&mut app.settings.snap, "Snap to grid");
 }
 
@@ -217,13 +236,60 @@ fn toolbar(app: &mut EditorApp, ui: &mut egui::Ui) {
         }
     }
     if app.tool == Tool::Paint {
-        ui.add(
-            egui::DragValue::new(&mut app.brush_radius)
-                .range(super::paint::RADIUS)
-                .speed(0.05)
-                .suffix(" m"),
-        )
-        .on_hover_text("The brush's radius ([ and ])");
+        use super::paint::Mark;
+        let b = &mut app.settings.brush;
+        for m in Mark::ALL {
+            if ui
+                .selectable_label(b.mark == m, m.label())
+                .on_hover_text(m.hint())
+                .clicked()
+            {
+                b.mark = m;
+            }
+        }
+        if b.mark == Mark::Brush {
+            ui.add(
+                egui::DragValue::new(&mut app.brush_radius)
+                    .range(super::paint::RADIUS)
+                    .speed(0.05)
+                    .suffix(" m"),
+            )
+            .on_hover_text("The brush's radius ([ and ])");
+            let mut hard = b.hardness * 100.0;
+            if ui
+                .add(
+                    egui::DragValue::new(&mut hard)
+                        .range(0.0..=100.0)
+                        .speed(1.0)
+                        .prefix("hard ")
+                        .suffix("%"),
+                )
+                .on_hover_text(
+                    "Hardness: the share of the radius painted at full strength (100%: a hard \
+                     edge; 0%: soft all the way)",
+                )
+                .changed()
+            {
+                b.hardness = hard / 100.0;
+            }
+        }
+        let mut opacity = b.opacity * 100.0;
+        if ui
+            .add(
+                egui::DragValue::new(&mut opacity)
+                    .range(1.0..=100.0)
+                    .speed(1.0)
+                    .prefix("opacity ")
+                    .suffix("%"),
+            )
+            .on_hover_text(
+                "How far a stroke moves the pixels toward the paint (a stroke never builds up \
+                 past it, however often it passes)",
+            )
+            .changed()
+        {
+            b.opacity = opacity / 100.0;
+        }
     }
     if app.tool == Tool::Stroke {
         let s = &mut app.settings.stroke;
@@ -447,6 +513,23 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                 .show(ui, |ui| {
                     ui.heading("Layers");
                     ui.add_space(4.0);
+                    if let Some(m) = &app.doc.world.map {
+                        egui::CollapsingHeader::new(RichText::new("Backdrop").strong())
+                            .default_open(true)
+                            .show(ui, |ui| {
+                                let sel = app.selection.contains(&Sel::Backdrop);
+                                let name = std::path::Path::new(&m.image)
+                                    .file_name()
+                                    .map_or(m.image.clone(), |n| n.to_string_lossy().into_owned());
+                                if layer_name(ui, sel, name)
+                                    .on_hover_text("Select it to move and scale it on the map")
+                                    .clicked()
+                                {
+                                    app.selection = vec![Sel::Backdrop];
+                                    app.tool = Tool::Select;
+                                }
+                            });
+                    }
                     egui::CollapsingHeader::new(RichText::new("Wind trees").strong())
                         .default_open(true)
                         .show(ui, |ui| trees_list(app, &ctx, ui));
@@ -479,8 +562,29 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                                 });
                             }
                             if app.doc.obstacles.is_empty() {
-                                ui.weak("Use the Circle or Polygon tool");
+                                ui.weak("Use the Circle or Polygon tool, or a mask:");
                             }
+                            ui.menu_button("+ Add obstacle", |ui| {
+                                if ui.button("Circle (C): drag on the map").clicked() {
+                                    app.tool = Tool::Circle;
+                                    ui.close();
+                                }
+                                if ui.button("Polygon (P): click its corners").clicked() {
+                                    app.tool = Tool::Polygon;
+                                    ui.close();
+                                }
+                                if ui
+                                    .button("New mask…")
+                                    .on_hover_text(
+                                        "A grey image over the world to paint walls on: blank, or \
+                                         from a picture of the level by a threshold",
+                                    )
+                                    .clicked()
+                                {
+                                    app.new_image(super::new_image::Kind::Mask);
+                                    ui.close();
+                                }
+                            });
                             if let Some(id) = select {
                                 app.selection = vec![Sel::Obstacle(id)];
                             }
@@ -865,6 +969,9 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
             } => {
                 keep = super::presets::save_dialog(app, ctx, ui, *kind, name, refused);
             }
+            Dialog::NewImage(d) => {
+                keep = super::new_image::dialog(app, ctx, ui, d);
+            }
             Dialog::Shortcuts => {
                 ui.heading("Keyboard shortcuts");
                 egui::Grid::new("keys").striped(true).show(ui, |ui| {
@@ -883,7 +990,7 @@ pub fn dialogs(app: &mut EditorApp, ctx: &egui::Context) {
     if modal.should_close()
         && matches!(
             dialog,
-            Dialog::Shortcuts | Dialog::Error { .. } | Dialog::Path { .. }
+            Dialog::Shortcuts | Dialog::Error { .. } | Dialog::Path { .. } | Dialog::NewImage(_)
         )
     {
         keep = false;

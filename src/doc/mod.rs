@@ -9,6 +9,7 @@ mod edit;
 mod parse;
 pub mod portable;
 pub mod presets;
+pub mod raster;
 pub mod stroke;
 pub mod transform;
 mod types;

@@ -535,33 +535,6 @@ impl MaskImage {
         f32::from(self.luminance[y * self.width as usize + x]) / 65535.0
     }
 
-    /// Sets every pixel whose centre lies within `radius` metres of world point `centre` to
-    /// `value`, the image placed over `rect`: a brush's dab. Returns whether a pixel changed.
-    /// Visits only the pixels under the dab's square.
-    pub fn paint_disc(&mut self, rect: [Vec2; 2], centre: Vec2, radius: f32, value: u16) -> bool {
-        let (w, h) = (self.width as usize, self.height as usize);
-        let size = [rect[1][0] - rect[0][0], rect[1][1] - rect[0][1]];
-        let px = [size[0] / w as f32, size[1] / h as f32];
-        let span = |c: f32, o: f32, p: f32, n: usize| {
-            let lo = ((c - radius - o) / p - 0.5).ceil().max(0.0) as usize;
-            let hi = (((c + radius - o) / p - 0.5).floor() + 1.0).clamp(0.0, n as f32) as usize;
-            lo..hi
-        };
-        let mut changed = false;
-        for y in span(centre[1], rect[0][1], px[1], h) {
-            let dz = rect[0][1] + (y as f32 + 0.5) * px[1] - centre[1];
-            for x in span(centre[0], rect[0][0], px[0], w) {
-                let dx = rect[0][0] + (x as f32 + 0.5) * px[0] - centre[0];
-                if dx * dx + dz * dz <= radius * radius {
-                    let l = &mut self.luminance[y * w + x];
-                    changed |= *l != value;
-                    *l = value;
-                }
-            }
-        }
-        changed
-    }
-
     /// The luminance, 0 to 1, at `(u, v)` (0 to 1 across and down), bilinear between pixel
     /// centres, the edge pixels continuing beyond the image: for heights, which must not
     /// step from pixel to pixel.

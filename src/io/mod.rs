@@ -141,9 +141,28 @@ pub fn load_backdrop(
     base: &Path,
     map: &doc::MapBackdrop,
 ) -> Result<image::RgbaImage, BackdropError> {
-    let path = layout_file(base, &map.image);
-    let what = "map image";
+    load_picture(base, &map.image, "map image")
+}
+
+/// A picture (PNG, JPEG or EXR; `name` relative to the layout's folder `base`, `what` it is
+/// for messages) as RGBA8, its size checked as the backdrop's.
+pub fn load_picture(
+    base: &Path,
+    name: &str,
+    what: &'static str,
+) -> Result<image::RgbaImage, BackdropError> {
+    let path = layout_file(base, name);
     let bytes = read_image_file(&path, what)?;
+    if bytes.starts_with(&[0x76, 0x2f, 0x31, 0x01]) {
+        // An EXR: its luminance as grey (the grey images' reader).
+        let m = load_mask(base, name, what)?;
+        let grey = m.luminance.iter().flat_map(|&l| {
+            let v = (f32::from(l) / 65535.0 * 255.0).round() as u8;
+            [v, v, v, 255]
+        });
+        return image::RgbaImage::from_raw(m.width, m.height, grey.collect())
+            .ok_or_else(|| decode_error(&path, what, "its pixels do not fill it"));
+    }
     let (reader, _) = image_decoder(&path, what, &bytes)?;
     Ok(reader
         .decode()

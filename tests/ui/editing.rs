@@ -534,7 +534,8 @@ fn the_vertical_profile_is_edited_in_the_world_section() {
 }
 
 /// A layout with terrain opens with its Terrain section showing; the hill size is typed and
-/// undone like any edit, and clearing the heightmap makes the ground flat.
+/// undone like any edit, and clearing the heightmap (committed with Enter) makes the ground
+/// flat.
 #[test]
 fn the_terrain_is_edited_in_the_world_section() {
     if !gpu_available() {
@@ -568,6 +569,12 @@ fn the_terrain_is_edited_in_the_world_section() {
     h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
     h.run_steps(1);
     h.key_press(egui::Key::Backspace);
+    h.run_steps(2);
+    assert!(
+        h.state().doc.world.terrain.is_some(),
+        "a path is committed on Enter, not read at each key"
+    );
+    h.key_press(egui::Key::Enter);
     h.run_steps(2);
     assert!(h.state().doc.world.terrain.is_none());
     assert!(h.query_by_label("Hill size").is_none());

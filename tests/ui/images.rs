@@ -90,6 +90,7 @@ fn images_attached_or_pasted_then_painted_are_saved_and_read_back() {
     h.get_by_label("Density map").focus();
     h.run_steps(1);
     h.get_by_label("Density map").type_text("grass.png");
+    h.key_press(egui::Key::Enter);
     h.run_steps(2);
     let attached = density_pixels(&h.state().doc);
     assert_eq!((attached.width, attached.height), (60, 40));

@@ -221,6 +221,8 @@ mod export;
 mod files;
 /// Painted and attached images: saved, autosaved and restored.
 mod images;
+/// A level built from nothing: backdrop handles, new masks and density maps, the brush.
+mod level;
 /// Shapes edited with handles, transforms, several points at once.
 mod shapes;
 /// A map that holds still: panels, menus, drags at a low frame rate.
