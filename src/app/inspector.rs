@@ -419,6 +419,11 @@ fn node_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, i
         }
         app.edit_merged(ctx, Edit::Batch(edits), ("node", id));
     }
+    if !is_root {
+        // The branch from here on ramps and turns on its own, within the tree's keys.
+        ui.separator();
+        keys_section(app, ctx, ui, Sel::Node(id));
+    }
     ui.separator();
     tree_inspector(app, ctx, ui, &tree);
 }
@@ -769,10 +774,17 @@ fn ambient_inspector(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui
     keys_section(app, ctx, ui, Sel::Ambient(id));
 }
 
-/// The keyframes of a tree or ambient layer: one row each (time, strength factor, turn,
-/// ease, ×), and a key at the time shown; each change one undo step (a drag one in all).
+/// The keyframes of a tree, a branch or an ambient layer: one row each (time, strength
+/// factor, turn, ease, ×), and a key at the time shown; each change one undo step (a drag
+/// one in all).
 fn keys_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, owner: Sel) {
     let keys = match owner {
+        Sel::Node(id) => app
+            .doc
+            .trees
+            .iter()
+            .find_map(|t| t.root.find(id))
+            .map(|n| n.keys.clone()),
         Sel::Tree(id) => app
             .doc
             .trees
@@ -790,8 +802,20 @@ fn keys_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, own
     let Some(mut keys) = keys else {
         return;
     };
-    ui.label(RichText::new("Keyframes").strong())
-        .on_hover_text("Strength (a factor on the speeds) and a turn over time; the timeline under the map shows them");
+    let (title, tip) = match owner {
+        Sel::Node(_) => (
+            "Branch keyframes",
+            "This branch's own strength (a factor on the speeds of the arrow ending here and \
+             every arrow after it) and turn (about the arrow's start) over time, within the \
+             tree's keys; the timeline under the map shows them",
+        ),
+        _ => (
+            "Keyframes",
+            "Strength (a factor on the speeds) and a turn over time; the timeline under the map \
+             shows them",
+        ),
+    };
+    ui.label(RichText::new(title).strong()).on_hover_text(tip);
     let mut changed = false;
     let mut remove = None;
     if keys.is_empty() {
@@ -845,7 +869,7 @@ fn keys_section(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui, own
     if changed && let Some(e) = super::timeline::set_keys(app, owner, keys) {
         app.edit_merged(ctx, e, ("keys", owner));
     }
-    let t = app.live.snapshot().time;
+    let (t, _) = app.live.time_shown();
     if ui
         .button(format!("+ Key at {t:.2} s"))
         .on_hover_text("K")

@@ -208,31 +208,20 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
         );
     }
 
-    // A keyed tree as its keys turn it now: its arrows, thin, where the wind is.
-    for tree in app
-        .doc
-        .trees
-        .iter()
-        .filter(|t| !t.hidden && !t.keys.is_empty())
-    {
-        let (_, turn) = doc::key_values(&tree.keys, snap.time);
-        if turn.abs() < 1e-4 {
-            continue;
-        }
-        let (s, c) = turn.sin_cos();
-        let r = tree.root.pos;
-        let place = |p: doc::Vec2| {
-            let d = [p[0] - r[0], p[1] - r[1]];
-            cam.to_screen(
-                rect,
-                [r[0] + c * d[0] - s * d[1], r[1] + s * d[0] + c * d[1]],
-            )
-        };
-        for (parent, child, _) in tree.root.arrows() {
+    // A keyed tree (or branch) as its keys turn it now: its arrows, thin, where the wind is.
+    for tree in app.doc.trees.iter().filter(|t| !t.hidden && t.is_keyed()) {
+        let by_id: std::collections::HashMap<u32, doc::Vec2> =
+            tree.root.iter().map(|n| (n.id, n.pos)).collect();
+        for arrow in tree.keyed_arrows(snap.time) {
+            let drawn = by_id.get(&arrow.child.id).copied();
+            // Only arrows the keys moved; a still one is drawn as it is.
+            if drawn.is_some_and(|p| (p[0] - arrow.b[0]).hypot(p[1] - arrow.b[1]) < 1e-3) {
+                continue;
+            }
             view::draw_arrow(
                 &painter,
-                place(parent.pos),
-                place(child.pos),
+                cam.to_screen(rect, arrow.a),
+                cam.to_screen(rect, arrow.b),
                 2.0,
                 Color32::from_rgba_unmultiplied(160, 220, 255, 150),
             );

@@ -748,6 +748,7 @@ impl EditorApp {
                     strength: n.strength,
                     radius: n.radius,
                     children: n.children.iter().map(|c| copy(c, next, d)).collect(),
+                    keys: n.keys.clone(),
                 }
             }
             copy(n, &mut next, offset)
@@ -864,7 +865,8 @@ impl EditorApp {
             self.delete_selection(ctx, false);
         }
         if pressed(KS::new(M::NONE, Key::K)) {
-            let t = self.live.snapshot().time;
+            // The time shown: the one scrubbed to, even while it is being recomputed.
+            let (t, _) = self.live.time_shown();
             self.add_key_at(ctx, t);
         }
         if pressed(KS::new(M::NONE, Key::F)) {
@@ -1025,7 +1027,7 @@ impl eframe::App for EditorApp {
         {
             let snap = self.live.snapshot();
             self.probe_log.record(&self.doc, &snap);
-            self.keep_in_range(snap.time);
+            self.keep_in_range();
         }
         probes::panel(self, ui);
         timeline::panel(self, ui);

@@ -1,17 +1,15 @@
-//! The timeline under the map: the simulation's time, a play range that can loop (the bake's
-//! frames, at a click), the keyframes of the trees and ambient layers, and scrubbing (the
-//! field at the time clicked or dragged to, re-simulated from the live wind's checkpoints).
+//! The timeline under the map: the simulation's time, the play range (looping by default;
+//! both kept in the layout, `doc::Timeline`; the bake's frames at a click), the keyframes of
+//! the trees, their branches and the ambient layers, and scrubbing (the field at the time
+//! clicked or dragged to, re-simulated from the live wind's checkpoints, and said so while
+//! it is).
 
 use super::{EditorApp, Sel};
 use crate::doc::{self, Edit, Key};
-use eframe::egui::{self, Color32, Pos2, Rect, Sense, Stroke};
+use eframe::egui::{self, Color32, Pos2, Rect, RichText, Sense, Stroke};
 
-/// The timeline's own state.
+/// The timeline's own state (what it plays is the layout's: `doc::Timeline`).
 pub struct Timeline {
-    /// The play range, seconds.
-    pub range: (f32, f32),
-    /// Whether playing jumps back to the range's start at its end.
-    pub looping: bool,
     /// The track's rectangle as last drawn (tests click it).
     pub track: Rect,
 }
@@ -19,23 +17,27 @@ pub struct Timeline {
 impl Default for Timeline {
     fn default() -> Self {
         Self {
-            range: (0.0, 30.0),
-            looping: false,
             track: Rect::NOTHING,
         }
     }
 }
 
-/// The keys of the tree or ambient layer the selection names, and which it is.
+/// The keys the selection names, and whose: a tree's (the tree, or its root, selected), a
+/// branch's (a point other than a root: the arrow ending there and those after it), an
+/// ambient layer's.
 pub fn selected_keys(app: &EditorApp) -> Option<(Sel, Vec<Key>)> {
     let doc = &app.doc;
     match app.selection.first().copied()? {
         Sel::Tree(id) => (doc.trees.iter())
             .find(|t| t.id == id)
             .map(|t| (Sel::Tree(id), t.keys.clone())),
-        Sel::Node(n) => (doc.trees.iter())
-            .find(|t| t.root.find(n).is_some())
-            .map(|t| (Sel::Tree(t.id), t.keys.clone())),
+        Sel::Node(n) => (doc.trees.iter()).find_map(|t| {
+            if t.root.id == n {
+                Some((Sel::Tree(t.id), t.keys.clone()))
+            } else {
+                t.root.find(n).map(|node| (Sel::Node(n), node.keys.clone()))
+            }
+        }),
         Sel::Ambient(id) => (doc.ambient.iter())
             .find(|a| a.id == id)
             .map(|a| (Sel::Ambient(id), a.keys.clone())),
@@ -58,7 +60,17 @@ pub fn set_keys(app: &EditorApp, owner: Sel, mut keys: Vec<Key>) -> Option<Edit>
             l.keys = keys;
             Some(Edit::SetAmbient { layer: l })
         }
+        Sel::Node(id) => Some(Edit::SetNodeKeys { id, keys }),
         _ => None,
+    }
+}
+
+/// What a key of `owner` acts on, for the timeline's button and messages.
+pub fn keyed_what(owner: Sel) -> &'static str {
+    match owner {
+        Sel::Node(_) => "branch",
+        Sel::Ambient(_) => "layer",
+        _ => "tree",
     }
 }
 
@@ -67,7 +79,10 @@ impl EditorApp {
     /// there (so the wind does not change until the key is edited): one undo step.
     pub fn add_key_at(&mut self, ctx: &egui::Context, t: f32) -> bool {
         let Some((owner, mut keys)) = selected_keys(self) else {
-            self.say(ctx, "Select a tree or an ambient layer to key it");
+            self.say(
+                ctx,
+                "Select a tree, a branch (one of its points) or an ambient layer to key it",
+            );
             return false;
         };
         let t = (t * 100.0).round() / 100.0;
@@ -88,10 +103,17 @@ impl EditorApp {
         }
     }
 
-    /// Playing in a looping range: back to its start at its end (or when before it).
-    pub fn keep_in_range(&mut self, time: f32) {
-        let (a, b) = self.timeline.range;
-        if self.timeline.looping && self.live.playing && b > a && (time >= b || time + 0.05 < a) {
+    /// Playing in a looping range: back to its start at its end (or when before it); not
+    /// while a seek is under way.
+    pub fn keep_in_range(&mut self) {
+        let [a, b] = self.doc.timeline.range;
+        let (time, seeking) = self.live.time_shown();
+        if self.doc.timeline.looping
+            && self.live.playing
+            && seeking.is_none()
+            && b > a
+            && (time >= b || time + 0.05 < a)
+        {
             self.live.seek(a);
         }
     }
@@ -108,7 +130,8 @@ fn t_of(track: Rect, span: f32, x: f32) -> f32 {
 
 pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
     let ctx = ui.ctx().clone();
-    let time = app.live.snapshot().time;
+    let (time, seeking) = app.live.time_shown();
+    let field_time = app.live.snapshot().time;
     egui::Panel::bottom("timeline")
         .resizable(false)
         .show(ui, |ui| {
@@ -118,25 +141,51 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
             );
             ui.horizontal(|ui| {
                 ui.monospace(format!("t = {time:7.2} s"));
+                if seeking.is_some() {
+                    // Scrubbed back after an edit, the field is simulated again from calm:
+                    // say so, and how far it has come.
+                    ui.spinner();
+                    ui.label(
+                        RichText::new(format!("recomputing: {field_time:.1} s"))
+                            .color(ui.visuals().warn_fg_color),
+                    )
+                    .on_hover_text(
+                        "The wind at the time shown is being simulated again from the last \
+                         state kept before it (an edit forgets the ones after it); a key taken \
+                         now is at the time shown",
+                    );
+                }
                 ui.separator();
-                ui.label("Play range");
-                let (mut a, mut b) = app.timeline.range;
-                ui.add(
-                    egui::DragValue::new(&mut a)
-                        .range(0.0..=1.0e6)
-                        .speed(0.1)
-                        .suffix(" s"),
-                );
+                let mut tl = app.doc.timeline;
+                let l = ui.label("Play range");
+                let [mut a, mut b] = tl.range;
+                let mut changed = ui
+                    .add(
+                        egui::DragValue::new(&mut a)
+                            .range(0.0..=1.0e6)
+                            .speed(0.1)
+                            .suffix(" s"),
+                    )
+                    .labelled_by(l.id)
+                    .changed();
                 ui.label("to");
-                ui.add(
-                    egui::DragValue::new(&mut b)
-                        .range(0.1..=1.0e6)
-                        .speed(0.1)
-                        .suffix(" s"),
-                );
-                app.timeline.range = (a.min(b - 0.1).max(0.0), b.max(a + 0.1));
-                ui.checkbox(&mut app.timeline.looping, "Loop")
-                    .on_hover_text("Playing jumps back to the range's start at its end");
+                changed |= ui
+                    .add(
+                        egui::DragValue::new(&mut b)
+                            .range(0.1..=1.0e6)
+                            .speed(0.1)
+                            .suffix(" s"),
+                    )
+                    .labelled_by(l.id)
+                    .changed();
+                tl.range = [a.min(b - 0.1).max(0.0), b.max(a + 0.1)];
+                changed |= ui
+                    .checkbox(&mut tl.looping, "Loop")
+                    .on_hover_text("Playing jumps back to the range's start at its end (saved with the layout)")
+                    .changed();
+                if changed {
+                    app.edit_merged(&ctx, Edit::SetTimeline(tl), "timeline");
+                }
                 if ui
                     .button("Bake's frames")
                     .on_hover_text(
@@ -146,20 +195,32 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                     )
                     .clicked()
                 {
-                    app.timeline.range = bake;
-                    app.timeline.looping = true;
+                    let tl = doc::Timeline {
+                        range: [bake.0, bake.1],
+                        looping: true,
+                    };
+                    app.edit(&ctx, Edit::SetTimeline(tl));
                     app.live.seek(bake.0);
                 }
                 ui.separator();
                 let owner = selected_keys(app);
                 let key_tip = match &owner {
-                    Some(_) => "A key at the time shown, holding the wind's values there (K)",
-                    None => "Select a tree or an ambient layer to key its strength and direction",
+                    Some((o, _)) => format!(
+                        "A key of the {} at the time shown, holding the wind's values there (K)",
+                        keyed_what(*o)
+                    ),
+                    None => "Select a tree, a branch (one of its points) or an ambient layer to \
+                             key its strength and direction"
+                        .to_owned(),
+                };
+                let label = match &owner {
+                    Some((o, _)) => format!("+ Key {}", keyed_what(*o)),
+                    None => "+ Key".to_owned(),
                 };
                 if ui
-                    .add_enabled(owner.is_some(), egui::Button::new("+ Key"))
-                    .on_hover_text(key_tip)
-                    .on_disabled_hover_text(key_tip)
+                    .add_enabled(owner.is_some(), egui::Button::new(label))
+                    .on_hover_text(&key_tip)
+                    .on_disabled_hover_text(&key_tip)
                     .clicked()
                 {
                     app.add_key_at(&ctx, time);
@@ -169,11 +230,11 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
             // The track.
             let keys_of_all: Vec<(bool, Vec<Key>)> = {
                 let sel = selected_keys(app).map(|(s, _)| s);
-                let trees = app
-                    .doc
-                    .trees
-                    .iter()
-                    .map(|t| (sel == Some(Sel::Tree(t.id)), t.keys.clone()));
+                let trees = app.doc.trees.iter().flat_map(|t| {
+                    let branches = (t.root.iter().skip(1))
+                        .map(|n| (sel == Some(Sel::Node(n.id)), n.keys.clone()));
+                    std::iter::once((sel == Some(Sel::Tree(t.id)), t.keys.clone())).chain(branches)
+                });
                 let layers = (app.doc.ambient.iter())
                     .map(|a| (sel == Some(Sel::Ambient(a.id)), a.keys.clone()));
                 trees.chain(layers).filter(|(_, k)| !k.is_empty()).collect()
@@ -181,7 +242,7 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
             let last_key = (keys_of_all.iter())
                 .flat_map(|(_, k)| k.iter().map(|k| k.time))
                 .fold(0.0f32, f32::max);
-            let span = [app.timeline.range.1, bake.1, last_key, time]
+            let span = [app.doc.timeline.range[1], bake.1, last_key, time]
                 .into_iter()
                 .fold(10.0f32, f32::max)
                 * 1.05;
@@ -202,7 +263,7 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                     c,
                 );
             };
-            let (a, b) = app.timeline.range;
+            let [a, b] = app.doc.timeline.range;
             band(
                 a,
                 b,
@@ -258,7 +319,15 @@ pub fn panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                     ));
                 }
             }
-            // The playhead.
+            // The playhead at the time shown; while it is being recomputed, a faint line where
+            // the field has got to.
+            if seeking.is_some() {
+                let x = x_of(track, span, field_time);
+                painter.line_segment(
+                    [Pos2::new(x, track.top()), Pos2::new(x, track.bottom())],
+                    Stroke::new(1.0, Color32::from_white_alpha(90)),
+                );
+            }
             let x = x_of(track, span, time);
             painter.line_segment(
                 [Pos2::new(x, track.top()), Pos2::new(x, track.bottom())],

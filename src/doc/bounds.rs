@@ -208,6 +208,7 @@ pub const NUMBERS: &[(&str, &str, Bound)] = &[
     ("VerticalProfile", "top", PROFILE_HEIGHT),
     ("Tree", "propagation_speed", PROPAGATION_SPEED),
     ("Key", "time", WINDOW_TIME),
+    ("Timeline", "range", WINDOW_TIME),
     ("Key", "strength", KEY_STRENGTH),
     ("Key", "rotation_deg", KEY_ROTATION),
     ("TimeWindow.between", "start", WINDOW_TIME),

@@ -67,6 +67,11 @@ pub enum Edit {
         strength: f32,
         radius: f32,
     },
+    /// Replaces a branch's keyframes (a point other than a root).
+    SetNodeKeys {
+        id: u32,
+        keys: Vec<Key>,
+    },
     AddObstacle {
         index: usize,
         obstacle: Obstacle,
@@ -103,6 +108,7 @@ pub enum Edit {
     SetWorld(World),
     SetSim(SimParams),
     SetGrass(GrassParams),
+    SetTimeline(Timeline),
     Rename(String),
     /// Renames the files the layout names (its backdrop, masks, heightmap, density map):
     /// every path equal to a pair's first becomes its second, all at once. Pixels stay as
@@ -159,6 +165,7 @@ impl Edit {
             Self::RemoveNode { .. } => "Delete node",
             Self::MoveNode { .. } => "Move node",
             Self::SetNode { .. } => "Change node",
+            Self::SetNodeKeys { .. } => "Change branch keys",
             Self::AddObstacle { .. } => "Add obstacle",
             Self::RemoveObstacle { .. } => "Delete obstacle",
             Self::SetObstacle { .. } => "Change obstacle",
@@ -171,6 +178,7 @@ impl Edit {
             Self::SetWorld(_) => "Change world",
             Self::SetSim(_) => "Change simulation",
             Self::SetGrass(_) => "Change grass",
+            Self::SetTimeline(_) => "Change timeline",
             Self::Rename(_) => "Rename layout",
             Self::Repath(_) => "Rename image files",
             Self::Named(label, _) => label,
@@ -339,6 +347,12 @@ impl Edit {
             Self::SetWorld(w) => Self::SetWorld(std::mem::replace(&mut doc.world, w)),
             Self::SetSim(s) => Self::SetSim(std::mem::replace(&mut doc.sim, s)),
             Self::SetGrass(g) => Self::SetGrass(std::mem::replace(&mut doc.grass, g)),
+            Self::SetTimeline(t) => Self::SetTimeline(std::mem::replace(&mut doc.timeline, t)),
+            Self::SetNodeKeys { id, keys } => {
+                let n = node_mut(doc, id)?;
+                let old = std::mem::replace(&mut n.keys, keys);
+                Self::SetNodeKeys { id, keys: old }
+            }
             Self::Rename(n) => Self::Rename(std::mem::replace(&mut doc.name, n)),
             Self::Repath(pairs) => {
                 super::portable::for_each_file_mut(doc, |path, _| {

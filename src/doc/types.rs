@@ -57,6 +57,37 @@ pub struct Layout {
     pub sim: SimParams,
     #[serde(default)]
     pub grass: GrassParams,
+    /// The editor's timeline: the play range and whether playing loops over it (absent:
+    /// 0 to 30 s, looping).
+    #[serde(default, skip_serializing_if = "Timeline::is_default")]
+    pub timeline: Timeline,
+}
+
+/// The editor's timeline, kept with the layout: what the designer plays.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize, JsonSchema)]
+#[serde(deny_unknown_fields)]
+pub struct Timeline {
+    /// The play range `[start, end]`, simulated seconds (0 to 1e7, `start < end`).
+    #[schemars(inner(range(min = WINDOW_TIME.min, max = WINDOW_TIME.max)))]
+    pub range: Vec2,
+    /// Playing jumps back to the range's start at its end.
+    #[serde(rename = "loop", default = "yes")]
+    pub looping: bool,
+}
+
+impl Default for Timeline {
+    fn default() -> Self {
+        Self {
+            range: [0.0, 30.0],
+            looping: true,
+        }
+    }
+}
+
+impl Timeline {
+    pub fn is_default(&self) -> bool {
+        *self == Self::default()
+    }
 }
 
 /// A named point where the wind is measured over time: a player's spot, a banner.
@@ -395,6 +426,13 @@ pub struct Node {
     /// holds at most 160 arrows from its root, and a layout at most 10,000 points in all.
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub children: Vec<Node>,
+    /// The branch's keyframes (a point other than the root): the arrow ending here and every
+    /// arrow after it, their strength scaled and turned about the arrow's start point, on top
+    /// of the tree's keys and the keys of the branches it grows from; at most 1,000, in time
+    /// order.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    #[schemars(length(max = KEYS_MAX))]
+    pub keys: Vec<Key>,
 }
 
 /// The time a tree is active.
@@ -1098,6 +1136,7 @@ impl Layout {
             probes: Vec::new(),
             sim: SimParams::default(),
             grass: GrassParams::default(),
+            timeline: Timeline::default(),
         }
     }
 
@@ -1155,6 +1194,7 @@ impl Node {
             strength,
             radius,
             children: Vec::new(),
+            keys: Vec::new(),
         }
     }
 
@@ -1206,6 +1246,77 @@ impl Node {
 
     pub fn count(&self) -> usize {
         self.iter().count()
+    }
+}
+
+/// An arrow of a tree as its keys place it at a time: its ends, the factor on its strength,
+/// its end node, and the distance along the tree from the root to its start.
+#[derive(Debug, Clone, Copy)]
+pub struct KeyedArrow<'a> {
+    pub a: Vec2,
+    pub b: Vec2,
+    pub factor: f32,
+    pub child: &'a Node,
+    pub path_len: f32,
+}
+
+/// A turn about a point: its centre and the sine and cosine of its angle.
+type Turn = (Vec2, f32, f32);
+
+/// `p` turned by `turns`, the innermost (last) first, each as `centre + R·(p − centre)`.
+fn turned(p: Vec2, turns: &[Turn]) -> Vec2 {
+    turns.iter().rev().fold(p, |p, &(c, sin, cos)| {
+        let d = [p[0] - c[0], p[1] - c[1]];
+        [
+            c[0] + cos * d[0] - sin * d[1],
+            c[1] + sin * d[0] + cos * d[1],
+        ]
+    })
+}
+
+impl Tree {
+    /// Every arrow as the keys place it at time `t`: the tree's keys scale every arrow and
+    /// turn the tree about its root; a branch's keys (a point's) scale the arrow ending there
+    /// and every arrow after it, and turn them about that arrow's start, within what the keys
+    /// before them did. Without keys: the arrows as drawn, factor 1.
+    pub fn keyed_arrows(&self, t: f32) -> Vec<KeyedArrow<'_>> {
+        let (factor, turn) = key_values(&self.keys, t);
+        let turn_about = |centre: Vec2, angle: f32| -> Option<Turn> {
+            (angle != 0.0).then(|| {
+                let (sin, cos) = crate::num::sin_cos(angle);
+                (centre, sin, cos)
+            })
+        };
+        let tree_turns: Vec<Turn> = turn_about(self.root.pos, turn).into_iter().collect();
+        let mut out = Vec::new();
+        let mut stack = vec![(&self.root, 0.0f32, factor, tree_turns)];
+        while let Some((n, s, f, turns)) = stack.pop() {
+            for c in n.children.iter().rev() {
+                let (cf, ct) = if c.keys.is_empty() {
+                    (f, turns.clone())
+                } else {
+                    let (kf, kt) = key_values(&c.keys, t);
+                    let mut ct = turns.clone();
+                    ct.extend(turn_about(n.pos, kt));
+                    (f * kf, ct)
+                };
+                out.push(KeyedArrow {
+                    a: turned(n.pos, &ct),
+                    b: turned(c.pos, &ct),
+                    factor: cf,
+                    child: c,
+                    path_len: s,
+                });
+                let len = ((c.pos[0] - n.pos[0]).powi(2) + (c.pos[1] - n.pos[1]).powi(2)).sqrt();
+                stack.push((c, s + len, cf, ct));
+            }
+        }
+        out
+    }
+
+    /// Whether any key (the tree's or a branch's) moves or scales its arrows.
+    pub fn is_keyed(&self) -> bool {
+        !self.keys.is_empty() || self.root.iter().any(|n| !n.keys.is_empty())
     }
 }
 

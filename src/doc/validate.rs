@@ -383,6 +383,14 @@ pub fn validate(layout: &Layout) -> Vec<Issue> {
 
     check_sim(&mut c, &layout.sim);
     check_grass(&mut c, &layout.grass);
+    let [start, end] = layout.timeline.range;
+    let ok = c.bound("timeline.range[0]", start, WINDOW_TIME);
+    if c.bound("timeline.range[1]", end, WINDOW_TIME) && ok && end <= start {
+        c.push(
+            "timeline.range[1]",
+            format!("must be after the play range's start ({start}), got {end}"),
+        );
+    }
     c.issues
 }
 
@@ -471,6 +479,15 @@ fn check_node(c: &mut Checker, ids: &mut HashMap<u32, String>, n: &Node, path: &
     let here = c.point(&format!("{path}.pos"), n.pos);
     c.bound(&format!("{path}.strength"), n.strength, STRENGTH);
     c.bound(&format!("{path}.radius"), n.radius, RADIUS);
+    if !n.keys.is_empty() {
+        if depth == 0 {
+            c.push(
+                &format!("{path}.keys"),
+                "a root starts no arrow of its own: key the tree instead (its \"keys\")".to_owned(),
+            );
+        }
+        check_keys(c, &n.keys, &format!("{path}.keys"));
+    }
     for (i, child) in n.children.iter().enumerate() {
         let cp = format!("{path}.children[{i}]");
         let (dx, dz) = (child.pos[0] - n.pos[0], child.pos[1] - n.pos[1]);

@@ -48,7 +48,15 @@ pub struct Snapshot {
     pub measured: Option<[f32; 2]>,
     /// Why the GPU is not in use when it was asked for (no device, an error), if so.
     pub notice: Option<String>,
+    /// The time a seek is recomputing the field to, while it does (the field shown is on
+    /// its way there).
+    pub seeking: Option<f32>,
+    /// The last seek ([`LiveSim::seek`]) the worker has finished, by its number.
+    pub seeked: u64,
 }
+
+/// Wall-clock time a seek steps before it looks for newer commands and shows how far it is.
+const SEEK_SLICE: Duration = Duration::from_millis(60);
 
 /// Longest time between two read-backs of a GPU field (the cursor readout, the legend).
 pub const READBACK_SECONDS: f64 = 0.25;
@@ -97,7 +105,8 @@ enum Command {
     Play(bool),
     Step,
     Reset,
-    Seek(f32),
+    /// Go to a time; the seek's number, to tell when it is done.
+    Seek(f32, u64),
     Speed(f32),
     Quit,
 }
@@ -109,6 +118,8 @@ pub struct LiveSim {
     thread: Option<JoinHandle<()>>,
     pub playing: bool,
     pub speed: f32,
+    /// The last seek asked for: its time and number.
+    seek: Option<(f32, u64)>,
 }
 
 impl LiveSim {
@@ -129,6 +140,7 @@ impl LiveSim {
             thread: Some(thread),
             playing: true,
             speed: 1.0,
+            seek: None,
         }
     }
 
@@ -161,10 +173,23 @@ impl LiveSim {
     }
 
     /// Puts the field at simulation time `t` (the timeline's scrub): from the nearest
-    /// checkpoint at or before it, stepped on to `t` (only the newest of several queued seeks
-    /// is made).
-    pub fn seek(&self, t: f32) {
-        let _ = self.tx.send(Command::Seek(t));
+    /// checkpoint at or before it, stepped on to `t` in slices, each published (the field
+    /// is seen on its way), a newer seek taking over from an older one at once.
+    pub fn seek(&mut self, t: f32) {
+        let n = self.seek.map_or(1, |(_, n)| n + 1);
+        self.seek = Some((t, n));
+        let _ = self.tx.send(Command::Seek(t, n));
+    }
+
+    /// The time the editor shows, and the time being recomputed to while a seek is under
+    /// way: the time asked for from the moment it was asked (a key taken then is at that
+    /// time, not the field's stale one), the field's own once the seek is done.
+    pub fn time_shown(&self) -> (f32, Option<f32>) {
+        let snap = self.snapshot();
+        match self.seek {
+            Some((t, n)) if snap.seeked < n => (t, Some(t)),
+            _ => (snap.time, None),
+        }
     }
 
     /// Simulated seconds per real second.
@@ -245,6 +270,11 @@ struct Engine {
     last_readback: Instant,
     /// The field went non-finite: zeroed and no longer stepped until a Reset (or a rebuild).
     halted: bool,
+    /// A seek under way: its time, its number, and whether the field goes back to the GPU
+    /// when it is there.
+    seeking: Option<(f32, u64, bool)>,
+    /// The last seek finished, by its number.
+    seeked: u64,
 }
 
 impl Engine {
@@ -264,6 +294,8 @@ impl Engine {
             steps_since_readback: 0,
             last_readback: Instant::now(),
             halted: false,
+            seeking: None,
+            seeked: 0,
         }
     }
 
@@ -430,8 +462,17 @@ impl Engine {
 
     /// The field at time `t`: restored from the latest checkpoint at or before it (or calm
     /// at 0), then stepped on the CPU to `t`, and handed back to the GPU if it ran there.
+    #[cfg(test)]
     fn seek(&mut self, layout: &Layout, t: f32) {
-        let on_gpu = self.gpu.is_some();
+        self.seek_start(layout, t, 0);
+        while !self.seek_advance(layout, Duration::MAX) {}
+    }
+
+    /// Starts seek `n` to time `t`: the field on the CPU, restored from the latest checkpoint
+    /// at or before `t` (or calm at 0) unless stepping on from where it is now is quicker;
+    /// [`Self::seek_advance`] steps it there.
+    fn seek_start(&mut self, layout: &Layout, t: f32, n: u64) {
+        let on_gpu = self.gpu.is_some() || self.seeking.is_some_and(|(_, _, g)| g);
         self.move_to(RunsOn::Cpu, layout);
         let t = t.max(0.0);
         let from = self.checkpoints.iter().rposition(|c| c.time <= t + 1e-4);
@@ -458,14 +499,30 @@ impl Engine {
             }
             self.halted = false;
         }
+        self.seeking = Some((t, n, on_gpu));
+    }
+
+    /// Steps the seek under way on for at most `budget` of wall-clock time; whether it has
+    /// arrived (the field then back on the GPU if it ran there).
+    fn seek_advance(&mut self, layout: &Layout, budget: Duration) -> bool {
+        let Some((t, n, on_gpu)) = self.seeking else {
+            return true;
+        };
+        let started = Instant::now();
         let dt = self.cpu.params.dt;
         while self.cpu.time + dt * 0.5 <= t {
             self.cpu.step();
             self.checkpoint();
+            if started.elapsed() >= budget {
+                return false;
+            }
         }
+        self.seeking = None;
+        self.seeked = n;
         if on_gpu {
             self.move_to(RunsOn::Gpu, layout);
         }
+        true
     }
 
     /// Hands the running field to `want`'s solver.
@@ -632,6 +689,8 @@ impl Engine {
             gpu_ms_per_step: self.gpu_ms.filter(|_| self.gpu.is_some()),
             measured: self.measured,
             notice: self.notice.clone(),
+            seeking: self.seeking.map(|(t, _, _)| t),
+            seeked: self.seeked,
         };
         let snap = Arc::new(snap);
         match shared.lock() {
@@ -687,7 +746,7 @@ fn worker(
     };
     loop {
         let mut single_steps = 0usize;
-        let mut seek: Option<f32> = None;
+        let mut seek: Option<(f32, u64)> = None;
         // Only the newest of several queued layouts matters (a dragged grid size sends one per
         // frame); rebuilding the solver for each would waste seconds at large grids.
         let mut newest: Option<Box<Layout>> = None;
@@ -724,7 +783,7 @@ fn worker(
                     owed = 0.0;
                 }
                 Command::Step => single_steps += 1,
-                Command::Seek(t) => seek = Some(t),
+                Command::Seek(t, n) => seek = Some((t, n)),
                 Command::Reset => {
                     if let Some(l) = newest.take() {
                         layout = *l;
@@ -748,8 +807,18 @@ fn worker(
             layout = *l;
             changed = true;
         }
-        if let Some(t) = seek {
-            engine.seek(&layout, t);
+        // A seek under way restarts on an edited layout (its past is another wind); a new
+        // one takes over.
+        if let Some((t, n)) = seek.or_else(|| {
+            let (t, n, _) = engine.seeking?;
+            changed.then_some((t, n))
+        }) {
+            engine.seek_start(&layout, t, n);
+        }
+        if engine.seeking.is_some() {
+            // A slice at a time, each shown, so the field is seen on its way and a newer
+            // seek (the scrub dragged on) is taken up at once.
+            engine.seek_advance(&layout, SEEK_SLICE);
             owed = 0.0;
             last = Instant::now();
             engine.publish(&shared, true);

@@ -265,35 +265,24 @@ fn arrow_active(emission: Emission, since_start: f32, delay: f32) -> bool {
 }
 
 /// The arrows of all trees that push at time `t`, each tree as its keyframes have it then:
-/// its arrows' strengths scaled, the whole tree turned about its root.
+/// its arrows' strengths scaled and turned about its root by the tree's keys, and a keyed
+/// branch's arrows scaled and turned about the branch's start within that
+/// ([`doc::Tree::keyed_arrows`]).
 pub fn agc_splats(layout: &Layout, t: f32) -> Vec<ArrowSplat> {
     let mut out = Vec::new();
     for tree in &layout.trees {
         let Some(start) = in_window(tree, t) else {
             continue;
         };
-        let (factor, turn) = doc::key_values(&tree.keys, t);
-        let (sin, cos) = crate::num::sin_cos(turn);
-        let root = tree.root.pos;
-        let place = |p: [f32; 2]| -> [f32; 2] {
-            if turn == 0.0 {
-                return p;
-            }
-            let d = [p[0] - root[0], p[1] - root[1]];
-            [
-                root[0] + cos * d[0] - sin * d[1],
-                root[1] + sin * d[0] + cos * d[1],
-            ]
-        };
-        for (parent, child, path_len) in tree.root.arrows() {
-            let delay = path_len / tree.propagation_speed;
+        for arrow in tree.keyed_arrows(t) {
+            let delay = arrow.path_len / tree.propagation_speed;
             if !arrow_active(tree.emission, t - start, delay) {
                 continue;
             }
-            let (a, b) = (place(parent.pos), place(child.pos));
+            let (a, b) = (arrow.a, arrow.b);
             let d = [b[0] - a[0], b[1] - a[1]];
             let len = (d[0] * d[0] + d[1] * d[1]).sqrt();
-            let strength = child.strength * factor;
+            let strength = arrow.child.strength * arrow.factor;
             if len <= 0.0 || strength <= 0.0 {
                 continue;
             }
@@ -302,7 +291,7 @@ pub fn agc_splats(layout: &Layout, t: f32) -> Vec<ArrowSplat> {
                 b,
                 dir: [d[0] / len, d[1] / len],
                 strength,
-                radius: child.radius,
+                radius: arrow.child.radius,
             });
         }
     }
@@ -773,12 +762,23 @@ impl Ambient {
 /// (docs/SOLVER.md, step 3), what a bake's notes compare its peak with
 /// (`bake::field_notes`), and what the stability tests bound the field by.
 pub fn reference_speed(layout: &Layout) -> f32 {
-    let factor = |keys: &[doc::Key]| keys.iter().map(|k| k.strength).fold(1.0f32, f32::max);
-    // Each arrow drives at its end node's strength: every node but the root.
-    let strongest = |n: &doc::Node| n.iter().skip(1).map(|n| n.strength).fold(0.0f32, f32::max);
+    fn factor(keys: &[doc::Key]) -> f32 {
+        keys.iter().map(|k| k.strength).fold(1.0f32, f32::max)
+    }
+    // Each arrow drives at its end node's strength (every node but the root), times the
+    // largest factor of its branch's keys and of the branches it grows from.
+    fn strongest(n: &doc::Node, above: f32, factor: &dyn Fn(&[doc::Key]) -> f32) -> f32 {
+        n.children
+            .iter()
+            .map(|c| {
+                let f = above * factor(&c.keys);
+                (c.strength * f).max(strongest(c, f, factor))
+            })
+            .fold(0.0f32, f32::max)
+    }
     let arrows = (layout.trees.iter())
         .filter(|t| t.enabled)
-        .map(|t| strongest(&t.root) * factor(&t.keys));
+        .map(|t| strongest(&t.root, factor(&t.keys), &factor));
     let ambient = (layout.ambient.iter()).filter(|a| a.enabled).map(|a| {
         let speed = match &a.kind {
             AmbientKind::Directional {

@@ -1030,6 +1030,10 @@ fn everything() -> serde_json::Value {
         name: "probe".into(),
         pos: [10.0, 10.0],
     }];
+    l.timeline = doc::Timeline {
+        range: [0.0, 20.0],
+        looping: false,
+    };
     assert!(doc::validate(&l).is_empty(), "{:?}", doc::validate(&l));
     serde_json::to_value(&l).unwrap()
 }
@@ -1047,6 +1051,7 @@ fn pointer(def: &str, prop: &str) -> String {
         "Node" if prop == "pos" => "/trees/0/root/pos/0".into(),
         "Probe" => format!("/probes/0/{prop}/0"),
         "Key" => format!("/trees/0/keys/0/{prop}"),
+        "Timeline" => format!("/timeline/{prop}/1"),
         "Node" => format!("/trees/0/root/{prop}"),
         "Shape.circle" if prop == "center" => "/obstacles/0/shape/center/1".into(),
         "Shape.circle" => format!("/obstacles/0/shape/{prop}"),
@@ -1241,6 +1246,7 @@ fn the_editor_s_edits_stay_within_what_loads() {
             strength: 5.0,
             radius: 2.0,
             children: Vec::new(),
+            keys: Vec::new(),
         };
         let edit = doc::Edit::AddNode {
             parent: tip,
@@ -1286,6 +1292,7 @@ fn the_editor_s_edits_stay_within_what_loads() {
         strength: 5.0,
         radius: 2.0,
         children: Vec::new(),
+        keys: Vec::new(),
     });
     let text = doc::to_json(&longer);
     let e = doc::parse(&text).unwrap_err().to_string();

@@ -583,6 +583,7 @@ fn nonsense_bakes_say_so_in_the_manifest() {
             strength: 5.0,
             radius: 15.0,
             children: Vec::new(),
+            keys: Vec::new(),
         });
     }
     let m = run(&fan, &dir.path().join("fan"), &opts);

@@ -140,3 +140,88 @@ fn keys_are_saved_checked_and_absent_from_files_without_them() {
         "{issues:?}"
     );
 }
+
+/// A branch keyed on its own (a point other than the root): off, it drops out of the wind
+/// while the rest of its tree blows; turned, the arrow ending at it and those after it turn
+/// about that arrow's start, within the tree's own turn; a root takes no branch keys.
+#[test]
+fn a_branch_ramps_up_alone_and_turns_about_its_start() {
+    use windloom::sim::forces;
+    // Root (20, 50) → (50, 50) → (80, 50): the second arrow (its end id 12) keyed off until
+    // 3 s, full from 4 s.
+    let two_arrows = || {
+        let mut l = Layout::new("branch", [100.0, 100.0], [64, 64]);
+        l.trees.push(tree(
+            1,
+            chain(10, &[[20.0, 50.0], [50.0, 50.0], [80.0, 50.0]], 8.0, 8.0),
+        ));
+        l
+    };
+    let mut l = two_arrows();
+    l.trees[0].root.find_mut(12).unwrap().keys = vec![
+        key(3.0, 0.0, 0.0, Ease::Linear),
+        key(4.0, 1.0, 0.0, Ease::Linear),
+    ];
+    let strengths = |t: f32| -> Vec<f32> {
+        forces::agc_splats(&l, t)
+            .iter()
+            .map(|s| s.strength)
+            .collect()
+    };
+    assert_eq!(strengths(2.0), vec![8.0], "only the first arrow blows");
+    assert_eq!(strengths(5.0), vec![8.0, 8.0]);
+    let mut s = Solver::new(&l);
+    run(&mut s, 3.0);
+    let first = s.velocity_at([35.0, 50.0]);
+    let second = s.velocity_at([72.0, 50.0]);
+    assert!(first[0] > 4.0, "the tree blows: {first:?}");
+    assert!(
+        second[0] < 0.6 * first[0],
+        "the branch does not: {second:?} {first:?}"
+    );
+    run(&mut s, 3.0);
+    let second = s.velocity_at([72.0, 50.0]);
+    assert!(second[0] > 4.0, "ramped up on its own: {second:?}");
+
+    // Turned a quarter about its start (50, 50): it blows south from there.
+    let mut l = two_arrows();
+    l.trees[0].root.find_mut(12).unwrap().keys = vec![key(0.0, 1.0, 90.0, Ease::Linear)];
+    let arrows = forces::agc_splats(&l, 1.0);
+    assert_eq!(arrows[0].b, [50.0, 50.0], "the first arrow stays");
+    let b = arrows[1].b;
+    assert!(
+        (b[0] - 50.0).abs() < 1e-4 && (b[1] - 80.0).abs() < 1e-4,
+        "{b:?}"
+    );
+    let mut s = Solver::new(&l);
+    run(&mut s, 5.0);
+    let w = s.velocity_at([50.0, 68.0]);
+    assert!(
+        w[1] > 3.0 && w[1] > 2.0 * w[0].abs(),
+        "south from the branch: {w:?}"
+    );
+    // Within the tree's own turn: both a quarter, the branch ends a half turn from east.
+    l.trees[0].keys = vec![key(0.0, 1.0, 90.0, Ease::Linear)];
+    let arrows = forces::agc_splats(&l, 1.0);
+    let (a, b) = (arrows[1].a, arrows[1].b);
+    assert!(
+        (a[0] - 20.0).abs() < 1e-4 && (a[1] - 80.0).abs() < 1e-4,
+        "{a:?}"
+    );
+    assert!(
+        (b[0] + 10.0).abs() < 1e-4 && (b[1] - 80.0).abs() < 1e-4,
+        "{b:?}"
+    );
+
+    // Saved, read back, and refused on a root.
+    let back = doc::parse(&doc::to_json(&l)).unwrap();
+    assert_eq!(back, l);
+    l.trees[0].root.keys = vec![key(0.0, 1.0, 0.0, Ease::Linear)];
+    let issues: Vec<String> = doc::validate(&l).iter().map(|i| i.to_string()).collect();
+    assert!(
+        issues
+            .iter()
+            .any(|i| i.contains("trees[0].root.keys") && i.contains("key the tree")),
+        "{issues:?}"
+    );
+}
