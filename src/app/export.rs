@@ -35,11 +35,97 @@ pub struct ExportDialog {
     dirty_at: Option<f64>,
     /// A finished live bake's one-line result, for the status bar.
     live_news: Option<String>,
+    /// Where the last bake went, once it is there (Open folder).
+    pub baked_to: Option<PathBuf>,
 }
 
 /// Seconds a live export waits after an edit, so that a drag bakes once at its end rather
 /// than at each frame of it.
 pub const LIVE_SETTLE: f64 = 0.4;
+
+/// The engines the dialog bakes for, each with the formats and frames its guide
+/// (docs/engines/) leads with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Engine {
+    Unreal,
+    Unity,
+    Godot,
+}
+
+/// What an engine gets: its formats, frames, frames a second and whether they loop.
+pub struct Preset {
+    pub formats: &'static [Format],
+    pub frames: usize,
+    pub fps: f32,
+    pub looped: bool,
+}
+
+impl Engine {
+    pub const ALL: [Engine; 3] = [Engine::Unreal, Engine::Unity, Engine::Godot];
+
+    pub fn name(self) -> &'static str {
+        match self {
+            Engine::Unreal => "Unreal",
+            Engine::Unity => "Unity",
+            Engine::Godot => "Godot",
+        }
+    }
+
+    /// The bake for this engine, steady (one field) or `animated` (a loop).
+    pub fn preset(self, animated: bool) -> Preset {
+        use Format::*;
+        let steady = |formats| Preset {
+            formats,
+            frames: 1,
+            fps: 30.0,
+            looped: false,
+        };
+        let animated_at = |formats, frames, fps| Preset {
+            formats,
+            frames,
+            fps,
+            looped: true,
+        };
+        match (self, animated) {
+            (Engine::Unreal, false) => steady(&[Fga, Exr, Dds]),
+            (Engine::Unreal, true) => animated_at(&[Atlas], 64, 16.0),
+            (Engine::Unity, false) => steady(&[Vf, Exr, Dds]),
+            (Engine::Unity, true) => animated_at(&[Vf], 48, 24.0),
+            (Engine::Godot, false) => steady(&[Exr, Dds]),
+            (Engine::Godot, true) => animated_at(&[AtlasExr, Atlas], 48, 24.0),
+        }
+    }
+
+    /// What the engine does with its bake, and where its guide is.
+    pub fn what(self, animated: bool) -> &'static str {
+        match (self, animated) {
+            (Engine::Unreal, false) => {
+                "A Niagara vector field (FGA), a material texture (EXR) and the wind volume \
+                 (DDS); docs/engines/unreal.md, imported by windloom_import.py"
+            }
+            (Engine::Unreal, true) => {
+                "A looping flipbook atlas sampled in Niagara's particle update; \
+                 docs/engines/unreal.md"
+            }
+            (Engine::Unity, false) => {
+                "A VFX Graph vector field (VF), a texture (EXR) and the wind volume; \
+                 docs/engines/unity.md"
+            }
+            (Engine::Unity, true) => {
+                "A vector field a frame, stepped through at the bake's rate, looping; \
+                 docs/engines/unity.md"
+            }
+            (Engine::Godot, false) => {
+                "A texture (EXR) for the add-on's grass and particle shaders and the wind \
+                 volume; docs/engines/godot.md"
+            }
+            (Engine::Godot, true) => {
+                "A looping flipbook atlas (EXR, and PNG for the web) for the add-on's shaders; \
+                 docs/engines/godot.md"
+            }
+        }
+    }
+}
 
 struct Job {
     cancel: Arc<AtomicBool>,
@@ -47,6 +133,8 @@ struct Job {
     done: Arc<Mutex<Option<Result<String, String>>>>,
     /// The worker thread, joined when it has finished (or on close).
     handle: Option<std::thread::JoinHandle<()>>,
+    /// Where it bakes into.
+    out: PathBuf,
 }
 
 impl Default for ExportDialog {
@@ -71,6 +159,7 @@ impl Default for ExportDialog {
             live: false,
             dirty_at: None,
             live_news: None,
+            baked_to: None,
         }
     }
 }
@@ -78,6 +167,35 @@ impl Default for ExportDialog {
 impl ExportDialog {
     pub fn running(&self) -> bool {
         self.job.is_some()
+    }
+
+    /// Takes `engine`'s bake, steady or animated.
+    pub fn apply(&mut self, engine: Engine, animated: bool) {
+        let p = engine.preset(animated);
+        for (f, on) in &mut self.formats {
+            *on = p.formats.contains(f);
+        }
+        self.frames = p.frames;
+        self.fps = p.fps;
+        self.looped = p.looped;
+        self.flip_green = false;
+    }
+
+    /// The engine and kind of bake the settings are, if they are one of the presets (else
+    /// the user's own: Custom).
+    pub fn engine(&self) -> Option<(Engine, bool)> {
+        Engine::ALL
+            .iter()
+            .flat_map(|e| [(*e, false), (*e, true)])
+            .find(|&(e, animated)| {
+                let p = e.preset(animated);
+                self.formats
+                    .iter()
+                    .all(|(f, on)| *on == p.formats.contains(f))
+                    && self.frames == p.frames
+                    && (p.frames == 1 || self.fps == p.fps && self.looped == p.looped)
+                    && !self.flip_green
+            })
     }
 
     fn options(&self) -> BakeOptions {
@@ -126,12 +244,12 @@ impl ExportDialog {
         let cancel = Arc::new(AtomicBool::new(false));
         let progress = Arc::new(Mutex::new((0, 1, "starting".to_string())));
         let done = Arc::new(Mutex::new(None));
-        let (layout, opts, out) = (
-            layout.clone(),
-            self.options(),
-            PathBuf::from(self.out.trim()),
-        );
+        let out = PathBuf::from(self.out.trim());
+        // Said in full: "bake" alone does not say where on the disk it went.
+        let out = std::path::absolute(&out).unwrap_or(out);
+        let (layout, opts) = (layout.clone(), self.options());
         let (c, p, d, ctx) = (cancel.clone(), progress.clone(), done.clone(), ctx.clone());
+        let into = out.clone();
         let worker = std::thread::Builder::new()
             .name("windloom-export".into())
             .spawn(move || {
@@ -183,6 +301,7 @@ impl ExportDialog {
                     progress,
                     done,
                     handle: Some(handle),
+                    out: into,
                 })
             }
             Err(e) => self.result = Some(Err(format!("could not start the export: {e}"))),
@@ -208,10 +327,15 @@ impl ExportDialog {
                     Err(e) => format!("Live export failed: {e}"),
                 });
             }
-            self.result = Some(r);
-            if let Some(h) = self.job.take().and_then(|mut j| j.handle.take()) {
-                let _ = h.join();
+            if let Some(mut job) = self.job.take() {
+                if r.is_ok() {
+                    self.baked_to = Some(job.out.clone());
+                }
+                if let Some(h) = job.handle.take() {
+                    let _ = h.join();
+                }
             }
+            self.result = Some(r);
         }
     }
 
@@ -253,7 +377,15 @@ impl ExportDialog {
             // The edit bakes when this bake is done (its end repaints).
             return;
         }
+        // A gesture under way (a drag held still, a number being typed) is one edit, baked
+        // once when it ends: not each time the pointer rests mid-drag.
+        let gesture = ctx.input(|i| i.pointer.any_down()) || ctx.memory(|m| m.focused().is_some());
         let now = ctx.input(|i| i.time);
+        if gesture {
+            self.dirty_at = Some(now.max(at));
+            ctx.request_repaint_after(std::time::Duration::from_secs_f64(LIVE_SETTLE));
+            return;
+        }
         if now - at >= LIVE_SETTLE {
             self.dirty_at = None;
             self.start(layout, ctx);
@@ -275,10 +407,38 @@ impl ExportDialog {
             .show(ctx, |ui| {
                 let busy = self.running();
                 ui.add_enabled_ui(!busy, |ui| {
+                    // The engine first: each picks its formats and frames (docs/engines/).
+                    let current = self.engine();
+                    let animated = current.map_or(self.frames > 1, |(_, a)| a);
+                    ui.horizontal(|ui| {
+                        ui.label("For");
+                        for e in Engine::ALL {
+                            let on = current.is_some_and(|(c, _)| c == e);
+                            if ui
+                                .selectable_label(on, e.name())
+                                .on_hover_text(e.what(animated))
+                                .clicked()
+                            {
+                                self.apply(e, animated);
+                            }
+                        }
+                        ui.selectable_label(current.is_none(), "Custom")
+                            .on_hover_text("The formats and frames below, as you set them");
+                    });
+                    if let Some((e, _)) = current {
+                        ui.horizontal(|ui| {
+                            for (anim, label) in [(false, "Steady"), (true, "Animated loop")] {
+                                if ui.radio(animated == anim, label).clicked() {
+                                    self.apply(e, anim);
+                                }
+                            }
+                        });
+                        ui.weak(e.what(animated));
+                    }
                     ui.label("Formats");
                     ui.horizontal_wrapped(|ui| {
                         for (f, on) in &mut self.formats {
-                            ui.checkbox(on, f.name());
+                            ui.checkbox(on, f.name()).on_hover_text(f.engines_hint());
                         }
                     });
                     egui::Grid::new("export").num_columns(2).show(ui, |ui| {
@@ -369,6 +529,15 @@ impl ExportDialog {
                 match &self.result {
                     Some(Ok(msg)) => {
                         ui.colored_label(egui::Color32::LIGHT_GREEN, msg);
+                        if let Some(dir) = &self.baked_to
+                            && ui
+                                .button("Open folder")
+                                .on_hover_text(dir.display().to_string())
+                                .clicked()
+                            && let Err(e) = crate::platform::process::show_folder(dir)
+                        {
+                            self.result = Some(Err(e));
+                        }
                     }
                     Some(Err(msg)) => {
                         ui.colored_label(egui::Color32::from_rgb(255, 120, 100), msg);

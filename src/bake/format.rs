@@ -63,6 +63,39 @@ impl Format {
     }
 }
 
+impl Format {
+    /// What the format is and which engine reads it, for the Export dialog's tooltips
+    /// (docs/engines/ has each engine's import).
+    pub fn engines_hint(self) -> &'static str {
+        match self {
+            Self::Exr => {
+                "OpenEXR flowmap, float (x, z wind and speed in m/s): Godot's and Unreal's \
+                 textures, Unity's too; exact"
+            }
+            Self::Png8 => "8-bit PNG flowmap: any engine's texture, the smallest (mobile)",
+            Self::Png16 => {
+                "16-bit PNG flowmap: Unity's and Godot's textures, and Godot on the web (8 bits \
+                 there)"
+            }
+            Self::Fga => "Unreal vector field (FGA) for Niagara and Cascade, at most 128 a side",
+            Self::Vf => "Unity VFX Graph vector field (VF_V) for Vector Field Force",
+            Self::Raw => {
+                "Raw floats with the manifest: windloom's runtime (C, Bevy), your own engine \
+                 code, and Godot on the web; exact"
+            }
+            Self::Atlas => {
+                "Every frame in one 16-bit PNG flipbook: animated wind in Unreal's Niagara and \
+                 Godot's shaders"
+            }
+            Self::AtlasExr => "Every frame in one half-float EXR flipbook: animated wind in Godot",
+            Self::Dds => {
+                "The wind as a volume up the vertical profile: a DDS 3D texture (Unreal, any \
+                 engine), with a Unity vector field and Godot EXR slices of it"
+            }
+        }
+    }
+}
+
 /// How big a bake is: `frames` frames of `nx × ny` cells, `layers` layers in a volume, and
 /// `half`: 16-bit floats where the format has them.
 #[derive(Debug, Clone, Copy)]

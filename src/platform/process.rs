@@ -39,3 +39,9 @@ pub fn host_and_boot() -> (String, String) {
         read("/proc/sys/kernel/random/boot_id"),
     )
 }
+
+/// Shows `folder` in the system's file manager (Explorer, Finder, the desktop's default on
+/// Linux), without waiting for it; why not, if it could not be started.
+pub fn show_folder(folder: &std::path::Path) -> Result<(), String> {
+    open::that_detached(folder).map_err(|e| format!("could not open {}: {e}", folder.display()))
+}

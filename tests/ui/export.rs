@@ -195,3 +195,138 @@ fn live_export_bakes_again_after_each_edit() {
         serde_json::from_str(&std::fs::read_to_string(out.join("manifest.json")).unwrap()).unwrap();
     assert_eq!(after["sequence"], 2);
 }
+
+/// The dialog speaks engines: Unreal, Unity or Godot picks the formats and frames its guide
+/// leads with (steady, or an animated loop); changing a format makes it the user's own
+/// (Custom); every format says which engine reads it.
+#[test]
+fn the_export_dialog_picks_formats_by_engine() {
+    use windloom::app::export::Engine;
+    use windloom::bake::Format;
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("meadow.json"));
+    h.state_mut().export.open = true;
+    h.run_steps(2);
+    let on = |h: &Harness<'_, EditorApp>| -> Vec<Format> {
+        (h.state().export.formats.iter())
+            .filter(|(_, on)| *on)
+            .map(|(f, _)| *f)
+            .collect()
+    };
+    h.get_by_label("Unreal").click();
+    h.run_steps(2);
+    assert_eq!(on(&h), vec![Format::Exr, Format::Fga, Format::Dds]);
+    assert_eq!(h.state().export.engine(), Some((Engine::Unreal, false)));
+    h.get_by_label("Animated loop").click();
+    h.run_steps(2);
+    assert_eq!(on(&h), vec![Format::Atlas]);
+    let e = &h.state().export;
+    assert!(e.frames == 64 && e.looped && e.fps == 16.0);
+    h.get_by_label("Unity").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().export.engine(),
+        Some((Engine::Unity, true)),
+        "still animated"
+    );
+    assert_eq!(on(&h), vec![Format::Vf]);
+    h.get_by_label("Godot").click();
+    h.run_steps(2);
+    h.get_by_label("Steady").click();
+    h.run_steps(2);
+    assert_eq!(on(&h), vec![Format::Exr, Format::Dds]);
+    assert_eq!(h.state().export.frames, 1);
+    // A format of one's own: Custom.
+    h.get_by_label("raw").click();
+    h.run_steps(2);
+    assert_eq!(h.state().export.engine(), None);
+    for f in Format::ALL {
+        let hint = f.engines_hint();
+        assert!(
+            ["Unreal", "Unity", "Godot", "any engine", "runtime"]
+                .iter()
+                .any(|e| hint.contains(e)),
+            "{f:?}: {hint}"
+        );
+    }
+}
+
+/// Live export bakes once a gesture ends: a drag held still past the settling time, then
+/// moved on and released, is one edit and one bake (it was two), and the dialog names the
+/// folder the bake went to in full.
+#[test]
+fn live_export_bakes_once_for_a_drag_held_still() {
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("live");
+    let mut h = harness(example("two-winds.json"));
+    {
+        let e = &mut h.state_mut().export;
+        e.use_layout_grid = false;
+        e.grid = [24, 16];
+        e.warmup = 0.2;
+        e.formats = vec![(windloom::bake::Format::Raw, true)];
+        e.out = out.display().to_string();
+        e.set_live(true);
+    }
+    let sequence = || -> Option<u64> {
+        let text = std::fs::read_to_string(out.join("manifest.json")).ok()?;
+        serde_json::from_str::<serde_json::Value>(&text).ok()?["sequence"].as_u64()
+    };
+    let settle = |h: &mut Harness<'_, EditorApp>| {
+        let until =
+            Instant::now() + Duration::from_secs_f64(windloom::app::export::LIVE_SETTLE * 3.0);
+        while Instant::now() < until || h.state().export.running() {
+            h.run_steps(1);
+            std::thread::sleep(Duration::from_millis(20));
+        }
+    };
+    settle(&mut h);
+    assert_eq!(
+        sequence(),
+        Some(1),
+        "the layout baked when Live export was turned on"
+    );
+    // Press on a point, move, hold still past the settling time, move on, release.
+    let from = h.state().screen_pos([32.0, 40.0]);
+    let mid = h.state().screen_pos([36.0, 40.0]);
+    let to = h.state().screen_pos([40.0, 44.0]);
+    h.event(Event::PointerMoved(from));
+    h.run_steps(1);
+    h.event(Event::PointerButton {
+        pos: from,
+        button: PointerButton::Primary,
+        pressed: true,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(1);
+    for k in 1..=4 {
+        h.event(Event::PointerMoved(from + (mid - from) * (k as f32 / 4.0)));
+        h.run_steps(1);
+    }
+    settle(&mut h);
+    assert_eq!(sequence(), Some(1), "no bake while the drag is held");
+    h.event(Event::PointerMoved(to));
+    h.run_steps(1);
+    h.event(Event::PointerButton {
+        pos: to,
+        button: PointerButton::Primary,
+        pressed: false,
+        modifiers: Modifiers::NONE,
+    });
+    h.run_steps(2);
+    settle(&mut h);
+    settle(&mut h);
+    assert_eq!(sequence(), Some(2), "one bake for the drag");
+    let said = match &h.state().export.result {
+        Some(Ok(msg)) => msg.clone(),
+        other => panic!("{other:?}"),
+    };
+    assert!(said.contains(&out.display().to_string()), "{said}");
+    assert_eq!(h.state().export.baked_to.as_deref(), Some(out.as_path()));
+    h.state_mut().export.set_live(false);
+}
