@@ -91,10 +91,12 @@ impl EditorApp {
         };
         // Masks from elsewhere: their images read beside this layout.
         self.doc.read_images(&mut copied);
-        let at_pointer = self.map.cursor_world.filter(|_| {
-            self.map
-                .rect
-                .contains(ctx.pointer_latest_pos().unwrap_or_default())
+        let at_pointer = self.map.paste_at.take().or_else(|| {
+            self.map.cursor_world.filter(|_| {
+                self.map
+                    .rect
+                    .contains(ctx.pointer_latest_pos().unwrap_or_default())
+            })
         });
         let offset = match (at_pointer, clipboard::centre(&copied)) {
             (Some(p), Some(c)) => [p[0] - c[0], p[1] - c[1]],

@@ -81,6 +81,10 @@ pub struct MapState {
     /// A press that closed a menu or a popup: it and its drag do nothing on the map (a click
     /// outside an open menu only closes it, as everywhere on the desktop).
     pub swallowed: bool,
+    /// What the open right-click menu is about.
+    pub(super) context: Option<super::context_menu::Target>,
+    /// Where the next paste lands (the right-click menu's Paste here).
+    pub paste_at: Option<doc::Vec2>,
 }
 
 impl MapState {
@@ -109,6 +113,8 @@ impl Default for MapState {
             window: Vec2::ZERO,
             central: super::Central::Map,
             camera_age: 0,
+            context: None,
+            paste_at: None,
             swallowed: false,
         }
     }
@@ -231,10 +237,22 @@ pub fn map_view(app: &mut EditorApp, ui: &mut egui::Ui) {
         selection.contains(&Sel::Probe(id))
     });
     view::draw_ambient_gizmos(&painter, &cam, rect, &app.doc);
+    // A selected polygon's corner right-clicked is deleted (the Select tool), not a menu:
+    // looked at before the tool deletes it.
+    let on_corner = response.secondary_clicked()
+        && app.tool == Tool::Select
+        && response.interact_pointer_pos().is_some_and(|p| {
+            matches!(
+                super::handles::hit(&super::handles::handles(app, &cam, rect), p),
+                Some(super::handles::Handle::Corner { .. })
+            )
+        });
     interact(app, &ctx, &response, rect, &cam, &painter);
     if app.tool == Tool::Select {
         super::handles::draw(app, &painter, &cam, rect);
     }
+    context_menu(app, &ctx, &response, rect, &cam, on_corner);
+    draw_scale_bar(&painter, &cam, rect);
     view::draw_legend(&painter, rect, app.settings.wind_view, max_speed);
     // Beside the 3D view: where its pointer is on the ground (last frame's).
     if app.settings.central == super::Central::Split
@@ -276,6 +294,101 @@ pub(super) fn drag_origin(ctx: &egui::Context, response: &egui::Response) -> Opt
             .interact_pointer_pos()
             .map(|p| p - response.drag_delta())
     })
+}
+
+/// The right-click menu: on the item under the pointer, or on the map (a right-drag pans; a
+/// polygon's corner right-clicked goes, as the Select tool says).
+fn context_menu(
+    app: &mut EditorApp,
+    ctx: &egui::Context,
+    response: &egui::Response,
+    rect: Rect,
+    cam: &Camera,
+    on_corner: bool,
+) {
+    use super::context_menu::{Target, apply, entries};
+    if response.secondary_clicked()
+        && app.map.gesture.is_none()
+        && let Some(p) = response.interact_pointer_pos()
+    {
+        app.map.context = (!on_corner).then(|| {
+            let hit = view::hit_probe(&app.doc, cam, rect, p, HIT)
+                .map(Sel::Probe)
+                .or_else(|| view::hit_node(&app.doc, cam, rect, p, HIT).map(Sel::Node))
+                .or_else(|| view::hit_obstacle(&app.doc, cam, rect, p).map(Sel::Obstacle));
+            match hit {
+                Some(s) => Target::Item(s),
+                None if super::handles::on_backdrop(app, cam.to_world(rect, p)) => {
+                    Target::Item(Sel::Backdrop)
+                }
+                None => Target::Map(app.snap(cam.to_world(rect, p))),
+            }
+        });
+    }
+    let Some(target) = app.map.context else {
+        return;
+    };
+    // What was right-clicked is selected at once, as everywhere on the desktop (with the
+    // rest of the selection when it was part of it).
+    if response.secondary_clicked()
+        && let Target::Item(s) = target
+        && !app.selection.contains(&s)
+    {
+        app.selection = vec![s];
+    }
+    let mut chosen = None;
+    let shown = response.context_menu(|ui| chosen = entries(app, ui, target));
+    if let Some(action) = chosen {
+        apply(app, ctx, target, action);
+    }
+    if shown.is_none() {
+        app.map.context = None;
+    }
+}
+
+/// A scale bar in the map's bottom-right corner: a round length (1, 2 or 5 times a power of
+/// ten metres) between 60 and 150 points long, and what it is.
+fn draw_scale_bar(painter: &egui::Painter, cam: &Camera, rect: Rect) {
+    let metres = scale_bar_metres(cam.zoom);
+    let len = metres * cam.zoom;
+    let right = rect.right_bottom() + Vec2::new(-16.0, -14.0);
+    let left = right - Vec2::new(len, 0.0);
+    let ink = Stroke::new(2.0, Color32::from_white_alpha(200));
+    let shadow = Stroke::new(4.0, Color32::from_black_alpha(120));
+    for s in [shadow, ink] {
+        painter.line_segment([left, right], s);
+        for x in [left, right] {
+            painter.line_segment([x - Vec2::new(0.0, 5.0), x], s);
+        }
+    }
+    let label = if metres >= 1000.0 {
+        format!("{:.0} km", metres / 1000.0)
+    } else if metres >= 1.0 {
+        format!("{metres:.0} m")
+    } else {
+        format!("{:.0} cm", metres * 100.0)
+    };
+    painter.text(
+        Pos2::new((left.x + right.x) / 2.0, left.y - 6.0),
+        egui::Align2::CENTER_BOTTOM,
+        label,
+        egui::FontId::proportional(12.0),
+        Color32::from_white_alpha(220),
+    );
+}
+
+/// The scale bar's length in metres at `zoom` points a metre: the round length (1, 2 or 5
+/// times a power of ten) nearest 100 points, at least 60.
+pub fn scale_bar_metres(zoom: f32) -> f32 {
+    for power in -2..=7 {
+        for m in [1.0, 2.0, 5.0] {
+            let metres = m * 10f32.powi(power);
+            if metres * zoom >= 60.0 {
+                return metres;
+            }
+        }
+    }
+    1.0e8
 }
 
 fn navigate(map: &mut MapState, ui: &egui::Ui, response: &egui::Response, rect: Rect) {
@@ -596,27 +709,7 @@ fn interact(
                 && let Some(p) = pointer
             {
                 let pos = app.snap(cam.to_world(rect, p));
-                let id = app.doc.next_id();
-                let tree = doc::Tree {
-                    id,
-                    name: format!("Wind {}", app.doc.trees.len() + 1),
-                    enabled: true,
-                    window: doc::TimeWindow::Always,
-                    emission: doc::Emission::Continuous,
-                    propagation_speed: 20.0,
-                    root: Node::new(id + 1, pos, 8.0, 5.0),
-                    locked: false,
-                    hidden: false,
-                    keys: Vec::new(),
-                };
-                if app.edit(
-                    ctx,
-                    Edit::AddTree {
-                        index: app.doc.trees.len(),
-                        tree,
-                    },
-                ) {
-                    app.selection = vec![Sel::Node(id + 1)];
+                if app.add_root(ctx, pos) {
                     // Next: drag arrows out of it.
                     app.tool = Tool::AddArrow;
                 }

@@ -6,6 +6,7 @@
 
 pub use crate::io::{AUTOSAVE_SECONDS, Document};
 mod clipboard;
+pub mod context_menu;
 pub mod export;
 mod files;
 mod gpu_view;
@@ -13,6 +14,7 @@ mod handles;
 pub mod input;
 pub use crate::gpu::grass::Orbit;
 pub use gpu_view::SOFTWARE_BLADE_BUDGET;
+pub use map::scale_bar_metres as map_scale_bar_metres;
 mod grass_controls;
 mod inspector;
 mod map;
@@ -31,7 +33,7 @@ use crate::engine::live::LiveSim;
 use crate::io::{disk, recovery};
 use eframe::egui::{self, Pos2, Rect};
 use std::path::{Path, PathBuf};
-use view::{Camera, WindView};
+use view::WindView;
 
 /// What the pointer does on the map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
@@ -388,6 +390,30 @@ impl EditorApp {
         self.pacer.pace(events)
     }
 
+    /// Adds a new wind tree rooted at `pos` (one undo step), its root selected; whether it
+    /// was added.
+    pub fn add_root(&mut self, ctx: &egui::Context, pos: doc::Vec2) -> bool {
+        let id = self.doc.next_id();
+        let tree = doc::Tree {
+            id,
+            name: format!("Wind {}", self.doc.trees.len() + 1),
+            enabled: true,
+            window: doc::TimeWindow::Always,
+            emission: doc::Emission::Continuous,
+            propagation_speed: 20.0,
+            root: doc::Node::new(id + 1, pos, 8.0, 5.0),
+            locked: false,
+            hidden: false,
+            keys: Vec::new(),
+        };
+        let index = self.doc.trees.len();
+        let added = self.edit(ctx, Edit::AddTree { index, tree });
+        if added {
+            self.selection = vec![Sel::Node(id + 1)];
+        }
+        added
+    }
+
     /// Opens the dialog that makes a new mask obstacle or density map.
     pub fn new_image(&mut self, kind: new_image::Kind) {
         self.dialog = Some(Dialog::NewImage(Box::new(new_image::NewImage::new(
@@ -408,6 +434,12 @@ impl EditorApp {
         };
         self.settings = s;
         self.settings.brush = self.settings.brush.sane();
+        let step = self.settings.snap_step;
+        self.settings.snap_step = if step.is_finite() {
+            step.clamp(*panels::SNAP_STEP.start(), *panels::SNAP_STEP.end())
+        } else {
+            Settings::default().snap_step
+        };
         self.settings.speed_scale = self
             .settings
             .speed_scale
@@ -870,7 +902,11 @@ impl EditorApp {
             self.add_key_at(ctx, t);
         }
         if pressed(KS::new(M::NONE, Key::F)) {
-            self.map.camera = Some(Camera::frame_all(&self.doc, self.map.rect));
+            // The selection, or the whole world with nothing selected.
+            self.focus_selection();
+        }
+        if pressed(KS::new(M::COMMAND, Key::A)) {
+            self.select_all();
         }
         if pressed(KS::new(M::NONE, Key::Space)) {
             let p = !self.live.playing;

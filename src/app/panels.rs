@@ -1,5 +1,6 @@
 //! Menus, toolbar, layers, status bar and dialogs (the inspector is `inspector.rs`).
 
+use super::context_menu::{self, Target};
 use super::view::WindView;
 use super::{Dialog, EditorApp, Pending, Sel, Tool};
 use crate::doc::{self, AmbientKind, Edit, TreeProps};
@@ -172,8 +173,26 @@ fn edit_menu(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
         ui.close();
     }
     ui.separator();
-    ui.checkbox(&mut app.settings.snap, "Snap to grid");
+    let select_all = egui::Button::new("Select all").shortcut_text(shortcut(ui, egui::Key::A));
+    if ui.add(select_all).clicked() {
+        app.select_all();
+        ui.close();
+    }
+    ui.horizontal(|ui| {
+        ui.checkbox(&mut app.settings.snap, "Snap to")
+            .on_hover_text("Points placed and moved land on this step; the arrow keys nudge by it");
+        ui.add(
+            egui::DragValue::new(&mut app.settings.snap_step)
+                .range(SNAP_STEP)
+                .speed(0.05)
+                .suffix(" m"),
+        )
+        .on_hover_text("The snap step, metres (the arrow keys' nudge too)");
+    });
 }
+
+/// The snap steps a designer may set, metres.
+pub const SNAP_STEP: std::ops::RangeInclusive<f32> = 0.01..=1000.0;
 
 /// View: the central view, arrows in 3D, the wind view and its scale, the backend, the grid.
 fn view_menu(app: &mut EditorApp, ui: &mut egui::Ui) {
@@ -513,18 +532,24 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                 .show(ui, |ui| {
                     ui.heading("Layers");
                     ui.add_space(4.0);
-                    if let Some(m) = &app.doc.world.map {
+                    // A right-click menu's choice, done once the list is drawn.
+                    let mut menu = None;
+                    if let Some(image) = app.doc.world.map.as_ref().map(|m| m.image.clone()) {
                         egui::CollapsingHeader::new(RichText::new("Backdrop").strong())
                             .default_open(true)
                             .show(ui, |ui| {
                                 let sel = app.selection.contains(&Sel::Backdrop);
-                                let name = std::path::Path::new(&m.image)
+                                let name = std::path::Path::new(&image)
                                     .file_name()
-                                    .map_or(m.image.clone(), |n| n.to_string_lossy().into_owned());
-                                if layer_name(ui, sel, name)
-                                    .on_hover_text("Select it to move and scale it on the map")
-                                    .clicked()
-                                {
+                                    .map_or(image.clone(), |n| n.to_string_lossy().into_owned());
+                                let r = layer_name(ui, sel, name)
+                                    .on_hover_text("Select it to move and scale it on the map");
+                                let target = Target::Item(Sel::Backdrop);
+                                r.context_menu(|ui| {
+                                    menu =
+                                        context_menu::entries(app, ui, target).map(|a| (target, a))
+                                });
+                                if r.clicked() {
                                     app.selection = vec![Sel::Backdrop];
                                     app.tool = Tool::Select;
                                 }
@@ -555,7 +580,13 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                                             flags = Some(Edit::SetObstacle { obstacle: o });
                                         }
                                         let sel = app.selection.contains(&Sel::Obstacle(o.id));
-                                        if layer_name(ui, sel, o.name.clone()).clicked() {
+                                        let r = layer_name(ui, sel, o.name.clone());
+                                        let target = Target::Item(Sel::Obstacle(o.id));
+                                        r.context_menu(|ui| {
+                                            menu = context_menu::entries(app, ui, target)
+                                                .map(|a| (target, a))
+                                        });
+                                        if r.clicked() {
                                             select = Some(o.id);
                                         }
                                     });
@@ -598,6 +629,9 @@ pub fn layers_panel(app: &mut EditorApp, ui: &mut egui::Ui) {
                     egui::CollapsingHeader::new(RichText::new("Ambient").strong())
                         .default_open(true)
                         .show(ui, |ui| ambient_list(app, &ctx, ui));
+                    if let Some((target, action)) = menu {
+                        context_menu::apply(app, &ctx, target, action);
+                    }
                 });
         });
 }
@@ -729,6 +763,7 @@ fn layer_name(ui: &mut egui::Ui, selected: bool, name: String) -> egui::Response
 fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     let mut action: Option<Edit> = None;
     let mut select = None;
+    let mut menu = None;
     for t in &app.doc.trees {
         ui.horizontal(|ui| {
             let mut enabled = t.enabled;
@@ -771,7 +806,12 @@ fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 }
                 let sel = app.selection.contains(&Sel::Tree(t.id));
                 let name = format!("{} ({})", t.name, t.root.count());
-                if layer_name(ui, sel, name).clicked() {
+                let r = layer_name(ui, sel, name);
+                let target = Target::Item(Sel::Tree(t.id));
+                r.context_menu(|ui| {
+                    menu = context_menu::entries(app, ui, target).map(|a| (target, a))
+                });
+                if r.clicked() {
                     select = Some(t.id);
                 }
             });
@@ -786,11 +826,15 @@ fn trees_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     if let Some(e) = action {
         app.edit(ctx, e);
     }
+    if let Some((target, a)) = menu {
+        context_menu::apply(app, ctx, target, a);
+    }
 }
 
 fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     let mut action = None;
     let mut select = None;
+    let mut menu = None;
     for a in &app.doc.ambient {
         ui.horizontal(|ui| {
             let mut enabled = a.enabled;
@@ -815,7 +859,12 @@ fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
                 }
                 let sel = app.selection.contains(&Sel::Ambient(a.id));
                 let name = format!("{} ({})", a.name, a.kind.type_name());
-                if layer_name(ui, sel, name).clicked() {
+                let r = layer_name(ui, sel, name);
+                let target = Target::Item(Sel::Ambient(a.id));
+                r.context_menu(|ui| {
+                    menu = context_menu::entries(app, ui, target).map(|t| (target, t))
+                });
+                if r.clicked() {
                     select = Some(a.id);
                 }
             });
@@ -884,6 +933,9 @@ fn ambient_list(app: &mut EditorApp, ctx: &egui::Context, ui: &mut egui::Ui) {
     }
     if let Some(e) = action {
         app.edit(ctx, e);
+    }
+    if let Some((target, a)) = menu {
+        context_menu::apply(app, ctx, target, a);
     }
 }
 
@@ -1086,6 +1138,11 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
         "Delete the selection (a point takes its subtree)",
     ),
     ("Ctrl+D", "Duplicate the selection"),
+    ("Ctrl+A", "Select everything the map picks"),
+    (
+        "Right-click",
+        "The item's menu (duplicate, delete, its tree, lock, hide, focus), or the map's",
+    ),
     (
         "Ctrl+C / Ctrl+X / Ctrl+V",
         "Copy, cut, paste (as layout JSON; at the pointer on the map)",
@@ -1104,11 +1161,11 @@ pub const SHORTCUTS: &[(&str, &str)] = &[
     ),
     ("Middle/right drag", "Pan"),
     ("Mouse wheel", "Zoom about the cursor"),
-    ("F", "Frame the whole world"),
+    ("F", "Frame the selection, or the whole world without one"),
     ("Space", "Play / pause the wind"),
     (
         "K",
-        "Key the selected tree or ambient layer at the time shown",
+        "Key the selected tree, branch (a point) or ambient layer at the time shown",
     ),
     (
         "Enter / Esc",

@@ -63,6 +63,18 @@ impl Camera {
         }
     }
 
+    /// The view that frames the world box `[lo, hi]` in `rect` (at least `least` metres of
+    /// it a side: a lone point is seen with what is around it).
+    pub fn frame_box(lo: W2, hi: W2, rect: Rect, least: f32) -> Self {
+        let w = (hi[0] - lo[0]).max(least);
+        let h = (hi[1] - lo[1]).max(least);
+        let zoom = (rect.width() / w).min(rect.height() / h) * 0.8;
+        Self {
+            center: [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0],
+            zoom: zoom.clamp(ZOOM_MIN, ZOOM_MAX),
+        }
+    }
+
     /// The same view in a pane resized from `before` to `after`: the zoom scales with the
     /// zoom that frames the whole world, so a framed world stays framed and a close-up stays as
     /// close relative to the pane; the centre stays.

@@ -445,3 +445,156 @@ fn a_probe_drops_on_the_ground_clicked_in_the_3d_view() {
     let d = (probes[0].pos[0] - ground[0]).hypot(probes[0].pos[1] - ground[1]);
     assert!(d < 0.5, "{:?} vs {ground:?}", probes[0].pos);
 }
+
+/// A right-click with the pointer's secondary button at `pos`, in its own frames.
+fn right_click(h: &mut Harness<'_, EditorApp>, pos: Pos2) {
+    h.event(Event::PointerMoved(pos));
+    h.run_steps(1);
+    for pressed in [true, false] {
+        h.event(Event::PointerButton {
+            pos,
+            button: PointerButton::Secondary,
+            pressed,
+            modifiers: Modifiers::NONE,
+        });
+        h.run_steps(1);
+    }
+    h.run_steps(2);
+}
+
+/// Right-click menus do what a designer does to the item under the pointer, each one undo
+/// step: on the map a point (duplicated, its tree selected, locked), an obstacle (hidden),
+/// empty map (select all, a root placed there); in the Layers list a tree (focus on it).
+#[test]
+fn right_click_menus_act_on_the_item_under_the_pointer() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("obstacles.json"));
+    // West gale's middle point, 102 at (30, 60).
+    let p = h.state().screen_pos([30.0, 60.0]);
+    right_click(&mut h, p);
+    assert_eq!(
+        h.state().selection,
+        vec![Sel::Node(102)],
+        "selected at once"
+    );
+    let nodes = h.state().doc.trees[0].root.count();
+    h.get_by_label_contains("Duplicate it").click();
+    h.run_steps(2);
+    assert_eq!(
+        h.state().doc.trees[0].root.count(),
+        nodes + 2,
+        "the point and its child"
+    );
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::Z);
+    h.run_steps(2);
+    assert_eq!(h.state().doc.trees[0].root.count(), nodes);
+    right_click(&mut h, p);
+    h.get_by_label("Select its tree, West gale").click();
+    h.run_steps(2);
+    assert_eq!(h.state().selection, vec![Sel::Tree(1)]);
+    right_click(&mut h, p);
+    h.get_by_label("Lock its tree").click();
+    h.run_steps(2);
+    assert!(h.state().doc.trees[0].locked);
+    // The big rock (circle at 62, 60): hidden.
+    let rock = h.state().screen_pos([62.0, 66.0]);
+    right_click(&mut h, rock);
+    assert_eq!(h.state().selection, vec![Sel::Obstacle(10)]);
+    h.get_by_label("Hide it").click();
+    h.run_steps(2);
+    assert!(h.state().doc.obstacles[0].hidden);
+    assert_eq!(
+        h.state().doc.history().undo_label(),
+        Some("Change obstacle")
+    );
+    // Empty map: select all, then a root placed where it was clicked.
+    let empty = h.state().screen_pos([100.0, 100.0]);
+    right_click(&mut h, empty);
+    h.get_by_label_contains("Select all").click();
+    h.run_steps(2);
+    let all = h.state().selection.len();
+    let pickable = (h.state().doc.trees.iter())
+        .filter(|t| t.pickable())
+        .map(|t| t.root.count())
+        .sum::<usize>()
+        + h.state()
+            .doc
+            .obstacles
+            .iter()
+            .filter(|o| o.pickable())
+            .count();
+    assert_eq!(
+        all, pickable,
+        "everything the map picks (not the locked, not the hidden)"
+    );
+    right_click(&mut h, empty);
+    h.get_by_label("Add a wind tree's root here").click();
+    h.run_steps(2);
+    let new_root = h.state().doc.trees.last().unwrap().root.pos;
+    let tol = 1.5 * metres_per_point(&h);
+    assert!(
+        (new_root[0] - 100.0).abs() < tol && (new_root[1] - 100.0).abs() < tol,
+        "{new_root:?}"
+    );
+    // The Layers list: Focus on a tree frames it.
+    let before = h.state().map.camera.unwrap();
+    let row = h.get_by_label("South draught (3)").rect().center();
+    right_click(&mut h, row);
+    h.get_by_label_contains("Focus on it").click();
+    h.run_steps(2);
+    let after = h.state().map.camera.unwrap();
+    assert!(
+        after.zoom > before.zoom,
+        "closer: {} > {}",
+        after.zoom,
+        before.zoom
+    );
+    let t = &h.state().doc.trees[1];
+    let (lo, hi) =
+        windloom::doc::transform::extent(&h.state().doc, &[windloom::doc::Item::Tree(t.id)])
+            .unwrap();
+    let mid = [(lo[0] + hi[0]) / 2.0, (lo[1] + hi[1]) / 2.0];
+    assert!((after.center[0] - mid[0]).abs() < 1e-3 && (after.center[1] - mid[1]).abs() < 1e-3);
+}
+
+/// Ctrl+A selects everything the map picks; the snap step is the designer's (Edit menu), and
+/// a dragged point lands on it; the map's scale bar is a round length of 60 to 150 points.
+#[test]
+fn select_all_a_snap_step_of_one_s_own_and_a_scale_bar() {
+    if !gpu_available() {
+        return;
+    }
+    let mut h = harness(example("two-winds.json"));
+    h.key_press_modifiers(Modifiers::COMMAND, egui::Key::A);
+    h.run_steps(2);
+    assert_eq!(h.state().selection.len(), 6, "all six points");
+    h.key_press(egui::Key::Escape);
+    h.run_steps(1);
+    h.get_by_label("Edit").click();
+    h.run_steps(2);
+    h.get_by_label("Snap to").click();
+    h.run_steps(1);
+    assert!(h.state().settings.snap);
+    h.state_mut().settings.snap_step = 5.0;
+    h.key_press(egui::Key::Escape);
+    h.run_steps(2);
+    let (a, b) = (
+        h.state().screen_pos([32.0, 40.0]),
+        h.state().screen_pos([43.3, 47.9]),
+    );
+    drag(&mut h, a, b);
+    let p = h.state().doc.trees[0].root.find(102).unwrap().pos;
+    assert_eq!(p, [45.0, 50.0], "on the 5 m step");
+    for zoom in [0.01f32, 0.37, 1.0, 6.4, 55.0, 900.0] {
+        let m = windloom::app::map_scale_bar_metres(zoom);
+        let px = m * zoom;
+        assert!((60.0..=150.0).contains(&px), "{zoom}: {m} m is {px} points");
+        let lead = m / 10f32.powf(m.log10().floor());
+        assert!(
+            [1.0, 2.0, 5.0].iter().any(|l| (lead - l).abs() < 1e-3),
+            "{m} is 1, 2 or 5 times a power of ten"
+        );
+    }
+}
