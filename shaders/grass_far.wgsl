@@ -10,6 +10,8 @@
 @group(1) @binding(0) var<storage, read> F: Far;
 @group(1) @binding(1) var far: texture_storage_2d<rgba16float, write>;
 @group(1) @binding(2) var surround_table: texture_storage_2d<rgba16float, write>;
+// Each texel's share of the layout's density (`far::density_shares`).
+@group(1) @binding(3) var shares: texture_2d<f32>;
 
 // `far::SURROUND_EYE`.
 const SURROUND_EYE: f32 = 1.0e4;
@@ -127,7 +129,11 @@ fn main(@builtin(global_invocation_id) id: vec3<u32>) {
     let d = distance(vec3<f32>(pos.x, ground(pos), pos.y), S.eye.xyz);
     // The pass runs only while the ground shows the far field (`flags & 1`).
     let look = far_texel(pos, S.eye.xyz, false, vec2<f32>(0.0));
-    textureStore(far, vec2<i32>(id.xy), vec4<f32>(look.rgb, look.a * (1.0 - far_cover(d))));
+    // `far::thinned`: where only a share of the density grows (a road, a pond: none), the
+    // field hides that much less of the ground.
+    let share = textureLoad(shares, vec2<i32>(id.xy), 0).r;
+    let hidden = 1.0 - pow(max(1.0 - look.a, 0.0), share);
+    textureStore(far, vec2<i32>(id.xy), vec4<f32>(look.rgb, hidden * (1.0 - far_cover(d))));
 }
 
 // `far::surround_direction`: the view direction at the centre of the table's texel `id`.

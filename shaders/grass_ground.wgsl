@@ -14,6 +14,8 @@
 @group(1) @binding(3) var backdrop_image: texture_2d<f32>;
 @group(1) @binding(4) var backdrop_sampler: sampler;
 @group(1) @binding(5) var surround_table: texture_2d<f32>;
+// The far texels' density shares (`far::density_shares`): none on a road.
+@group(1) @binding(6) var shares: texture_2d<f32>;
 
 // `far::surround_at`: the field's look along the view `v` (toward the eye) from the
 // table `grass_far.wgsl` writes — bilinear between texel centres, the azimuth wrapping
@@ -107,8 +109,19 @@ fn surround_vertex(k: u32) -> GroundOut {
 }
 
 // The ground's lit colour, the far field blended in.
+// `far::EARTH`.
+const EARTH: vec3<f32> = vec3<f32>(0.095, 0.08, 0.06);
+
 fn ground_colour(in: GroundOut) -> vec3<f32> {
-    let soil = palettes[0].rgb * 0.55 + vec3<f32>(0.035, 0.028, 0.015);
+    // The far field, bilinear between texel centres and clamped at the edges (the sampler's).
+    let far_uv = (in.world - F.origin) / (F.cell * vec2<f32>(f32(F.nx), f32(F.ny)));
+    let far = textureSample(far_image, far_sampler, far_uv);
+    // How much of the layout's density grows here (`far::density_shares`): none on a road.
+    let share = textureSample(shares, far_sampler, far_uv).r;
+    // `far::canopy_share`: the lower canopy's share, thinned in a sparse field.
+    let canopy = share * min(max(F.density, 0.0) / CANOPY_FULL_DENSITY, 1.0);
+    // `far::bare_ground`: the grass's darkened colour under it, bare earth where none grows.
+    let soil = mix(EARTH, palettes[0].rgb * 0.55 + vec3<f32>(0.035, 0.028, 0.015), share);
     // The image is sRGB; the texture view decodes it to linear.
     // Where the layout places the picture; soil outside it.
     let r = S.backdrop_rect;
@@ -116,9 +129,6 @@ fn ground_colour(in: GroundOut) -> vec3<f32> {
     let map = textureSample(backdrop_image, backdrop_sampler, buv).rgb;
     let inside = all(buv >= vec2<f32>(0.0)) && all(buv <= vec2<f32>(1.0));
     let surface = mix(soil, map, select(0.0, clamp(S.backdrop, 0.0, 1.0), inside));
-    // The far field, bilinear between texel centres and clamped at the edges (the sampler's).
-    let far_uv = (in.world - F.origin) / (F.cell * vec2<f32>(f32(F.nx), f32(F.ny)));
-    let far = textureSample(far_image, far_sampler, far_uv);
     let l = normalize(S.sun.xyz);
     // The terrain's normal from its heights a cell apart (straight up over flat ground).
     var n = vec3<f32>(0.0, 1.0, 0.0);
@@ -138,25 +148,30 @@ fn ground_colour(in: GroundOut) -> vec3<f32> {
             // The field beyond the level, as seen along this view: it hides the more
             // ground the lower the view.
             let beyond = surround_at(normalize(S.eye.xyz - pos));
-            colour = far_ground(colour, beyond.rgb, clamp(beyond.a, 0.0, 1.0), shown);
+            let thin = min(max(F.density, 0.0) / CANOPY_FULL_DENSITY, 1.0);
+            colour = far_ground(colour, beyond.rgb, clamp(beyond.a, 0.0, 1.0), shown, thin);
         } else {
             // rgb: the blades from afar, lit; a: how much of the ground they take here.
-            colour = far_ground(colour, far.rgb, clamp(far.a, 0.0, 1.0), shown);
+            colour = far_ground(colour, far.rgb, clamp(far.a, 0.0, 1.0), shown, canopy);
         }
     }
     return hazed(colour, pos);
 }
 
 
-// `far::UNDERSTOREY`, `far::UNDERSTOREY_SHADE`.
+// `far::UNDERSTOREY`, `far::UNDERSTOREY_SHADE`, `far::MAP_THROUGH_CANOPY`,
+// `far::CANOPY_FULL_DENSITY`.
 const UNDERSTOREY: f32 = 0.85;
+const CANOPY_FULL_DENSITY: f32 = 10.0;
 const UNDERSTOREY_SHADE: f32 = 0.6;
+const MAP_THROUGH_CANOPY: f32 = 0.5;
 
 // `far::ground`: the lit ground `lit` under a field whose look from afar is `look`: the lower
-// canopy (the look, shaded) over all but the map's share `shown` of it, then the look itself
-// over the share `take` the drawn blades leave to it.
-fn far_ground(lit: vec3<f32>, look: vec3<f32>, take: f32, shown: f32) -> vec3<f32> {
-    let under = mix(lit, look * UNDERSTOREY_SHADE, UNDERSTOREY * (1.0 - shown));
+// canopy (the look, shaded) over the share of it where grass grows (`share`), less where the
+// map shows (`shown`), then the look itself over the share `take` the drawn blades leave to it.
+fn far_ground(lit: vec3<f32>, look: vec3<f32>, take: f32, shown: f32, share: f32) -> vec3<f32> {
+    let canopy = UNDERSTOREY * share * (1.0 - MAP_THROUGH_CANOPY * shown);
+    let under = mix(lit, look * UNDERSTOREY_SHADE, canopy);
     return mix(under, look, take);
 }
 

@@ -549,11 +549,14 @@ fn draw_wind(
         return 0.0;
     };
     let scale = *scale;
+    // The designer's opacity over the view's own (the backdrop shows through the rest).
+    let opacity =
+        super::map_wind_opacity(app.settings.map_wind_opacity, app.doc.world.map.is_some());
     painter.image(
         tex.id(),
         world,
         Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0)),
-        Color32::WHITE,
+        Color32::from_white_alpha((opacity * 255.0).round() as u8),
     );
     match mode {
         WindView::Streaks => {
@@ -613,11 +616,12 @@ fn draw_wind_gpu(
             WindView::Glyphs => Overlay::Glyphs,
             _ => Overlay::None,
         },
-        alpha: if mode == WindView::Speed {
-            230.0 / 255.0
-        } else {
-            120.0 / 255.0
-        },
+        alpha: super::map_wind_opacity(app.settings.map_wind_opacity, app.doc.world.map.is_some())
+            * if mode == WindView::Speed {
+                230.0 / 255.0
+            } else {
+                120.0 / 255.0
+            },
         center: cam.center,
         zoom: cam.zoom,
         ppp,

@@ -191,7 +191,26 @@ pub struct Settings {
     pub probes_open: bool,
     /// The paint tool's mark, hardness and opacity.
     pub brush: paint::Brush,
+    /// The map's wind colours' opacity, 0.1 to 1 (`None`: automatic, [`map_wind_opacity`]):
+    /// how much of the backdrop shows through them.
+    pub map_wind_opacity: Option<f32>,
 }
+
+/// The map's wind colours' opacity when the designer has not set one: all of it over a
+/// plain world, [`MAP_WIND_OVER_BACKDROP`] of it where a backdrop would be hidden.
+pub fn map_wind_opacity(set: Option<f32>, backdrop: bool) -> f32 {
+    set.unwrap_or(if backdrop {
+        MAP_WIND_OVER_BACKDROP
+    } else {
+        1.0
+    })
+}
+
+/// The automatic opacity of the map's wind colours over a backdrop: the level's picture reads
+/// through the speed colours (at their full 90 % it was hidden).
+pub const MAP_WIND_OVER_BACKDROP: f32 = 0.55;
+/// The opacities the designer may set.
+pub const MAP_WIND_OPACITY: std::ops::RangeInclusive<f32> = 0.1..=1.0;
 
 /// What a colour scale was found for: the snapshot, the view, the fixed speed scale.
 type ScaleKey = (u64, WindView, Option<f32>);
@@ -216,6 +235,7 @@ impl Default for Settings {
             stroke: Default::default(),
             probes_open: true,
             brush: Default::default(),
+            map_wind_opacity: None,
         }
     }
 }
@@ -434,6 +454,11 @@ impl EditorApp {
         };
         self.settings = s;
         self.settings.brush = self.settings.brush.sane();
+        self.settings.map_wind_opacity = self
+            .settings
+            .map_wind_opacity
+            .filter(|v| v.is_finite())
+            .map(|v| v.clamp(*MAP_WIND_OPACITY.start(), *MAP_WIND_OPACITY.end()));
         let step = self.settings.snap_step;
         self.settings.snap_step = if step.is_finite() {
             step.clamp(*panels::SNAP_STEP.start(), *panels::SNAP_STEP.end())

@@ -209,6 +209,33 @@ fn view_menu(app: &mut EditorApp, ui: &mut egui::Ui) {
         ui.radio_value(&mut app.settings.wind_view, v, v.label());
     }
     speed_scale_menu(app, ui);
+    // How much of the backdrop shows through the wind's colours.
+    let backdrop = app.doc.world.map.is_some();
+    let mut auto = app.settings.map_wind_opacity.is_none();
+    let mut o = super::map_wind_opacity(app.settings.map_wind_opacity, backdrop);
+    ui.horizontal(|ui| {
+        let l = ui.label("Colour opacity");
+        let changed = ui
+            .add(egui::Slider::new(&mut o, super::MAP_WIND_OPACITY).fixed_decimals(2))
+            .labelled_by(l.id)
+            .on_hover_text("How much the map's wind colours hide what is under them: the backdrop shows through the rest")
+            .changed();
+        if changed {
+            auto = false;
+        }
+        if ui
+            .checkbox(&mut auto, "auto")
+            .on_hover_text(format!(
+                "Opaque over a plain world, {:.0} % over a backdrop",
+                super::MAP_WIND_OVER_BACKDROP * 100.0
+            ))
+            .changed()
+            && auto
+        {
+            o = super::map_wind_opacity(None, backdrop);
+        }
+    });
+    app.settings.map_wind_opacity = (!auto).then_some(o);
     ui.separator();
     ui.label("Wind runs on");
     let mut choice = app.settings.backend;

@@ -123,14 +123,96 @@ pub fn lay(tip: Vec3, height: f32) -> f32 {
 /// nor its wind showed.
 pub const UNDERSTOREY: f32 = 0.85;
 pub const UNDERSTOREY_SHADE: f32 = 0.6;
+/// The share of the lower canopy a map backdrop lets through where grass grows on it: the
+/// level's picture still reads under its grass, and the grass's wind shows over it. (All of
+/// it let through, a level laid over its picture showed the picture from afar, and no wind.)
+pub const MAP_THROUGH_CANOPY: f32 = 0.5;
 
 /// The ground's colour under the far field (`far_ground` in `grass_ground.wgsl`): the lit
 /// ground `lit` (soil, or the map where it shows by `shown`), the lower canopy — the field's
-/// look `look`, shaded — over all of it but the map's share, then `look` itself over the
-/// share `take` the drawn blades leave to it (the texel's `hidden · (1 − cover)`).
-pub fn ground(lit: Vec3, look: Vec3, take: f32, shown: f32) -> Vec3 {
-    let under = lit.lerp(look * UNDERSTOREY_SHADE, UNDERSTOREY * (1.0 - shown));
+/// look `look`, shaded — over the share of it where grass grows (`share`, [`canopy_share`]:
+/// none on a road), less [`MAP_THROUGH_CANOPY`] of it where the map shows, then `look` itself
+/// over the share `take` the drawn blades leave to it (the texel's `hidden · (1 − cover)`).
+pub fn ground(lit: Vec3, look: Vec3, take: f32, shown: f32, share: f32) -> Vec3 {
+    let canopy = UNDERSTOREY * share * (1.0 - MAP_THROUGH_CANOPY * shown);
+    let under = lit.lerp(look * UNDERSTOREY_SHADE, canopy);
     under.lerp(look, take)
+}
+
+/// Blades a square metre from which the lower canopy covers its full share: a sparser field
+/// has no canopy to speak of between its blades (a layout of a blade in 100 m² laid a green
+/// film over its map backdrop).
+pub const CANOPY_FULL_DENSITY: f32 = 10.0;
+
+/// The lower canopy's share of the ground under `share` of a layout's `density` (blades a
+/// square metre): `share`, thinned below [`CANOPY_FULL_DENSITY`].
+pub fn canopy_share(share: f32, density: f32) -> f32 {
+    share * (density.max(0.0) / CANOPY_FULL_DENSITY).min(1.0)
+}
+
+/// Bare earth, linear RGB: the ground where the density map grows no grass (a road, a
+/// pond's bed). The ground under grass is the grass's own darkened colour, which over a road
+/// read as lush grass.
+pub const EARTH: [f32; 3] = [0.095, 0.08, 0.06];
+
+/// The ground's own colour under a share `share` of the layout's density: `soil` (the
+/// grass's darkened colour) under grass, [`EARTH`] where none grows (`soil` itself wherever
+/// the grass grows in full, as without a density map).
+pub fn bare_ground(soil: Vec3, share: f32) -> Vec3 {
+    Vec3::from(EARTH).lerp(soil, share.clamp(0.0, 1.0))
+}
+
+/// Samples a side of a far texel takes of the density map.
+pub const SHARE_SAMPLES: usize = 4;
+
+/// The share of the layout's density that grows over the world box `texel` (the density
+/// map's mean over it, [`SHARE_SAMPLES`]² samples; 1 without a map; `bounds`: the world's):
+/// none over a road or a pond, which from afar then shows its ground, not grass.
+pub fn density_share(
+    map: Option<&crate::doc::DensityMap>,
+    bounds: ([f32; 2], [f32; 2]),
+    texel: [[f32; 2]; 2],
+) -> f32 {
+    let Some(map) = map else {
+        return 1.0;
+    };
+    let n = SHARE_SAMPLES;
+    let mut sum = 0.0;
+    for j in 0..n {
+        for i in 0..n {
+            let f = |k: usize, a: f32, b: f32| a + (b - a) * (k as f32 + 0.5) / n as f32;
+            let p = [
+                f(i, texel[0][0], texel[1][0]),
+                f(j, texel[0][1], texel[1][1]),
+            ];
+            sum += map.at(p, bounds);
+        }
+    }
+    sum / (n * n) as f32
+}
+
+/// [`density_share`] of every texel of a far field of `fx × fy` texels over the world
+/// `bounds`, row-major.
+pub fn density_shares(
+    map: Option<&crate::doc::DensityMap>,
+    bounds: ([f32; 2], [f32; 2]),
+    (fx, fy): (usize, usize),
+) -> Vec<f32> {
+    let (min, max) = bounds;
+    let cell = [(max[0] - min[0]) / fx as f32, (max[1] - min[1]) / fy as f32];
+    (0..fy)
+        .flat_map(|j| (0..fx).map(move |i| (i, j)))
+        .map(|(i, j)| {
+            let a = [min[0] + i as f32 * cell[0], min[1] + j as f32 * cell[1]];
+            density_share(map, bounds, [a, [a[0] + cell[0], a[1] + cell[1]]])
+        })
+        .collect()
+}
+
+/// A texel's `hidden` where only `share` of the layout's density grows: the optical depth
+/// scaled by the share (`1 − e^(−ρ·s·D) = 1 − (1 − hidden)^s`).
+pub fn thinned(hidden: f32, share: f32) -> f32 {
+    1.0 - (1.0 - hidden).max(0.0).powf(share.max(0.0))
 }
 
 /// The share of the far field's look a drawn blade `distance` metres away takes instead of
@@ -510,5 +592,51 @@ mod tests {
                 "a seam behind the eye: {l:?} {r:?}"
             );
         }
+    }
+
+    /// A texel's share is the density map's mean over it; a bare one hides nothing, the
+    /// lower canopy leaves bare earth bare and lets half of a map through, and a sparse field
+    /// has little canopy.
+    #[test]
+    fn the_density_map_thins_the_field_and_its_canopy() {
+        let map = crate::doc::DensityMap {
+            image: "m.png".into(),
+            rect: None,
+            pixels: crate::doc::MaskPixels::Loaded(std::sync::Arc::new(crate::doc::MaskImage {
+                width: 2,
+                height: 1,
+                luminance: vec![0, u16::MAX],
+            })),
+        };
+        let bounds = ([0.0, 0.0], [10.0, 10.0]);
+        let shares = density_shares(Some(&map), bounds, (4, 1));
+        assert_eq!(shares, vec![0.0, 0.0, 1.0, 1.0]);
+        assert_eq!(density_shares(None, bounds, (2, 1)), vec![1.0, 1.0]);
+        // Straddling the two halves: half.
+        assert_eq!(
+            density_share(Some(&map), bounds, [[4.0, 0.0], [6.0, 10.0]]),
+            0.5
+        );
+        assert_eq!(thinned(0.8, 0.0), 0.0);
+        assert!((thinned(0.8, 1.0) - 0.8).abs() < 1e-6);
+        assert!(
+            (thinned(0.75, 0.5) - 0.5).abs() < 1e-6,
+            "half the depth: 1 - sqrt(0.25)"
+        );
+        let (lit, look) = (Vec3::splat(0.5), Vec3::new(0.1, 0.4, 0.1));
+        assert_eq!(
+            ground(lit, look, 0.0, 0.0, 0.0),
+            lit,
+            "bare: the ground itself"
+        );
+        let over_map = ground(lit, look, 0.0, 1.0, 1.0);
+        let over_soil = ground(lit, look, 0.0, 0.0, 1.0);
+        let canopy = |c: Vec3| (c.x - lit.x) / (look.x * UNDERSTOREY_SHADE - lit.x);
+        assert!((canopy(over_soil) - UNDERSTOREY).abs() < 1e-5);
+        assert!((canopy(over_map) - UNDERSTOREY * MAP_THROUGH_CANOPY).abs() < 1e-5);
+        assert_eq!(canopy_share(1.0, 60.0), 1.0);
+        assert!((canopy_share(1.0, 2.0) - 0.2).abs() < 1e-6);
+        assert_eq!(bare_ground(Vec3::ONE, 0.0), Vec3::from(EARTH));
+        assert_eq!(bare_ground(Vec3::ONE, 1.0), Vec3::ONE);
     }
 }

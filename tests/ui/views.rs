@@ -622,3 +622,56 @@ fn wind_colours_decode_srgb_as_egui_does() {
         assert_eq!(ours.to_bits(), egui.to_bits(), "byte {s}");
     }
 }
+
+/// The map's speed colours let the level's picture show through: over a red backdrop the map
+/// reads red under the colours at their automatic opacity (the picture hidden at full), and
+/// the View menu's opacity is the designer's, kept with the settings.
+#[test]
+fn the_speed_colours_let_the_backdrop_show_through() {
+    use windloom::app::view::WindView;
+    if !gpu_available() {
+        return;
+    }
+    let dir = tempfile::tempdir().unwrap();
+    image::RgbaImage::from_pixel(8, 8, image::Rgba([220, 20, 20, 255]))
+        .save(dir.path().join("red.png"))
+        .unwrap();
+    let level = dir.path().join("level.json");
+    let mut l = example("two-winds.json");
+    l.world.map = Some(doc::MapBackdrop {
+        image: "red.png".into(),
+        opacity: 1.0,
+        rect: None,
+    });
+    windloom::io::save(&level, &l).unwrap();
+    let mut h = harness_on(windloom::io::load(&level).unwrap(), Some(level));
+    h.state_mut().settings.wind_view = WindView::Speed;
+    step_and_wait(&mut h, 30, RunsOn::Cpu);
+    h.run_steps(3);
+    let redness = |h: &mut Harness<'_, EditorApp>| {
+        let img = h.render().expect("renders");
+        let ppp = h.ctx.pixels_per_point();
+        let p = h.state().screen_pos([30.0, 20.0]);
+        let px = img.get_pixel((p.x * ppp) as u32, (p.y * ppp) as u32);
+        i32::from(px.0[0]) - i32::from(px.0[1].max(px.0[2]))
+    };
+    let auto = redness(&mut h);
+    h.state_mut().settings.map_wind_opacity = Some(1.0);
+    h.run_steps(2);
+    let full = redness(&mut h);
+    println!("red over green-blue: automatic {auto}, opaque {full}");
+    assert!(
+        auto > full + 40,
+        "the backdrop shows through: {auto} against {full}"
+    );
+    assert!(
+        windloom::app::map_wind_opacity(None, true) < 1.0
+            && windloom::app::map_wind_opacity(None, false) == 1.0
+    );
+    // Kept between runs, and held to its range.
+    let saved = h.state().settings_to_save();
+    assert_eq!(saved.map_wind_opacity, Some(1.0));
+    let edited = serde_json::from_str(r#"{"map_wind_opacity": 7.0}"#).unwrap();
+    h.state_mut().apply_settings(edited);
+    assert_eq!(h.state().settings.map_wind_opacity, Some(1.0));
+}

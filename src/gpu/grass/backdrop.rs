@@ -50,6 +50,17 @@ pub(super) fn look_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
                 },
                 count: None,
             },
+            // The far texels' density shares (`FarPass::shares`), sampled as the texels.
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: both,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                    view_dimension: wgpu::TextureViewDimension::D2,
+                    multisampled: false,
+                },
+                count: None,
+            },
         ],
     })
 }
@@ -99,6 +110,12 @@ pub(super) fn look_group(
                 binding: 5,
                 resource: wgpu::BindingResource::TextureView(
                     &far.surround.create_view(&Default::default()),
+                ),
+            },
+            wgpu::BindGroupEntry {
+                binding: 6,
+                resource: wgpu::BindingResource::TextureView(
+                    &far.shares.create_view(&Default::default()),
                 ),
             },
         ],

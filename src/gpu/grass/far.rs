@@ -49,6 +49,14 @@ pub struct FarPass {
     /// The field's look by view direction in the wind at the level's edge, which the ground beyond the level takes
     /// ([`far::surround_table`]; [`far::SURROUND_AZIMUTHS`] × [`far::SURROUND_ELEVATIONS`]).
     pub(super) surround: wgpu::Texture,
+    /// Each texel's share of the layout's density (the density map's mean over it,
+    /// [`far::density_shares`]; 8 bits, filtered by the ground): the far pass thins the
+    /// field's coverage by it and the ground its lower canopy.
+    pub(super) shares: wgpu::Texture,
+    /// The shares to upload at the next record, after a resize.
+    shares_due: bool,
+    /// The layout's density map, to take the shares of.
+    density_map: Option<crate::doc::DensityMap>,
     compute_layout: wgpu::BindGroupLayout,
     compute_group: wgpu::BindGroup,
     pipeline: wgpu::ComputePipeline,
@@ -98,6 +106,7 @@ impl FarPass {
             mapped_at_creation: false,
         });
         let texels = texel_texture(device, (1, 1));
+        let shares = share_texture(device, (1, 1));
         let surround = texel_texture(
             device,
             (
@@ -121,6 +130,16 @@ impl FarPass {
                 ),
                 crate::gpu::storage_texture_entry(1, FORMAT),
                 crate::gpu::storage_texture_entry(2, FORMAT),
+                wgpu::BindGroupLayoutEntry {
+                    binding: 3,
+                    visibility: S::COMPUTE,
+                    ty: wgpu::BindingType::Texture {
+                        sample_type: wgpu::TextureSampleType::Float { filterable: true },
+                        view_dimension: wgpu::TextureViewDimension::D2,
+                        multisampled: false,
+                    },
+                    count: None,
+                },
             ],
         });
         let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -140,7 +159,12 @@ impl FarPass {
         };
         let pipeline = pipeline_for("main");
         let surround_pipeline = pipeline_for("surround");
-        let compute_group = group(device, &compute_layout, &uniform_buf, &texels, &surround);
+        let compute_group = group(
+            device,
+            &compute_layout,
+            &uniform_buf,
+            [&texels, &surround, &shares],
+        );
         Self {
             uniform,
             compute_group,
@@ -148,6 +172,9 @@ impl FarPass {
             texels,
             sampler,
             surround,
+            shares,
+            shares_due: true,
+            density_map: g.density_map.clone(),
             compute_layout,
             pipeline,
             surround_pipeline,
@@ -167,14 +194,21 @@ impl FarPass {
         self.uniform.ny = fy as u32;
         self.uniform.cell = [(max[0] - min[0]) / fx as f32, (max[1] - min[1]) / fy as f32];
         self.texels = texel_texture(device, (fx as u32, fy as u32));
+        self.shares = share_texture(device, (fx as u32, fy as u32));
+        self.shares_due = true;
         self.compute_group = group(
             device,
             &self.compute_layout,
             &self.uniform_buf,
-            &self.texels,
-            &self.surround,
+            [&self.texels, &self.surround, &self.shares],
         );
         true
+    }
+
+    /// Each texel's share of the layout's density, row-major ([`far::density_shares`]).
+    pub fn shares(&self) -> Vec<f32> {
+        let n = (self.uniform.nx as usize, self.uniform.ny as usize);
+        far::density_shares(self.density_map.as_ref(), self.world, n)
     }
 
     /// Whether the ground shows the far field (never for a layout with no blades).
@@ -201,6 +235,21 @@ impl FarPass {
             0.0
         };
         queue.write_buffer(&self.uniform_buf, 0, bytemuck::bytes_of(&self.uniform));
+        if std::mem::take(&mut self.shares_due) {
+            let bytes: Vec<u8> = (self.shares().iter())
+                .map(|s| (s.clamp(0.0, 1.0) * 255.0).round() as u8)
+                .collect();
+            queue.write_texture(
+                self.shares.as_image_copy(),
+                &bytes,
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(self.uniform.nx),
+                    rows_per_image: Some(self.uniform.ny),
+                },
+                self.shares.size(),
+            );
+        }
         if self.uniform.flags & 1 == 0 {
             return;
         }
@@ -258,6 +307,24 @@ fn read_halves(
 /// writable from a compute pass on every adapter.
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 
+/// The texels' density shares, 8 bits each (a share to a 255th is plenty), filtered.
+fn share_texture(device: &wgpu::Device, (w, h): (u32, u32)) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("grass far shares"),
+        size: wgpu::Extent3d {
+            width: w.max(1),
+            height: h.max(1),
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::R8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    })
+}
+
 fn texel_texture(device: &wgpu::Device, (w, h): (u32, u32)) -> wgpu::Texture {
     device.create_texture(&wgpu::TextureDescriptor {
         label: Some("grass far texels"),
@@ -277,15 +344,16 @@ fn texel_texture(device: &wgpu::Device, (w, h): (u32, u32)) -> wgpu::Texture {
     })
 }
 
-/// The compute pass's bind group over the uniform, the texels and the surround's table (the
-/// ground and the blades read them through [`super::backdrop::look_group`]).
+/// The compute pass's bind group over the uniform, the texels, the surround's table and the
+/// density shares (the ground and the blades read them through
+/// [`super::backdrop::look_group`]).
 fn group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     uniform: &wgpu::Buffer,
-    texels: &wgpu::Texture,
-    surround: &wgpu::Texture,
+    [texels, surround, shares]: [&wgpu::Texture; 3],
 ) -> wgpu::BindGroup {
+    let view = |t: &wgpu::Texture| t.create_view(&Default::default());
     device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("grass far"),
         layout,
@@ -296,15 +364,15 @@ fn group(
             },
             wgpu::BindGroupEntry {
                 binding: 1,
-                resource: wgpu::BindingResource::TextureView(
-                    &texels.create_view(&Default::default()),
-                ),
+                resource: wgpu::BindingResource::TextureView(&view(texels)),
             },
             wgpu::BindGroupEntry {
                 binding: 2,
-                resource: wgpu::BindingResource::TextureView(
-                    &surround.create_view(&Default::default()),
-                ),
+                resource: wgpu::BindingResource::TextureView(&view(surround)),
+            },
+            wgpu::BindGroupEntry {
+                binding: 3,
+                resource: wgpu::BindingResource::TextureView(&view(shares)),
             },
         ],
     })

@@ -111,6 +111,91 @@ fn the_far_field_matches_its_cpu_twin() {
     assert!(worst_cover <= 1e-3, "coverage differs by {worst_cover}");
 }
 
+/// Where the density map grows less grass, the far field hides less ground, as its CPU twin
+/// says (`far::density_shares`, `far::thinned`): over a map bare on its left third, half
+/// grown in the middle and full on the right, every texel's share of the ground within 2e-3
+/// of the twin's (its share is stored to a 255th), none at all over the bare third.
+#[test]
+fn the_far_field_thins_where_the_density_map_does() {
+    let Some(ctx) = context() else { return };
+    let mut l = meadow(24.0, 16.0, 30.0);
+    let (iw, ih) = (48u32, 32u32);
+    let luminance = (0..ih)
+        .flat_map(|_| {
+            (0..iw).map(|x| match x * 3 / iw {
+                0 => 0,
+                1 => 32_768,
+                _ => u16::MAX,
+            })
+        })
+        .collect();
+    l.grass.density_map = Some(windloom::doc::DensityMap {
+        image: "unused.png".into(),
+        rect: None,
+        pixels: windloom::doc::MaskPixels::Loaded(std::sync::Arc::new(windloom::doc::MaskImage {
+            width: iw,
+            height: ih,
+            luminance,
+        })),
+    });
+    let blades = scatter(&l);
+    let (nx, ny) = (48, 32);
+    let cell = [0.5, 0.5];
+    let mut r = GrassRenderer::new(&ctx.device, wgpu::TextureFormat::Rgba8Unorm, &l, &blades);
+    let camera = Camera {
+        eye: Vec3::new(12.0, 30.0, 30.0),
+        target: Vec3::new(12.0, 0.0, 8.0),
+        fov_y: 45f32.to_radians(),
+    };
+    // Every blade culled (the eye is 30 m up): the far field takes all the ground it hides.
+    r.set_cull(CullParams {
+        max_distance: 1.0,
+        thin_distance: 0.0,
+        ..CullParams::for_height(0.5)
+    });
+    let wind = vec![[3.0, 1.0]; nx * ny];
+    r.set_wind(&ctx.device, &ctx.queue, (nx, ny), [0.0, 0.0], cell, &wind);
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    r.prepare(&ctx.queue, &mut enc, &camera, 1.5, 1.0, 1.0 / 60.0);
+    ctx.queue.submit([enc.finish()]);
+    let texels = r.read_far(&ctx.device, &ctx.queue).unwrap();
+    let u = r.far_uniform();
+    let look = Look::new(&l.grass, SUN);
+    let shares = far::density_shares(l.grass.density_map.as_ref(), l.bounds(), (nx, ny));
+    let mut worst = 0.0f32;
+    for (i, gpu) in texels.iter().enumerate() {
+        let (tx, ty) = (i % nx, i / nx);
+        let pos = [
+            u.origin[0] + (tx as f32 + 0.5) * u.cell[0],
+            u.origin[1] + (ty as f32 + 0.5) * u.cell[1],
+        ];
+        let t = far::texel(
+            &l.grass,
+            &look,
+            [3.0, 1.0],
+            pos,
+            camera.eye.to_array(),
+            (0.0, [0.0, 0.0]),
+        );
+        let d = Vec3::new(pos[0], 0.0, pos[1]).distance(camera.eye);
+        let cover = far::cover(d, &r.cull_params(), 0.0);
+        let want = far::thinned(t.hidden, shares[i]) * (1.0 - cover);
+        worst = worst.max((gpu[3] - want).abs());
+        if tx < nx / 3 - 1 {
+            assert_eq!(gpu[3], 0.0, "texel {tx},{ty} over bare ground hides it");
+        }
+        if tx > 2 * nx / 3 + 1 {
+            assert!(
+                gpu[3] > 0.05,
+                "texel {tx},{ty} under full grass: {}",
+                gpu[3]
+            );
+        }
+    }
+    println!("far field over a density map: max |GPU − CPU| share {worst:.2e}");
+    assert!(worst <= 2e-3, "shares differ by {worst}");
+}
+
 /// The table of the field's look by view direction, in the wind at the level's edge, which the
 /// ground beyond the level takes, against its CPU twin (`grass::far::surround_table`): every texel's colour within
 /// 2e-3 and its share of the ground within 1e-3 (half floats). The look changes with the
@@ -231,6 +316,22 @@ fn picture(
 }
 
 /// The pixel `(x, y)` of world point `(wx, wz)` on the ground.
+/// The pixel of a `size` picture seen through `camera` that shows the world point at
+/// `(wx, wz)` at height `wy`.
+pub(super) fn pixel_of_at(
+    camera: &Camera,
+    size: [u32; 2],
+    (wx, wy, wz): (f32, f32, f32),
+) -> (usize, usize) {
+    let (w, h) = (size[0] as f32, size[1] as f32);
+    let c = camera.view_proj(w / h) * glam::Vec4::new(wx, wy, wz, 1.0);
+    let (x, y) = (c.x / c.w, c.y / c.w);
+    (
+        ((x * 0.5 + 0.5) * w) as usize,
+        ((0.5 - y * 0.5) * h) as usize,
+    )
+}
+
 pub(super) fn pixel_of(camera: &Camera, (wx, wz): (f32, f32)) -> (usize, usize) {
     let c = camera.view_proj(320.0 / 200.0) * glam::Vec4::new(wx, 0.0, wz, 1.0);
     let (x, y) = (c.x / c.w, c.y / c.w);
@@ -328,7 +429,7 @@ fn a_far_view_of_the_meadow_is_the_grass_its_cpu_twin_predicts() {
         let point = Vec3::new(at.0, 0.0, at.1);
         let seen = light::haze(camera.eye, point, fade);
         let hazed = |c: Vec3| c.lerp(Vec3::from(light::SKY_HORIZON), seen);
-        let want = hazed(far::ground(soil, Vec3::from(t.colour), share, 0.0))
+        let want = hazed(far::ground(soil, Vec3::from(t.colour), share, 0.0, 1.0))
             .to_array()
             .map(srgb);
         let soil_seen = hazed(soil);

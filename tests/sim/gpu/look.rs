@@ -516,3 +516,113 @@ fn the_level_meets_the_ground_beyond_it() {
         "the level reads as a plate on its ground: {mean}"
     );
 }
+
+/// A level laid over its picture (a map backdrop) shows its wind from afar too: over a field
+/// picture with a road across it, at the default framing the gale's band along the arrows is
+/// lighter than calm air by over 30 (the three channels' sum at a glance; measured 38.9, and
+/// 7.8/255 a channel over the whole picture), and the picture still reads (its road stays
+/// lighter than the field). Before, the map showed through the whole lower canopy: the band
+/// was 18.9 lighter, the wind a haze over a flat picture.
+#[test]
+fn the_wind_reads_from_afar_over_a_backdrop() {
+    let Some(ctx) = context() else { return };
+    let (iw, ih) = (120u32, 80u32);
+    // The field's own green, a grey road along z = 26–34 m (rows 26–34).
+    let img = image::RgbaImage::from_fn(iw, ih, |_, y| {
+        if (26..34).contains(&y) {
+            image::Rgba([150, 150, 150, 255])
+        } else {
+            image::Rgba([90, 143, 60, 255])
+        }
+    });
+    let backdrop = |mut l: Layout| {
+        l.world.map = Some(MapBackdrop {
+            image: "unused.png".into(),
+            opacity: 1.0,
+            rect: None,
+        });
+        l
+    };
+    let size = [800, 500];
+    let o = options(size, 6.0, None);
+    let calm = picture(&ctx, &backdrop(meadow(0.0)), Some(&img), &o).unwrap();
+    let gale = picture(&ctx, &backdrop(meadow(4.0)), Some(&img), &o).unwrap();
+    let (bc, bg) = (blocks(&calm, size, 8), blocks(&gale, size, 8));
+    let glance = blocks_mae(&bc, &bg);
+    // The band along the arrows (z = 38–44 m, the picture's middle rows): how much lighter.
+    let row = |b: &[[f64; 3]], y: u32| -> f64 {
+        (20..80)
+            .map(|x| b[(y * 100 + x) as usize].iter().sum::<f64>())
+            .sum::<f64>()
+            / 60.0
+    };
+    let mid = (size[1] / 8) / 2;
+    let lighter = (mid - 3..mid + 3)
+        .map(|y| row(&bg, y) - row(&bc, y))
+        .sum::<f64>()
+        / 6.0;
+    println!(
+        "over a backdrop, calm against the 4x gale: {glance:.2}/255 at a glance, the band \
+         {lighter:.1} lighter"
+    );
+    assert!(
+        glance >= 5.0,
+        "the wind does not read over the map: {glance:.2}"
+    );
+    assert!(
+        lighter > 30.0,
+        "the gale's band is not lighter over the map: {lighter}"
+    );
+    // The road (the picture's, at z = 30 m) against the field beside it (z = 50 m), in calm
+    // air, at the picture's middle column.
+    let aspect = size[0] as f32 / size[1] as f32;
+    let cam = windloom::gpu::grass::Orbit::frame_all(&backdrop(meadow(0.0)), aspect).camera();
+    let luma = |px: &[u8], z: f32| {
+        let (x, y) = super::far::pixel_of_at(&cam, size, (60.0, 0.0, z));
+        let p = &px[(y * size[0] as usize + x) * 4..];
+        0.2126 * f64::from(p[0]) + 0.7152 * f64::from(p[1]) + 0.0722 * f64::from(p[2])
+    };
+    let (road, field) = (luma(&calm, 30.0), luma(&calm, 50.0));
+    println!("road {road:.1}, field {field:.1}");
+    assert!(
+        road > field + 8.0,
+        "the picture's road does not read: {road} against {field}"
+    );
+}
+
+/// Where the density map grows no grass (the walled garden's pond and road), the ground from
+/// afar is bare earth, darker and browner than the field round it; before, the far field
+/// covered them with grass as if the map were not there.
+#[test]
+fn bare_ground_reads_from_afar() {
+    let Some(ctx) = context() else { return };
+    let l = example("walled-garden.json");
+    let size = [800, 500];
+    let o = options(size, 0.0, None);
+    let px = picture(&ctx, &l, None, &o).unwrap();
+    let aspect = size[0] as f32 / size[1] as f32;
+    let cam = windloom::gpu::grass::Orbit::frame_all(&l, aspect).camera();
+    let terrain = l.world.terrain.clone().unwrap();
+    let at = |p: (f32, f32)| -> [f64; 3] {
+        let y = terrain.height_at([p.0, p.1], l.bounds());
+        let (x, y) = super::far::pixel_of_at(&cam, size, (p.0, y, p.1));
+        let mut s = [0.0; 3];
+        for dy in 0..5 {
+            for dx in 0..5 {
+                let q = &px[((y + dy - 2) * size[0] as usize + x + dx - 2) * 4..];
+                for c in 0..3 {
+                    s[c] += f64::from(q[c]) / 25.0;
+                }
+            }
+        }
+        s
+    };
+    // The pond, bare in the density map, at (20, 20); the meadow beside it at (20, 40).
+    let (pond, grass) = (at((20.0, 20.0)), at((20.0, 40.0)));
+    println!("pond {pond:.1?}, grass {grass:.1?}");
+    let green = |c: [f64; 3]| c[1] - 0.5 * (c[0] + c[2]);
+    assert!(
+        green(grass) > green(pond) + 6.0,
+        "the pond reads as grass: {pond:?} against {grass:?}"
+    );
+}
