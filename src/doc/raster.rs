@@ -36,7 +36,7 @@ fn luma(px: &[u8]) -> f32 {
 }
 
 /// A grey image from a picture (`rgba`, `width` × `height`, row-major from the top-left):
-/// each pixel `on` where its [`luma`] is at least `threshold` (below it with `invert`), else
+/// each pixel `on` where its luma (Rec. 709 on the stored sRGB values) is at least `threshold` (below it with `invert`), else
 /// `off`; shrunk by whole pixels to at most [`NEW_IMAGE_MAX_SIDE`] a side (a pixel of the
 /// image takes the picture's pixel at its centre).
 pub fn threshold(
