@@ -244,9 +244,10 @@ impl EditorApp {
         }
     }
 
-    /// Autosaves unsaved work when it is due, and says a failure newly met.
-    pub(super) fn autosave(&mut self, ctx: &egui::Context, now: f64) {
-        if let Some(e) = self.doc.autosave(now) {
+    /// Autosaves unsaved work when it is due (or now, `resting`: the editor is coming to
+    /// rest), and says a failure newly met.
+    pub(super) fn autosave(&mut self, ctx: &egui::Context, now: f64, resting: bool) {
+        if let Some(e) = self.doc.autosave(now, resting) {
             self.say(ctx, format!("Autosave failed: {e}"));
         }
     }

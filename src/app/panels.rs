@@ -540,6 +540,15 @@ fn frame_times(app: &EditorApp, snap: &crate::engine::live::Snapshot, ui: &mut e
                 _ => "by egui, from CPU snapshots",
             });
             ui.end_row();
+            // The memory the timeline holds to scrub back with, and its cap.
+            let (n, bytes) = snap.history;
+            ui.label("timeline history");
+            ui.label(format!(
+                "{n} states of the wind, {:.0} of {} MB (an edit forgets them)",
+                bytes as f64 / 1e6,
+                crate::engine::live::CHECKPOINT_BUDGET >> 20
+            ));
+            ui.end_row();
         });
 }
 

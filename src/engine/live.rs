@@ -53,6 +53,9 @@ pub struct Snapshot {
     pub seeking: Option<f32>,
     /// The last seek ([`LiveSim::seek`]) the worker has finished, by its number.
     pub seeked: u64,
+    /// What the timeline keeps of the wind's past to scrub back to: its checkpoints, and the
+    /// bytes they take (at most [`CHECKPOINT_BUDGET`]).
+    pub history: (usize, usize),
 }
 
 /// Wall-clock time a seek steps before it looks for newer commands and shows how far it is.
@@ -691,6 +694,12 @@ impl Engine {
             notice: self.notice.clone(),
             seeking: self.seeking.map(|(t, _, _)| t),
             seeked: self.seeked,
+            history: (
+                self.checkpoints.len(),
+                (self.checkpoints.iter())
+                    .map(|c| 4 * (c.u.len() + c.v.len() + c.p.len()))
+                    .sum(),
+            ),
         };
         let snap = Arc::new(snap);
         match shared.lock() {

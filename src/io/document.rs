@@ -43,6 +43,9 @@ pub struct Document {
     /// Recovery copies of editors that are gone, still to offer.
     recover_queue: Vec<recovery::Found>,
     last_autosave: f64,
+    /// Changed since the last recovery copy was written (a copy already holding the work is
+    /// not written again).
+    unsaved_since_copy: bool,
 }
 
 impl std::ops::Deref for Document {
@@ -76,6 +79,7 @@ impl Document {
             recovery_error: None,
             recover_queue: Vec::new(),
             last_autosave: 0.0,
+            unsaved_since_copy: false,
         }
     }
 
@@ -213,6 +217,7 @@ impl Document {
         if !std::mem::take(&mut self.changed) {
             return false;
         }
+        self.unsaved_since_copy = true;
         self.dirty =
             doc::to_json(&self.layout) != self.saved_json || !self.unsaved_images().is_empty();
         true
@@ -348,22 +353,24 @@ impl Document {
         }
     }
 
-    /// Writes the recovery copy of unsaved work when [`AUTOSAVE_SECONDS`] have passed since
-    /// the last; a failure newly met, to say.
-    pub fn autosave(&mut self, now: f64) -> Option<String> {
-        if !self.dirty || now - self.last_autosave < AUTOSAVE_SECONDS {
+    /// Writes the recovery copy of unsaved work changed since the last copy, when
+    /// [`AUTOSAVE_SECONDS`] have passed since that one, or at once when the editor comes to
+    /// `rest` (so a resting editor needs no frame to autosave); a failure newly met, to say.
+    pub fn autosave(&mut self, now: f64, rest: bool) -> Option<String> {
+        let due = now - self.last_autosave >= AUTOSAVE_SECONDS || rest;
+        if !self.dirty || !self.unsaved_since_copy || !due {
             return None;
         }
         self.last_autosave = now;
         let failing = self.recovery_error.is_some();
         match self.write_recovery() {
+            Ok(_) => {
+                self.unsaved_since_copy = false;
+                None
+            }
+            // Tried again in AUTOSAVE_SECONDS (or at the next rest).
             Err(e) if !failing => Some(e),
-            _ => None,
+            Err(_) => None,
         }
-    }
-
-    /// When the next autosave is due, while there is unsaved work.
-    pub fn next_autosave(&self) -> Option<f64> {
-        self.dirty.then_some(self.last_autosave + AUTOSAVE_SECONDS)
     }
 }

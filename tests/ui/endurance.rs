@@ -148,6 +148,14 @@ fn views_in_this_process() {
         ran += 1;
         let mut doc = example("meadow.json");
         doc.grass.model = model;
+        if name.contains("probe") {
+            // The probes' panel: its plots and readings at rest too.
+            doc.probes.push(doc::Probe {
+                id: 999,
+                name: "Probe".into(),
+                pos: [60.0, 40.0],
+            });
+        }
         // The editor's smallest window: the same code path, fewer pixels to rasterise.
         let mut h = gpu_harness_sized(doc, egui::vec2(800.0, 500.0), move |app| {
             app.settings.backend = backend;
@@ -221,6 +229,11 @@ fn every_view_rests_when_paused() {
     }
     let cases = [
         ("map", Central::Map, doc::GrassModel::CwdQuadratic),
+        (
+            "map with a probe",
+            Central::Map,
+            doc::GrassModel::CwdQuadratic,
+        ),
         ("3D grass", Central::Grass, doc::GrassModel::CwdQuadratic),
         ("map + 3D", Central::Split, doc::GrassModel::CwdQuadratic),
         (
@@ -232,6 +245,14 @@ fn every_view_rests_when_paused() {
     for (name, central, model) in cases {
         let mut doc = example("meadow.json");
         doc.grass.model = model;
+        if name.contains("probe") {
+            // The probes' panel: its plots and readings at rest too.
+            doc.probes.push(doc::Probe {
+                id: 999,
+                name: "Probe".into(),
+                pos: [60.0, 40.0],
+            });
+        }
         // On the CPU: the automatic choice measures both backends first, and its result is
         // new data that wakes the view (as it should).
         let mut h = gpu_harness_sized(doc, egui::vec2(800.0, 500.0), move |app| {
