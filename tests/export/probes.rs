@@ -194,3 +194,31 @@ fn gusts_and_direction_read_as_a_designer_expects() {
     assert!(s.gust_factor < 1.2, "{}", s.gust_factor);
     assert!(probe::stats(&[]).is_none());
 }
+
+/// A reading every step (`--hz` the step's rate, 60 at the examples' `dt` of 1/60) is taken:
+/// it was refused as "at most 60, got 60", `1 / dt` in f32 being a hair under 60.
+#[test]
+fn a_reading_every_step_is_taken() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("every-step.csv");
+    let layout = Path::new(env!("CARGO_MANIFEST_DIR")).join("layouts/obstacles.json");
+    let l = example("obstacles.json");
+    let hz = (1.0 / l.sim.dt).round();
+    let o = windloom(&[
+        "probe",
+        layout.to_str().unwrap(),
+        "--at",
+        "40,60",
+        "--warmup",
+        "0",
+        "--seconds",
+        "0.5",
+        "--hz",
+        &hz.to_string(),
+        "--csv",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows = csv::Reader::from_path(&out).unwrap().records().count();
+    assert_eq!(rows as f32, (0.5 * hz).round(), "one reading a step");
+}
