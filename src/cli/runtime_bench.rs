@@ -66,7 +66,7 @@ pub fn run(dir: &Path, samples: usize, calls: usize, json: bool) -> Result<ExitC
     // Each call at another moment between frames, as a game's clock runs.
     let mut times = Vec::with_capacity(calls);
     for k in 0..calls + 3 {
-        let t = k as f32 * 0.37 / bake.fps().max(1e-3);
+        let t = k as f64 * 0.37 / f64::from(bake.fps().max(1e-3));
         let s = Instant::now();
         bake.wind_at_many(std::hint::black_box(&at), t, &mut out);
         std::hint::black_box(&out);

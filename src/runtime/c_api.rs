@@ -5,6 +5,9 @@
 //! Threads: queries (`windloom_wind_at`, `windloom_wind_at_many`, `windloom_info`) may run
 //! on any number of threads at once; `windloom_reload` and `windloom_close` must not run
 //! while another call uses the same handle. `windloom_last_error` is per thread.
+//!
+//! No panic crosses into the game: every entry point catches one and returns its failure
+//! (NULL or -1) with `windloom_last_error` saying so. Time is a `double` of seconds.
 
 use crate::{Axes, LiveBake, Options, Outside};
 use std::cell::RefCell;
@@ -42,9 +45,22 @@ thread_local! {
     static LAST_ERROR: RefCell<CString> = RefCell::new(CString::default());
 }
 
+/// Keeps `message` as this thread's last error: one line, bounded (control characters
+/// escaped, at most [`crate::MAX_ERROR_CHARS`] characters).
 fn set_error(message: &str) {
-    let c = CString::new(message.replace('\0', " ")).unwrap_or_default();
+    let line = crate::file::one_line(message);
+    let c = CString::new(line.replace('\0', " ")).unwrap_or_default();
     LAST_ERROR.with(|e| *e.borrow_mut() = c);
+}
+
+/// Runs `f`, turning a panic (a bug) into `failed` with a last error naming `call`.
+fn guarded<T>(call: &str, failed: T, f: impl FnOnce() -> T) -> T {
+    std::panic::catch_unwind(std::panic::AssertUnwindSafe(f)).unwrap_or_else(|_| {
+        set_error(&format!(
+            "{call}: the runtime failed (a bug: please report it with the bake)"
+        ));
+        failed
+    })
 }
 
 fn axes(n: u32) -> Option<Axes> {
@@ -98,20 +114,20 @@ pub unsafe extern "C" fn windloom_open(
         outside: o,
         format: None,
     };
-    match std::panic::catch_unwind(|| LiveBake::open(folder, options)) {
-        Ok(Ok(live)) => {
-            set_error("");
-            Box::into_raw(Box::new(WindloomWind { live }))
-        }
-        Ok(Err(e)) => {
-            set_error(&e.to_string());
-            std::ptr::null_mut()
-        }
-        Err(_) => {
-            set_error("windloom_open: the runtime failed (a bug: please report it)");
-            std::ptr::null_mut()
-        }
-    }
+    guarded(
+        "windloom_open",
+        std::ptr::null_mut(),
+        || match LiveBake::open(folder, options) {
+            Ok(live) => {
+                set_error("");
+                Box::into_raw(Box::new(WindloomWind { live }))
+            }
+            Err(e) => {
+                set_error(&e.to_string());
+                std::ptr::null_mut()
+            }
+        },
+    )
 }
 
 /// Why this thread's last call failed, or "" (valid until this thread's next call).
@@ -123,6 +139,9 @@ pub extern "C" fn windloom_last_error() -> *const c_char {
 /// The wind at `(x, y, z)` at `t` seconds into `out[0..3]`, in the handle's axes (m/s; cm/s
 /// in Unreal's). 0 on success, -1 for a NULL pointer.
 ///
+/// `t` is the game's clock in seconds, as a `double`: it need not be wrapped, a clock a
+/// month on reads the wind as precisely as one just started.
+///
 /// # Safety
 /// `wind` is NULL or a handle from `windloom_open` not yet closed; `out` is NULL or points
 /// to 3 writable floats.
@@ -132,15 +151,20 @@ pub unsafe extern "C" fn windloom_wind_at(
     x: f32,
     y: f32,
     z: f32,
-    t: f32,
+    t: f64,
     out: *mut f32,
 ) -> i32 {
     if wind.is_null() || out.is_null() {
+        set_error("windloom_wind_at: the handle or `out` is NULL");
         return -1;
     }
     // SAFETY: a live handle from windloom_open (the contract); only read here.
     let w = unsafe { &*wind };
-    let v = w.live.bake().wind_at([x, y, z], t);
+    let Some(v) = guarded("windloom_wind_at", None, || {
+        Some(w.live.bake().wind_at([x, y, z], t))
+    }) else {
+        return -1;
+    };
     // SAFETY: `out` points to 3 writable floats (the contract).
     unsafe { std::ptr::copy_nonoverlapping(v.as_ptr(), out, 3) };
     0
@@ -157,13 +181,21 @@ pub unsafe extern "C" fn windloom_wind_at_many(
     wind: *const WindloomWind,
     positions: *const f32,
     count: usize,
-    t: f32,
+    t: f64,
     out: *mut f32,
 ) -> i32 {
     if count == 0 {
         return 0;
     }
     if wind.is_null() || positions.is_null() || out.is_null() {
+        set_error("windloom_wind_at_many: the handle, `positions` or `out` is NULL");
+        return -1;
+    }
+    // No slice may span more than isize::MAX bytes: a larger count cannot be an array.
+    if count > isize::MAX as usize / std::mem::size_of::<[f32; 3]>() {
+        set_error(&format!(
+            "windloom_wind_at_many: count {count} is more positions than memory holds"
+        ));
         return -1;
     }
     // SAFETY: a live handle (the contract).
@@ -172,8 +204,10 @@ pub unsafe extern "C" fn windloom_wind_at_many(
     let p = unsafe { std::slice::from_raw_parts(positions.cast::<[f32; 3]>(), count) };
     // SAFETY: `out` holds 3 × count writable floats, apart from `positions`.
     let o = unsafe { std::slice::from_raw_parts_mut(out.cast::<[f32; 3]>(), count) };
-    w.live.bake().wind_at_many(p, t, o);
-    0
+    guarded("windloom_wind_at_many", -1, || {
+        w.live.bake().wind_at_many(p, t, o);
+        0
+    })
 }
 
 /// Looks for a new bake in the folder (cheap when there is none: one small file read).
@@ -190,17 +224,19 @@ pub unsafe extern "C" fn windloom_reload(wind: *mut WindloomWind) -> i32 {
     }
     // SAFETY: a live handle, used by no other thread now (the contract).
     let w = unsafe { &mut *wind };
-    match std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| w.live.poll())) {
-        Ok(Ok(changed)) => i32::from(changed),
-        Ok(Err(e)) => {
+    guarded("windloom_reload", -1, || match w.live.poll() {
+        Ok(changed) => {
+            // The last good read is the newest: an old failure is no longer the news.
+            if w.live.last_error().is_none() {
+                set_error("");
+            }
+            i32::from(changed)
+        }
+        Err(e) => {
             set_error(&e.to_string());
             -1
         }
-        Err(_) => {
-            set_error("windloom_reload: the runtime failed (a bug: please report it)");
-            -1
-        }
-    }
+    })
 }
 
 /// What the answering bake holds, into `out`. 0 on success, -1 for a NULL pointer.
@@ -210,6 +246,7 @@ pub unsafe extern "C" fn windloom_reload(wind: *mut WindloomWind) -> i32 {
 #[unsafe(no_mangle)]
 pub unsafe extern "C" fn windloom_info(wind: *const WindloomWind, out: *mut WindloomInfo) -> i32 {
     if wind.is_null() || out.is_null() {
+        set_error("windloom_info: the handle or `out` is NULL");
         return -1;
     }
     // SAFETY: a live handle (the contract).

@@ -19,13 +19,16 @@
 //! windloom's `docs/RUNTIME.md` says what it reads, its axes, units and costs.
 
 pub mod c_api;
+mod file;
 mod live;
 mod load;
 mod manifest;
 mod read;
 mod wind;
 
+pub use file::{MAX_ERROR_CHARS, MAX_MANIFEST_BYTES};
 pub use live::LiveBake;
+pub use load::{MAX_FRAMES, MAX_GRID_SIDE, MAX_WIND_BYTES};
 pub use wind::{Axes, Bake, Options, Outside};
 
 use std::path::{Path, PathBuf};
@@ -33,15 +36,17 @@ use std::path::{Path, PathBuf};
 /// The file every bake folder holds, listing the rest.
 pub const MANIFEST: &str = "manifest.json";
 
-/// Why a bake could not be read: each names the file, in one line.
+/// Why a bake could not be read: each names the file, in one line of at most
+/// [`MAX_ERROR_CHARS`] characters (what came from the bake's files, control characters
+/// included, is escaped).
 #[derive(Debug, thiserror::Error)]
 pub enum Error {
-    #[error("{}: {source}", path.display())]
+    #[error("{}", file::one_line(&format!("{}: {source}", path.display())))]
     Io {
         path: PathBuf,
         source: std::io::Error,
     },
-    #[error("{}: line {line}, column {column}: {message}", path.display())]
+    #[error("{}", file::one_line(&format!("{}: line {line}, column {column}: {message}", path.display())))]
     Manifest {
         path: PathBuf,
         line: usize,
@@ -49,9 +54,9 @@ pub enum Error {
         message: String,
     },
     /// A file that does not hold what its manifest says, or a bake this runtime cannot read.
-    #[error("{}: {message}", path.display())]
+    #[error("{}", file::one_line(&format!("{}: {message}", path.display())))]
     Bake { path: PathBuf, message: String },
-    #[error("{}: a new bake landed each of the {attempts} times it was read; try again when the baking stops", path.display())]
+    #[error("{}", file::one_line(&format!("{}: a new bake landed each of the {attempts} times it was read; try again when the baking stops", path.display())))]
     Changing { path: PathBuf, attempts: usize },
 }
 
@@ -59,6 +64,6 @@ impl Bake {
     /// Reads the bake in `folder` whole (its manifest, the files it lists, its manifest
     /// again: a bake landing meanwhile is read again, so what is kept is one bake).
     pub fn open(folder: impl AsRef<Path>, options: &Options) -> Result<Bake, Error> {
-        load::open(folder.as_ref(), options).map(|(bake, _)| bake)
+        load::open(folder.as_ref(), options, load::ATTEMPTS).map(|(bake, _)| bake)
     }
 }

@@ -2,34 +2,55 @@
 //! what is kept is one whole bake (a bake landing meanwhile is read again); then each file
 //! decoded by the manifest's numbers alone.
 
+use crate::file;
 use crate::manifest::{self, FileEntry, IndexAxis, Manifest};
 use crate::read::{self, Kind};
 use crate::wind::{Bake, Grid, Heights, LogLaw, Options};
 use crate::{Error, MANIFEST};
 use std::path::Path;
 
-/// How many times a bake that keeps changing under the reader is read again.
-const ATTEMPTS: usize = 8;
+/// How many times [`Bake::open`] reads a bake that keeps changing under it (a re-bake
+/// landing meanwhile) before it gives up; a reload reads once and tries again at its next
+/// poll, so a game's thread never waits out a re-bake.
+pub(crate) const ATTEMPTS: usize = 8;
 
-/// Reads the bake in `folder` whole.
-pub(crate) fn open(folder: &Path, options: &Options) -> Result<(Bake, Vec<u8>), Error> {
+/// The most frames a bake may hold (at 60 fps, 27 minutes).
+pub const MAX_FRAMES: usize = 100_000;
+/// The most cells a bake may have along x or along z (the editor's largest grid).
+pub const MAX_GRID_SIDE: usize = 16_384;
+/// The most memory a bake's wind may take once read (every frame's cells, 8 bytes each):
+/// the most `windloom bake` writes unless told otherwise (`--max-bytes`). Memory the machine
+/// cannot give is refused too, not an abort.
+pub const MAX_WIND_BYTES: u64 = 16 << 30;
+
+/// Reads the bake in `folder` whole, reading it again (up to `attempts` times, waiting a
+/// little longer each time) while a new bake lands under it.
+pub(crate) fn open(
+    folder: &Path,
+    options: &Options,
+    attempts: usize,
+) -> Result<(Bake, Vec<u8>), Error> {
     let path = folder.join(MANIFEST);
     let mut last = None;
-    for attempt in 0..ATTEMPTS {
+    for attempt in 0..attempts {
         if attempt > 0 {
             std::thread::sleep(std::time::Duration::from_millis(25 << attempt.min(4)));
         }
-        let before = read_file(&path)?;
+        let before = read_manifest(&path)?;
         let m = parse(&path, &before)?;
         let picked = pick(folder, &m, options)?;
-        let files: Result<Vec<Vec<u8>>, Error> = picked
-            .entries
-            .iter()
-            .map(|e| read_entry(folder, e))
-            .chain(picked.heights.iter().map(|h| read_file(&folder.join(h))))
+        let files: Result<Vec<Vec<u8>>, Error> = (picked.entries.iter())
+            .zip(&picked.paths)
+            .map(|(e, (p, limit))| file::read(p, *limit, Some(e.bytes)))
+            .chain(
+                picked
+                    .heights
+                    .iter()
+                    .map(|(p, limit)| file::read(p, *limit, None)),
+            )
             .collect();
         // The same manifest after the files: they are all of this bake.
-        let after = std::fs::read(&path).ok();
+        let after = read_manifest(&path).ok();
         if after.as_deref() != Some(&before[..]) {
             last = Some(files.err());
             continue;
@@ -41,32 +62,14 @@ pub(crate) fn open(folder: &Path, options: &Options) -> Result<(Bake, Vec<u8>), 
         Some(e) => e,
         None => Error::Changing {
             path: folder.to_path_buf(),
-            attempts: ATTEMPTS,
+            attempts,
         },
     })
 }
 
-pub(crate) fn read_file(path: &Path) -> Result<Vec<u8>, Error> {
-    std::fs::read(path).map_err(|source| Error::Io {
-        path: path.to_path_buf(),
-        source,
-    })
-}
-
-fn read_entry(folder: &Path, e: &FileEntry) -> Result<Vec<u8>, Error> {
-    let path = folder.join(&e.name);
-    let bytes = read_file(&path)?;
-    if bytes.len() as u64 != e.bytes {
-        return Err(Error::Bake {
-            path,
-            message: format!(
-                "{} bytes where the manifest lists {}: not the file this bake wrote",
-                bytes.len(),
-                e.bytes
-            ),
-        });
-    }
-    Ok(bytes)
+/// The manifest's bytes, at most [`file::MAX_MANIFEST_BYTES`].
+pub(crate) fn read_manifest(path: &Path) -> Result<Vec<u8>, Error> {
+    file::read(path, file::MAX_MANIFEST_BYTES, None)
 }
 
 /// The manifest's JSON, checked to be one this runtime reads.
@@ -95,21 +98,52 @@ pub(crate) fn parse(path: &Path, bytes: &[u8]) -> Result<Manifest, Error> {
             manifest::VERSION
         )));
     }
-    if m.frames.count == 0 || !(m.frames.fps > 0.0 && m.frames.fps.is_finite()) {
+    let frames_ok = (1..=MAX_FRAMES).contains(&m.frames.count);
+    if !(frames_ok && m.frames.fps > 0.0 && m.frames.fps.is_finite()) {
         return Err(bad(format!(
-            "frames: {} at {} fps",
+            "frames: {} at {} fps (1 to {MAX_FRAMES} frames, a finite rate above 0)",
             m.frames.count, m.frames.fps
         )));
+    }
+    if !m.max_speed.is_finite() {
+        return Err(bad(format!("max_speed: {}, not a number", m.max_speed)));
+    }
+    if let Some(p) = &m.profile {
+        let numbers = [p.roughness_length, p.reference_height, p.top];
+        if !numbers.iter().chain(&p.factors).all(|x| x.is_finite()) {
+            return Err(bad(
+                "profile: a height, the roughness or a factor is not a finite number".into(),
+            ));
+        }
     }
     Ok(m)
 }
 
-/// The files one format's wind is read from, and the terrain's.
+/// The files one format's wind is read from, and the terrain's, each with its path in the
+/// folder and the most bytes it may hold.
 pub(crate) struct Picked {
     format: String,
     kind: Kind,
     entries: Vec<FileEntry>,
-    heights: Option<String>,
+    paths: Vec<(std::path::PathBuf, u64)>,
+    heights: Option<(std::path::PathBuf, u64)>,
+    /// The cells of the wind's grid, checked against the limits.
+    grid: Grid,
+}
+
+/// The most bytes a file of `cells` cells of `channels` samples may take: twice the raw
+/// floats (a PNG's or an EXR's headers and rows, uncompressed at worst), and 1 MiB more.
+fn most_bytes(cells: usize, channels: usize) -> Option<u64> {
+    (cells as u64)
+        .checked_mul(channels as u64)?
+        .checked_mul(8)?
+        .checked_add(1 << 20)
+}
+
+/// The cells of one file: the product of its index axes' (checked), times the frames it
+/// holds.
+fn cells_of(e: &FileEntry, frames: usize) -> Option<usize> {
+    (e.axes.index.iter()).try_fold(frames, |n, a| n.checked_mul(a.cells))
 }
 
 /// How precisely a file holds the wind: lower is better. Full-resolution floats first, a
@@ -140,6 +174,13 @@ fn pick(folder: &Path, m: &Manifest, options: &Options) -> Result<Picked, Error>
     let path = folder.join(MANIFEST);
     // Group the readable files by format and kind (a volume's DDS, VF and EXR share a format).
     let mut groups: Vec<(String, Kind, Vec<FileEntry>)> = Vec::new();
+    // Every name a plain file name in the folder, before any is looked at.
+    for (k, e) in m.files.iter().enumerate() {
+        file::inside(folder, &e.name, &format!("files[{k}].name"))?;
+    }
+    if let Some(t) = &m.terrain {
+        file::inside(folder, &t.file, "terrain.file")?;
+    }
     for e in &m.files {
         let Some(kind) = Kind::of(e).filter(|k| k.available()) else {
             continue;
@@ -164,11 +205,29 @@ fn pick(folder: &Path, m: &Manifest, options: &Options) -> Result<Picked, Error>
     }
     // Every frame must be there: one file holding them all, or one a frame.
     let count = m.frames.count;
+    let mut partial = Vec::new();
     groups.retain(|g| {
         let mut frames: Vec<usize> = g.2.iter().filter_map(|e| e.frame).collect();
         frames.sort_unstable();
-        (g.2.len() == 1 && g.2[0].frame.is_none()) || frames == (0..count).collect::<Vec<_>>()
+        let whole = (g.2.len() == 1 && g.2[0].frame.is_none())
+            || (frames.len() == g.2.len() && frames.iter().copied().eq(0..count));
+        if !whole {
+            partial.push(format!(
+                "`{}` lists {} file(s) for the {count} frames of `frames.count`",
+                g.0,
+                g.2.len()
+            ));
+        }
+        whole
     });
+    if groups.is_empty()
+        && let Some(first) = partial.first()
+    {
+        return Err(Error::Bake {
+            path,
+            message: format!("{first}: not every frame is there (a frame is missing or twice)"),
+        });
+    }
     // The most precise first, the raw file first among equals (the bake's own numbers).
     groups.sort_by_key(|g| (rank(&g.2[0]), g.1 != Kind::Raw));
     // A game may ship only the files it reads: the first format whose every file is there.
@@ -176,7 +235,7 @@ fn pick(folder: &Path, m: &Manifest, options: &Options) -> Result<Picked, Error>
     let missing = |g: &(String, Kind, Vec<FileEntry>)| {
         g.2.iter()
             .map(|e| folder.join(&e.name))
-            .find(|p| !p.is_file())
+            .find(|p| !p.exists())
     };
     if !groups.is_empty() && groups.iter().all(|g| missing(g).is_some()) {
         return Err(Error::Bake {
@@ -199,11 +258,97 @@ fn pick(folder: &Path, m: &Manifest, options: &Options) -> Result<Picked, Error>
         })?;
     let (format, kind, mut entries) = best;
     entries.sort_by_key(|e| e.frame);
+    sized(folder, m, format, kind, entries)
+}
+
+/// The picked files checked against the limits before anything is read: the wind's grid,
+/// the memory its frames take, and the bytes each file may hold; the terrain's too.
+fn sized(
+    folder: &Path,
+    m: &Manifest,
+    format: String,
+    kind: Kind,
+    entries: Vec<FileEntry>,
+) -> Result<Picked, Error> {
+    let bad = |e: &FileEntry, message: String| Error::Bake {
+        path: folder.join(&e.name),
+        message,
+    };
+    let first = &entries[0];
+    let grid = grid_of(&first.axes.index).filter(sane).ok_or_else(|| {
+        bad(
+            first,
+            format!("axes: no x and z axes of 1 to {MAX_GRID_SIDE} cells over a finite range"),
+        )
+    })?;
+    let count = m.frames.count;
+    let wind_bytes = (grid.nx as u64)
+        .checked_mul(grid.ny as u64)
+        .and_then(|c| c.checked_mul(count as u64))
+        .and_then(|c| c.checked_mul(8))
+        .filter(|&b| {
+            b <= MAX_WIND_BYTES && usize::try_from(b).is_ok_and(|b| b <= isize::MAX as usize)
+        });
+    if wind_bytes.is_none() {
+        return Err(bad(
+            first,
+            format!(
+                "{count} frames of {} × {} cells take more than the {} GiB a bake may hold",
+                grid.nx,
+                grid.ny,
+                MAX_WIND_BYTES >> 30
+            ),
+        ));
+    }
+    let mut paths = Vec::with_capacity(entries.len());
+    for (k, e) in entries.iter().enumerate() {
+        let path = file::inside(folder, &e.name, &format!("files[`{format}` {k}].name"))?;
+        let frames = if e.frame.is_some() { 1 } else { count };
+        let channels = e.encoding.channels.len();
+        let limit = cells_of(e, frames)
+            .filter(|_| (1..=16).contains(&channels))
+            .and_then(|c| most_bytes(c, channels))
+            .filter(|&b| b <= 2 * MAX_WIND_BYTES)
+            .ok_or_else(|| {
+                bad(
+                    e,
+                    "axes or channels: more cells or channels than a bake holds".into(),
+                )
+            })?;
+        if e.bytes > limit {
+            return Err(bad(
+                e,
+                format!(
+                    "bytes: {}, more than a file of its cells and channels takes ({limit})",
+                    e.bytes
+                ),
+            ));
+        }
+        paths.push((path, limit));
+    }
+    let heights = match &m.terrain {
+        None => None,
+        Some(t) => {
+            let path = file::inside(folder, &t.file, "terrain.file")?;
+            let g = grid_of(&t.axes).filter(sane).ok_or_else(|| Error::Bake {
+                path: path.clone(),
+                message: format!(
+                    "terrain.axes: no x and z axes of 1 to {MAX_GRID_SIDE} cells over a finite range"
+                ),
+            })?;
+            let limit = (g.nx.checked_mul(g.ny))
+                .and_then(|c| most_bytes(c, 2))
+                .unwrap_or(u64::MAX);
+            Some((path, limit))
+        }
+    };
     Ok(Picked {
         format,
         kind,
         entries,
-        heights: m.terrain.as_ref().map(|t| t.file.clone()),
+        paths,
+        heights,
+        grid,
     })
 }
 
@@ -218,14 +363,15 @@ fn list(names: &[String]) -> String {
     }
 }
 
-/// A grid the sampler can index: sides an i32 holds (its float-to-index conversion relies on
-/// it), over a rectangle of some size.
+/// A grid the sampler can index: at most [`MAX_GRID_SIDE`] cells a side (an i32 holds
+/// them: its float-to-index conversion relies on it), over a finite rectangle of some size.
 fn sane(g: &Grid) -> bool {
-    (1..=1 << 24).contains(&g.nx)
-        && (1..=1 << 24).contains(&g.ny)
+    (1..=MAX_GRID_SIDE).contains(&g.nx)
+        && (1..=MAX_GRID_SIDE).contains(&g.ny)
+        && g.min.iter().chain(&g.max).all(|v| v.is_finite())
         && g.max[0] > g.min[0]
         && g.max[1] > g.min[1]
-        && g.per_metre.iter().all(|p| p.is_finite())
+        && g.per_metre.iter().all(|p| p.is_finite() && *p > 0.0)
 }
 
 /// The rectangle an entry's x and z axes cover, and their cells.
@@ -247,14 +393,11 @@ fn decode(
     files: Vec<Vec<u8>>,
     options: &Options,
 ) -> Result<Bake, Error> {
-    let first = &picked.entries[0];
     let bad = |e: &FileEntry, message: String| Error::Bake {
         path: folder.join(&e.name),
         message,
     };
-    let grid = grid_of(&first.axes.index)
-        .filter(sane)
-        .ok_or_else(|| bad(first, "axes: no x and z axes with cells and a range".into()))?;
+    let grid = picked.grid.clone();
     let cells = grid.nx * grid.ny;
     let count = m.frames.count;
     let factors = m
@@ -262,11 +405,35 @@ fn decode(
         .as_ref()
         .map(|p| p.factors.clone())
         .unwrap_or_default();
-    let mut wind = Vec::with_capacity(count * cells);
+    let mut wind = Vec::new();
+    wind.try_reserve_exact(count * cells).map_err(|_| {
+        bad(
+            &picked.entries[0],
+            format!(
+                "not enough memory for the wind's {} MB",
+                (count * cells * 8) >> 20
+            ),
+        )
+    })?;
     for (e, bytes) in picked.entries.iter().zip(&files) {
-        let stored = read::stored(picked.kind, e, bytes).map_err(|msg| bad(e, msg))?;
-        let frames = decode_file(e, &grid, &stored, &factors).map_err(|msg| bad(e, msg))?;
         let want = if e.frame.is_some() { 1 } else { count };
+        let in_file = cells_of(e, want).unwrap_or(usize::MAX);
+        let stored = read::stored(picked.kind, e, bytes, in_file).map_err(|msg| bad(e, msg))?;
+        let frames = decode_file(e, &grid, &stored, &factors).map_err(|msg| bad(e, msg))?;
+        if let Some(k) = frames
+            .iter()
+            .position(|w| !(w[0].is_finite() && w[1].is_finite()))
+        {
+            return Err(bad(
+                e,
+                format!(
+                    "cell {} of frame {} decodes to {:?} m/s: not a finite wind",
+                    k % cells,
+                    e.frame.unwrap_or(k / cells),
+                    frames[k]
+                ),
+            ));
+        }
         if frames.len() != want * cells {
             return Err(bad(
                 e,
@@ -288,13 +455,16 @@ fn decode(
                 path: path.clone(),
                 message,
             };
-            let (w, h, grey) = read::grey16(bytes).map_err(bad)?;
-            let g = grid_of(&t.axes)
-                .filter(|g| g.nx == w && g.ny == h && sane(g))
-                .ok_or_else(|| bad(format!("{w} × {h} pixels, not as the manifest's axes")))?;
             if t.sample != "unorm16" {
                 return Err(bad(format!("sample `{}`; heights are unorm16", t.sample)));
             }
+            if !(t.scale.is_finite() && t.offset.is_finite()) {
+                return Err(bad("terrain: scale or offset not a finite number".into()));
+            }
+            let g = grid_of(&t.axes)
+                .filter(sane)
+                .ok_or_else(|| bad("terrain.axes: no x and z axes".into()))?;
+            let (w, h, grey) = read::grey16(bytes, [g.nx, g.ny]).map_err(bad)?;
             // Rows down the image run +z; a `-z` axis would run them north.
             let flip = t.axes.iter().any(|a| a.world == "-z");
             let metres = (0..h)
@@ -303,7 +473,10 @@ fn decode(
                     grey[row * w..(row + 1) * w].iter().copied()
                 })
                 .map(|s| s * t.scale + t.offset)
-                .collect();
+                .collect::<Vec<f32>>();
+            if metres.iter().any(|m| !m.is_finite()) {
+                return Err(bad("a height decodes to no finite number".into()));
+            }
             Some(Heights { grid: g, metres })
         }
         _ => None,
@@ -356,6 +529,9 @@ fn decode_file(
     let (Some(cx), Some(cz)) = (cx, cz) else {
         return Err("encoding: no velocity channels along x and z".into());
     };
+    if ![cx.2, cx.3, cz.2, cz.3].iter().all(|v| v.is_finite()) {
+        return Err("encoding: a channel's scale or offset is not a finite number".into());
+    }
     // The index axes: per file axis, its cells, and where it goes (x, z, a layer).
     let mut layer_axis = None;
     for (a, axis) in index.iter().enumerate() {
@@ -395,7 +571,7 @@ fn decode_file(
             Some((a, k, 1.0 / factors[k]))
         }
     };
-    let per_frame: usize = index.iter().map(|a| a.cells).product();
+    let per_frame = cells_of(e, 1).ok_or("axes: more cells than a bake holds")?;
     let cells = stored.values.len() / per_cell;
     if per_frame == 0 || !cells.is_multiple_of(per_frame) {
         return Err(format!(

@@ -50,8 +50,14 @@ impl Kind {
     }
 }
 
-/// The stored samples of `bytes`, a file of kind `kind` described by `entry`.
-pub(crate) fn stored(kind: Kind, entry: &FileEntry, bytes: &[u8]) -> Result<Stored, String> {
+/// The stored samples of `bytes`, a file of kind `kind` described by `entry`, holding
+/// `cells` cells: an image whose header claims more is refused before it is decoded.
+pub(crate) fn stored(
+    kind: Kind,
+    entry: &FileEntry,
+    bytes: &[u8],
+    cells: usize,
+) -> Result<Stored, String> {
     let channels = entry.encoding.channels.len();
     let values = match kind {
         Kind::Raw => f32s(bytes, "the file")?,
@@ -62,8 +68,8 @@ pub(crate) fn stored(kind: Kind, entry: &FileEntry, bytes: &[u8]) -> Result<Stor
             f32s(&bytes[10..], "the vectors after the header")?
         }
         Kind::Dds => dds(entry, bytes)?,
-        Kind::Png => return png_samples(bytes, channels),
-        Kind::Exr => exr_samples(entry, bytes)?,
+        Kind::Png => return png_samples(bytes, channels, cells),
+        Kind::Exr => exr_samples(entry, bytes, cells)?,
     };
     Ok(Stored { channels, values })
 }
@@ -107,12 +113,19 @@ fn dds(entry: &FileEntry, bytes: &[u8]) -> Result<Vec<f32>, String> {
     }
 }
 
-/// A PNG's one image as stored (16-bit samples kept, big-endian; nothing expanded).
+/// A PNG's one image as stored (16-bit samples kept, big-endian; nothing expanded), if its
+/// header says it is `pixels` pixels (checked before anything is decoded).
 #[cfg(feature = "png")]
-fn decode_png(bytes: &[u8]) -> Result<(png::OutputInfo, Vec<u8>), String> {
+fn decode_png(bytes: &[u8], pixels: usize) -> Result<(png::OutputInfo, Vec<u8>), String> {
     let mut decoder = png::Decoder::new(std::io::Cursor::new(bytes));
     decoder.set_transformations(png::Transformations::IDENTITY);
     let mut reader = decoder.read_info().map_err(|e| format!("PNG: {e}"))?;
+    let (w, h) = (reader.info().width, reader.info().height);
+    if u64::from(w) * u64::from(h) != pixels as u64 {
+        return Err(format!(
+            "PNG: the header says {w} × {h} pixels, the manifest's axes {pixels} cells"
+        ));
+    }
     let size = reader
         .output_buffer_size()
         .ok_or("PNG: the image is too large")?;
@@ -125,8 +138,8 @@ fn decode_png(bytes: &[u8]) -> Result<(png::OutputInfo, Vec<u8>), String> {
 }
 
 #[cfg(feature = "png")]
-fn png_samples(bytes: &[u8], channels: usize) -> Result<Stored, String> {
-    let (info, buf) = decode_png(bytes)?;
+fn png_samples(bytes: &[u8], channels: usize, cells: usize) -> Result<Stored, String> {
+    let (info, buf) = decode_png(bytes, cells)?;
     let per_pixel = info.color_type.samples();
     if per_pixel < channels {
         return Err(format!(
@@ -153,14 +166,28 @@ fn png_samples(bytes: &[u8], channels: usize) -> Result<Stored, String> {
 }
 
 #[cfg(not(feature = "png"))]
-fn png_samples(_: &[u8], _: usize) -> Result<Stored, String> {
+fn png_samples(_: &[u8], _: usize, _: usize) -> Result<Stored, String> {
     Err("this build reads no PNG (the `png` feature is off)".into())
 }
 
 /// The channels the manifest names, each read as 32-bit floats (half floats widen exactly).
 #[cfg(feature = "exr")]
-fn exr_samples(entry: &FileEntry, bytes: &[u8]) -> Result<Vec<f32>, String> {
+fn exr_samples(entry: &FileEntry, bytes: &[u8], cells: usize) -> Result<Vec<f32>, String> {
     use exr::prelude::*;
+    // The header first: no layer larger than the manifest's cells, no more than 16
+    // channels, before any pixel is decoded.
+    let meta = exr::meta::MetaData::read_from_buffered(std::io::Cursor::new(bytes), false)
+        .map_err(|e| format!("EXR: {e}"))?;
+    for h in meta.headers.iter() {
+        let (w, ht) = (h.layer_size.width(), h.layer_size.height());
+        if (w as u64) * (ht as u64) > cells as u64 || h.channels.list.len() > 16 {
+            return Err(format!(
+                "EXR: a layer of {w} × {ht} pixels and {} channels, where the manifest's axes \
+                 have {cells} cells",
+                h.channels.list.len()
+            ));
+        }
+    }
     let image = read()
         .no_deep_data()
         .largest_resolution_level()
@@ -189,14 +216,21 @@ fn exr_samples(entry: &FileEntry, bytes: &[u8]) -> Result<Vec<f32>, String> {
 }
 
 #[cfg(not(feature = "exr"))]
-fn exr_samples(_: &FileEntry, _: &[u8]) -> Result<Vec<f32>, String> {
+fn exr_samples(_: &FileEntry, _: &[u8], _: usize) -> Result<Vec<f32>, String> {
     Err("this build reads no EXR (the `exr` feature is off)".into())
 }
 
-/// The grey samples of the terrain's 16-bit PNG, `n / 65535`, row after row.
+/// The grey samples of the terrain's 16-bit PNG, `n / 65535`, row after row, if it is
+/// `size` pixels (checked before it is decoded).
 #[cfg(feature = "png")]
-pub(crate) fn grey16(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
-    let (info, buf) = decode_png(bytes)?;
+pub(crate) fn grey16(bytes: &[u8], size: [usize; 2]) -> Result<(usize, usize, Vec<f32>), String> {
+    let (info, buf) = decode_png(bytes, size[0].saturating_mul(size[1]))?;
+    if [info.width as usize, info.height as usize] != size {
+        return Err(format!(
+            "{} × {} pixels, where the manifest's axes have {} × {}",
+            info.width, info.height, size[0], size[1]
+        ));
+    }
     if info.color_type != png::ColorType::Grayscale || info.bit_depth != png::BitDepth::Sixteen {
         return Err(format!(
             "PNG: {:?} {:?}-bit; the heights are 16-bit grey",
@@ -211,7 +245,7 @@ pub(crate) fn grey16(bytes: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
 }
 
 #[cfg(not(feature = "png"))]
-pub(crate) fn grey16(_: &[u8]) -> Result<(usize, usize, Vec<f32>), String> {
+pub(crate) fn grey16(_: &[u8], _: [usize; 2]) -> Result<(usize, usize, Vec<f32>), String> {
     Err(
         "this build reads no PNG (the `png` feature is off), and the terrain's heights are one"
             .into(),

@@ -246,13 +246,18 @@ impl Heights {
         a + (b - a) * c.fz
     }
 
+    /// The ground at `(x, z)`: beyond the rectangle the edge's, or where the bake wraps the
+    /// wrapped point's.
     #[inline]
-    fn at(&self, x: f32, z: f32) -> f32 {
-        let c = self
-            .grid
-            .locate(x, z, Outside::Clamp)
-            .expect("clamped points are always located");
-        self.at_cell(&c)
+    fn at(&self, x: f32, z: f32, outside: Outside) -> f32 {
+        let outside = if outside == Outside::Wrap {
+            Outside::Wrap
+        } else {
+            Outside::Clamp
+        };
+        self.grid
+            .locate(x, z, outside)
+            .map_or(0.0, |c| self.at_cell(&c))
     }
 }
 
@@ -349,25 +354,34 @@ impl Bake {
     }
 
     /// The ground's height at world point `(x, z)` (windloom's axes, metres): the bake's
-    /// terrain where it has one, else 0.
+    /// terrain where it has one, else 0; beyond the rectangle the edge's, or with
+    /// [`Outside::Wrap`] the wrapped point's (the ground the wind there was baked over).
     pub fn ground_at(&self, x: f32, z: f32) -> f32 {
-        self.heights.as_ref().map_or(0.0, |h| h.at(x, z))
+        (self.heights.as_ref()).map_or(0.0, |h| h.at(x, z, self.options.outside))
     }
 
+    /// The frames `t` seconds fall between. In f64: a game's clock a month on (2.6 million
+    /// seconds, 156 million frames at 60 fps) still finds its place to a millionth of a frame
+    /// (f32 would step 16 frames at a time there). A time that is no number reads the first
+    /// frame; an infinite one the first or the last frame of a bake that does not loop.
     #[inline]
-    fn moment(&self, t: f32) -> Moment {
+    fn moment(&self, t: f64) -> Moment {
         let n = self.frames();
         if n <= 1 {
             return Moment { a: 0, b: 0, w: 0.0 };
         }
-        let f = t * self.fps();
-        if !f.is_finite() {
-            return Moment { a: 0, b: 0, w: 0.0 };
-        }
+        let last = (n - 1) as f64;
+        let f = t * f64::from(self.fps());
         let f = if self.looped() {
-            f.rem_euclid(n as f32)
+            if f.is_finite() {
+                f.rem_euclid(n as f64)
+            } else {
+                0.0
+            }
+        } else if f.is_nan() {
+            0.0
         } else {
-            f.clamp(0.0, (n - 1) as f32)
+            f.clamp(0.0, last)
         };
         let a = (f as usize).min(n - 1);
         let b = if self.looped() {
@@ -378,7 +392,7 @@ impl Bake {
         Moment {
             a,
             b,
-            w: f - a as f32,
+            w: ((f - a as f64) as f32).clamp(0.0, 1.0),
         }
     }
 
@@ -401,23 +415,17 @@ impl Bake {
         };
         let ground = match &self.heights {
             None => 0.0,
-            Some(h) if self.heights_on_wind_grid => {
-                // Outside the rectangle (wrap aside) the ground is the edge's: the corners
-                // are the clamped cells either way.
-                if self.options.outside == Outside::Wrap {
-                    h.at(x, z)
-                } else {
-                    h.at_cell(&c)
-                }
-            }
-            Some(h) => h.at(x, z),
+            // The wind's own corners: clamped to the edge's cells, or wrapped as the wind is.
+            Some(h) if self.heights_on_wind_grid => h.at_cell(&c),
+            Some(h) => h.at(x, z, self.options.outside),
         };
         let k = law.factor(y - ground);
         [v[0] * k, v[1] * k]
     }
 
-    /// The wind at `position` (in the [`Options::axes`]) at `t` seconds of the game's clock:
-    /// m/s (cm/s in Unreal's axes), in the same axes.
+    /// The wind at `position` (in the [`Options::axes`]) at `t` seconds of the game's clock
+    /// (f64, so a clock that has run for weeks reads the wind as precisely as one just
+    /// started): m/s (cm/s in Unreal's axes), in the same axes.
     ///
     /// Bilinear between the baked cells' centres; the height above the ground (the bake's
     /// terrain, else `y = 0`) scales it by the profile's log law (zero at and below the
@@ -425,7 +433,7 @@ impl Bake {
     /// top above it); linear in time between frames, frame `k` at `t = k / fps`, wrapping
     /// for a looped bake and holding the first or last frame otherwise. Beyond the baked
     /// rectangle, [`Options::outside`] says. The wind is horizontal: the vertical part is 0.
-    pub fn wind_at(&self, position: [f32; 3], t: f32) -> [f32; 3] {
+    pub fn wind_at(&self, position: [f32; 3], t: f64) -> [f32; 3] {
         let m = self.moment(t);
         let (fa, fb) = (self.frame(m.a), self.frame(m.b));
         let p = self.options.axes.engine_to_world(position);
@@ -437,7 +445,7 @@ impl Bake {
 
     /// [`Self::wind_at`] for many positions at one time, into `out` (as long as `positions`;
     /// a shorter `out` gets the first positions' winds).
-    pub fn wind_at_many(&self, positions: &[[f32; 3]], t: f32, out: &mut [[f32; 3]]) {
+    pub fn wind_at_many(&self, positions: &[[f32; 3]], t: f64, out: &mut [[f32; 3]]) {
         let m = self.moment(t);
         let (fa, fb) = (self.frame(m.a), self.frame(m.b));
         let n = positions.len().min(out.len());

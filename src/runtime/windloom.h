@@ -53,13 +53,16 @@ WindloomWind *windloom_open(const char *folder, uint32_t axes, uint32_t outside)
 /* Why this thread's last call failed, or "". Valid until this thread's next call. */
 const char *windloom_last_error(void);
 
-/* The wind at (x, y, z) at t seconds into out[0..3]. 0, or -1 for a NULL pointer. */
-int32_t windloom_wind_at(const WindloomWind *wind, float x, float y, float z, float t,
+/* The wind at (x, y, z) at t seconds into out[0..3]. 0, or -1 for a NULL pointer.
+ * t is the game's clock as a double: no need to wrap it, a clock a month on reads the wind
+ * as precisely as one just started. */
+int32_t windloom_wind_at(const WindloomWind *wind, float x, float y, float z, double t,
                          float out[3]);
 
-/* The wind at count positions (xyz, xyz, ...) at t seconds into out (3 floats each). */
+/* The wind at count positions (xyz, xyz, ...) at t seconds into out (3 floats each).
+ * 0, or -1 for a NULL pointer or a count no array can hold. */
 int32_t windloom_wind_at_many(const WindloomWind *wind, const float *positions, size_t count,
-                              float t, float *out);
+                              double t, float *out);
 
 /* Looks for a new bake: 1 a new bake answers, 0 nothing changed, -1 it could not be read
  * (windloom_last_error says why; the last good bake goes on answering). */

@@ -1453,6 +1453,8 @@ mod volume;
 /// Hostile files, folders, signals and file systems, each ending in a result or a one-line
 /// refusal within seconds.
 mod hostile;
+/// A bake as a hostile game asset, read by the runtime; its edges and its clock.
+mod lying_bakes;
 
 /// The half-float EXR atlas, read as Godot reads an EXR (floats, not 8 bits) and sampled as
 /// `windloom_grass.gdshader` does with `atlas_is_float` (the manifest's choice when the bake

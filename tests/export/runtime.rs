@@ -86,7 +86,7 @@ fn every_format_reads_back_to_the_raw_wind() {
                 for j in 0..raw.ny {
                     for i in 0..raw.nx {
                         let (x, z) = centre(&m, i, j);
-                        let w = b.wind_at([x, y, z], t);
+                        let w = b.wind_at([x, y, z], f64::from(t));
                         let v = raw.at(k, i, j);
                         assert!(
                             (w[0] - v[0]).abs() <= tol + POSITION_ROUNDING
@@ -135,7 +135,7 @@ fn every_format_reads_back_to_the_raw_wind() {
                 for j in 0..raw.ny {
                     for i in 0..raw.nx {
                         let (x, z) = centre(&m, i, j);
-                        let w = b.wind_at([x, y, z], k as f32 / m.frames.fps);
+                        let w = b.wind_at([x, y, z], f64::from(k as f32 / m.frames.fps));
                         let v = raw.at(k, i, j);
                         assert!(
                             (w[0] - v[0]).abs() <= tol + POSITION_ROUNDING
@@ -183,7 +183,7 @@ fn time_height_edges_and_axes_are_as_documented() {
     let b = Bake::open(dir.path(), &Options::default()).unwrap();
     let profile = m.profile.clone().expect("every bake states its profile");
     let y = profile.reference_height;
-    let fps = m.frames.fps;
+    let fps = f64::from(m.frames.fps);
     let (i, j) = (raw.nx / 3, raw.ny / 2);
     let (x, z) = centre(&m, i, j);
     let close = |a: [f32; 3], b: [f32; 2], what: &str| {
@@ -216,7 +216,7 @@ fn time_height_edges_and_axes_are_as_documented() {
         raw.at(3, i, j),
         "one frame before 0",
     );
-    assert!((b.duration() - 4.0 / fps).abs() < 1e-6);
+    assert!((f64::from(b.duration()) - 4.0 / fps).abs() < 1e-6);
     // The log law up the profile: zero at the roughness length, the top's wind above it.
     let law = |h: f32| {
         let z0 = f64::from(profile.roughness_length);
@@ -325,7 +325,7 @@ fn time_height_edges_and_axes_are_as_documented() {
         raw.at(0, i, j),
         "before the first",
     );
-    close(b.wind_at([x, y, z], f32::NAN), raw.at(0, i, j), "at NaN");
+    close(b.wind_at([x, y, z], f64::NAN), raw.at(0, i, j), "at NaN");
     // Many points at once: the same answers.
     let points: Vec<[f32; 3]> = (0..500)
         .map(|k| {

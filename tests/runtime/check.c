@@ -74,7 +74,7 @@ int main(int argc, char **argv) {
     float *many = malloc(cells * 3 * sizeof(float));
     size_t checked = 0;
     for (size_t k = 0; k < frames; k++) {
-        float t = (float)k / info.fps;
+        double t = (double)k / info.fps;
         for (size_t j = 0; j < ny; j++) {
             for (size_t i = 0; i < nx; i++) {
                 size_t c = j * nx + i;
