@@ -56,12 +56,16 @@ fn main() {
 }
 
 fn scatter(mut commands: Commands, wind: Res<Wind>) {
-    let (min, max) = wind.bake().bounds();
+    // No bake (missing or broken: the plugin logged why), no leaves.
+    let Some(bake) = wind.bake() else {
+        return;
+    };
+    let (min, max) = bake.bounds();
     for a in 0..20 {
         for b in 0..20 {
             let x = min[0] + (a as f32 + 0.5) / 20.0 * (max[0] - min[0]);
             let z = min[1] + (b as f32 + 0.5) / 20.0 * (max[1] - min[1]);
-            let y = wind.bake().ground_at(x, z) + 1.0;
+            let y = bake.ground_at(x, z) + 1.0;
             commands.spawn((
                 Transform::from_xyz(x, y, z),
                 WindSample::default(),
@@ -78,7 +82,10 @@ fn blow(
     mut leaves: Query<(&mut Transform, &mut Leaf, &WindSample)>,
 ) {
     let dt = time.delta_secs();
-    let (min, max) = wind.bake().bounds();
+    let Some(bake) = wind.bake() else {
+        return;
+    };
+    let (min, max) = bake.bounds();
     for (mut at, mut leaf, sample) in &mut leaves {
         let v = leaf.0;
         leaf.0 = v + (sample.wind - v) * (dt / 0.5).min(1.0);
@@ -86,7 +93,7 @@ fn blow(
         // Leaves blown off the level come back in on the other side.
         at.translation.x = min[0] + (at.translation.x - min[0]).rem_euclid(max[0] - min[0]);
         at.translation.z = min[1] + (at.translation.z - min[1]).rem_euclid(max[1] - min[1]);
-        at.translation.y = wind.bake().ground_at(at.translation.x, at.translation.z) + 1.0;
+        at.translation.y = bake.ground_at(at.translation.x, at.translation.z) + 1.0;
     }
 }
 
@@ -102,7 +109,17 @@ fn show(
         return;
     }
     run.printed = Some(second);
-    let (min, max) = wind.bake().bounds();
+    let Some(bake) = wind.bake() else {
+        println!(
+            "t = {second} s: no wind: {}",
+            wind.last_error().unwrap_or("no bake")
+        );
+        if time.elapsed_secs() >= run.seconds {
+            exit.write(AppExit::error());
+        }
+        return;
+    };
+    let (min, max) = bake.bounds();
     let mut map = vec![[b' '; COLUMNS]; ROWS];
     let mut speed = 0.0f32;
     for (at, leaf) in &leaves {
@@ -118,7 +135,7 @@ fn show(
     }
     println!(
         "t = {second} s: 400 leaves, fastest {speed:.1} m/s (bake {}, x east, z south down the page)",
-        wind.bake().sequence()
+        bake.sequence()
     );
     println!("+{}+", "-".repeat(COLUMNS));
     for row in &map {
