@@ -88,6 +88,7 @@ fn frame(ctx: &ExportContext, k: usize, f: &Field) -> Result<Output, BakeError> 
                 engine_frame: None,
             },
             bytes: 0,
+            crc32: 0,
         },
         name,
         bytes,
@@ -175,6 +176,7 @@ pub(crate) fn atlas(
         ),
         axes: m::atlas_axes(ctx),
         bytes: 0,
+        crc32: 0,
     };
     Ok((bytes, entry))
 }

@@ -99,6 +99,7 @@ fn frame(ctx: &ExportContext, k: usize, frame: &Field) -> Output {
                 engine_frame: Some("Unreal: X east, Y south, Z up (left-handed, centimetres)"),
             },
             bytes: 0,
+            crc32: 0,
         },
         name,
         bytes: text.into_bytes(),

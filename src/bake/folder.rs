@@ -53,8 +53,9 @@ pub(crate) struct Staging {
     /// Its lock file, held locked by `_lock` while the bake runs.
     lock: PathBuf,
     _lock: File,
-    /// Names an earlier bake in `out` wrote (from its manifest), `manifest.json` included.
-    /// Everything else in `out` is the user's and is carried over.
+    /// Names an earlier bake in `out` wrote: those its manifest lists whose content is still
+    /// what it wrote (size and CRC-32), `manifest.json` included. Everything else in `out` is
+    /// the user's and is carried over (a manifest's word alone removes nothing).
     previous: Option<BTreeSet<String>>,
     /// The earlier bake's manifest `sequence` (0: none, or a version 1 manifest).
     previous_sequence: u64,
@@ -457,13 +458,98 @@ fn entry_names(dir: &Path) -> Result<Vec<String>, BakeError> {
     Ok(names)
 }
 
+/// The most bytes an earlier bake's `manifest.json` is read to (a bake of a thousand frame
+/// files writes about 0.5 MB).
+const MANIFEST_MAX: u64 = 16 << 20;
+
+/// The earlier bake's manifest: a regular file of at most [`MANIFEST_MAX`] bytes, read
+/// without waiting (a FIFO in its place is refused, never waited on).
+fn read_manifest(out: &Path) -> std::io::Result<String> {
+    let bytes = crate::io::read_regular(&out.join(MANIFEST), MANIFEST_MAX, "a bake's manifest")?;
+    String::from_utf8(bytes).map_err(|_| other("it is not UTF-8 text".into()))
+}
+
 /// The `sequence` of the bake in `out` (0 where it has none).
 fn previous_sequence(out: &Path) -> u64 {
-    std::fs::read_to_string(out.join(MANIFEST))
+    read_manifest(out)
         .ok()
         .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
         .and_then(|v| v["sequence"].as_u64())
         .unwrap_or(0)
+}
+
+/// The size and CRC-32 of the regular file at `path`, read in blocks (a FIFO, a device or a
+/// folder is refused without waiting on it).
+fn size_and_crc(path: &Path) -> std::io::Result<(u64, u32)> {
+    use std::io::Read;
+    let mut options = std::fs::OpenOptions::new();
+    options.read(true);
+    crate::platform::fs::open_without_waiting(&mut options);
+    let mut file = options.open(path)?;
+    if !file.metadata()?.is_file() {
+        return Err(other("not a regular file".into()));
+    }
+    let mut hasher = crc32fast::Hasher::new();
+    let mut buf = vec![0u8; 1 << 20];
+    let mut size = 0u64;
+    loop {
+        let n = file.read(&mut buf)?;
+        if n == 0 {
+            return Ok((size, hasher.finalize()));
+        }
+        size += n as u64;
+        hasher.update(&buf[..n]);
+    }
+}
+
+/// The CRC-32 of a file this bake wrote, for its manifest entry.
+pub(super) fn crc32_of(path: &Path) -> Result<u32, BakeError> {
+    size_and_crc(path)
+        .map(|(_, crc)| crc)
+        .map_err(|source| BakeError::Write {
+            path: path.to_path_buf(),
+            source,
+        })
+}
+
+/// Whether the file an earlier manifest lists as `entry` is still the one that bake wrote:
+/// its size, and its CRC-32 where the manifest has one. A manifest from before the CRCs
+/// (windloom 0.1's first bakes) is taken at its size and the format's first bytes.
+fn written_by_bake(path: &Path, entry: &serde_json::Value) -> bool {
+    let Some(bytes) = entry["bytes"].as_u64() else {
+        return false;
+    };
+    match entry["crc32"].as_u64() {
+        Some(crc) => size_and_crc(path).is_ok_and(|(n, c)| n == bytes && u64::from(c) == crc),
+        None => {
+            let Ok(meta) = std::fs::symlink_metadata(path) else {
+                return false;
+            };
+            meta.is_file() && meta.len() == bytes && starts_as_its_format(path)
+        }
+    }
+}
+
+/// Whether a file begins as windloom writes its format (by its name's extension).
+fn starts_as_its_format(path: &Path) -> bool {
+    use std::io::Read;
+    let ext = path
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase());
+    let magic: &[u8] = match ext.as_deref() {
+        Some("png") => b"\x89PNG\r\n\x1a\n",
+        Some("exr") => &[0x76, 0x2f, 0x31, 0x01],
+        Some("dds") => b"DDS ",
+        Some("vf") => b"VF_V",
+        Some("fga") => b"",
+        // Raw floats have no header: their size, checked above, is their shape.
+        Some("f32") => b"",
+        _ => return false,
+    };
+    let mut head = vec![0u8; magic.len()];
+    std::fs::File::open(path)
+        .and_then(|mut f| f.read_exact(&mut head))
+        .is_ok_and(|()| head == magic)
 }
 
 /// The names an earlier bake wrote into `out`. An empty folder has none; a folder that holds
@@ -485,24 +571,41 @@ fn previous_bake(out: &Path) -> Result<BTreeSet<String>, BakeError> {
             )),
         )
     };
-    let text = std::fs::read_to_string(&manifest).map_err(|_| refuse("no manifest.json"))?;
+    let text = match read_manifest(out) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            return Err(refuse("no manifest.json"));
+        }
+        Err(e) => {
+            return Err(output_error(
+                &manifest,
+                other(format!(
+                    "{} (a bake reads the manifest of the bake it replaces)",
+                    crate::io::plain(e)
+                )),
+            ));
+        }
+    };
     let value: serde_json::Value = serde_json::from_str(&text)
         .map_err(|_| refuse("its manifest.json is not a windloom bake manifest"))?;
     if value["format"] != "windloom-bake" {
         return Err(refuse("its manifest.json is not a windloom bake manifest"));
     }
     let mut set = BTreeSet::from([MANIFEST.to_string()]);
-    // The bake's files, and the terrain's heightmap (`terrain.file`), which it wrote too.
-    let names = value["files"]
-        .as_array()
-        .into_iter()
-        .flatten()
-        .map(|f| &f["name"])
-        .chain([&value["terrain"]["file"]]);
-    for name in names {
+    // The bake's files, and the terrain's heightmap (`terrain.file`), which it wrote too:
+    // each only while it holds what the bake wrote (a manifest listing the user's files
+    // claims nothing).
+    let entries = (value["files"].as_array().into_iter().flatten())
+        .map(|f| (&f["name"], f))
+        .chain([(&value["terrain"]["file"], &value["terrain"])]);
+    for (name, entry) in entries {
         if let Some(name) = name.as_str() {
             // Only plain names: a manifest cannot make a bake claim files elsewhere.
-            if !name.contains(['/', '\\']) && name != "." && name != ".." {
+            if !name.contains(['/', '\\'])
+                && name != "."
+                && name != ".."
+                && written_by_bake(&out.join(name), entry)
+            {
                 set.insert(name.to_string());
             }
         }
@@ -636,8 +739,13 @@ mod tests {
             let mut files = Vec::new();
             for k in 0..frames {
                 let name = format!("wind_{k:04}.vf");
-                std::fs::write(s.path().join(&name), format!("{who}")).unwrap();
-                files.push(serde_json::json!({ "name": name }));
+                let content = format!("{who}");
+                std::fs::write(s.path().join(&name), &content).unwrap();
+                files.push(serde_json::json!({
+                    "name": name,
+                    "bytes": content.len(),
+                    "crc32": crc32fast::hash(content.as_bytes()),
+                }));
             }
             let m = serde_json::json!({ "format": "windloom-bake", "who": who, "files": files });
             std::fs::write(s.path().join(MANIFEST), m.to_string()).unwrap();
@@ -684,11 +792,18 @@ mod tests {
         let out = root.path().join("volume");
         std::fs::create_dir(&out).unwrap();
         // The old bake: two frames; and a file of the user's.
-        std::fs::write(
-            out.join(MANIFEST),
-            r#"{"format":"windloom-bake","files":[{"name":"a_0000.vf"},{"name":"a_0001.vf"}]}"#,
-        )
-        .unwrap();
+        let listed = |name: &str, content: &str| {
+            serde_json::json!({
+                "name": name,
+                "bytes": content.len(),
+                "crc32": crc32fast::hash(content.as_bytes()),
+            })
+        };
+        let old = serde_json::json!({
+            "format": "windloom-bake",
+            "files": [listed("a_0000.vf", "old0"), listed("a_0001.vf", "old1")],
+        });
+        std::fs::write(out.join(MANIFEST), old.to_string()).unwrap();
         std::fs::write(out.join("a_0000.vf"), "old0").unwrap();
         std::fs::write(out.join("a_0001.vf"), "old1").unwrap();
         std::fs::write(out.join("notes.txt"), "mine").unwrap();
@@ -696,11 +811,9 @@ mod tests {
         // old manifest gone, the new frame moved in, then the bake died (its lock free).
         let dir = out.join(format!("{MARK}4000001-2"));
         std::fs::create_dir(&dir).unwrap();
-        std::fs::write(
-            dir.join(MANIFEST),
-            r#"{"format":"windloom-bake","files":[{"name":"a.vf"}]}"#,
-        )
-        .unwrap();
+        let new =
+            serde_json::json!({ "format": "windloom-bake", "files": [listed("a.vf", "new")] });
+        std::fs::write(dir.join(MANIFEST), new.to_string()).unwrap();
         std::fs::write(
             dir.join(PLAN),
             r#"{"remove":["a_0000.vf","a_0001.vf","manifest.json"]}"#,

@@ -71,5 +71,6 @@ pub(crate) fn write(dir: &Path, layout: &Layout) -> Result<Option<TerrainInfo>, 
         strength: t.strength,
         feature_length: t.feature_length_for(layout.world.size),
         bytes: written,
+        crc32: 0,
     }))
 }

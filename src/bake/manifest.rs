@@ -184,6 +184,9 @@ pub struct FileEntry {
     pub encoding: Encoding,
     pub axes: Axes,
     pub bytes: u64,
+    /// The CRC-32 of the file's bytes (ISO-HDLC, as zlib and PNG compute it): how a later
+    /// bake into this folder tells the file this bake wrote from one put there since.
+    pub crc32: u32,
 }
 
 /// The world's frame, as data.
@@ -264,6 +267,8 @@ pub struct TerrainInfo {
     /// The feature length, metres, slope and curvature were measured over.
     pub feature_length: f32,
     pub bytes: u64,
+    /// The CRC-32 of the file's bytes, as each file entry's `crc32`.
+    pub crc32: u32,
 }
 
 /// The vertical profile: the baked wind stands for the wind at `reference_height` above the

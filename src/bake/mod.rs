@@ -572,8 +572,16 @@ fn bake_staged(
         })?;
     }
 
-    let terrain = heights::write(&dir, &layout)?;
-    let files: Vec<FileEntry> = files.into_values().flatten().collect();
+    let mut terrain = heights::write(&dir, &layout)?;
+    let mut files: Vec<FileEntry> = files.into_values().flatten().collect();
+    // Each file's CRC, read back as it lies on disk: what the next bake into the folder
+    // checks before it removes a file as this bake's.
+    for e in &mut files {
+        e.crc32 = folder::crc32_of(&dir.join(&e.name))?;
+    }
+    if let Some(t) = &mut terrain {
+        t.crc32 = folder::crc32_of(&dir.join(t.file))?;
+    }
     let manifest = Manifest {
         format: "windloom-bake",
         version: MANIFEST_VERSION,

@@ -148,6 +148,7 @@ fn flowmap(ctx: &ExportContext, k: usize, f: &Field, sixteen: bool) -> Result<Ou
                 engine_frame: None,
             },
             bytes: 0,
+            crc32: 0,
         },
         name,
         bytes,
@@ -206,6 +207,7 @@ impl Atlas {
             encoding,
             axes: atlas_axes(ctx),
             bytes: 0,
+            crc32: 0,
         };
         Ok(Self {
             path: path.to_path_buf(),

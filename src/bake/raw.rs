@@ -47,6 +47,7 @@ pub(crate) fn entry(ctx: &ExportContext) -> FileEntry {
             engine_frame: None,
         },
         bytes: 0,
+        crc32: 0,
     }
 }
 

@@ -105,6 +105,7 @@ pub(crate) fn field(
                 engine_frame: Some("Unity: X east, Y up, Z north (left-handed, metres)"),
             },
             bytes: 0,
+            crc32: 0,
         },
         name,
         bytes,

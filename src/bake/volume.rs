@@ -148,6 +148,7 @@ fn entry(
         },
         axes: volume_axes(ctx, nx, ny, axes),
         bytes: 0,
+        crc32: 0,
     }
 }
 

@@ -660,3 +660,124 @@ fn nonsense_bakes_say_so_in_the_manifest() {
     .ok()
     .says("note: the baked wind is still");
 }
+
+/// A forged `manifest.json` in a folder of the user's, listing the user's own files (same
+/// names, even the sizes): the next `bake --out` into it removes none of them, because a
+/// bake removes only files whose content is what the earlier bake recorded (size and CRC-32),
+/// not what a manifest says. A user's file where the bake writes one of the same name is
+/// refused, not replaced; and the bake's own files of an earlier bake still go.
+#[test]
+fn a_forged_manifest_gets_none_of_the_user_s_files_removed() {
+    let dir = tempfile::tempdir().unwrap();
+    let meadow = meadow_path();
+    let notes = b"my notes, not a bake".to_vec();
+    let photo = vec![7u8; 4096];
+    let entry = |name: &str, bytes: usize, crc: Option<u32>| {
+        let mut e = serde_json::json!({ "name": name, "format": "png8", "bytes": bytes });
+        if let Some(c) = crc {
+            e["crc32"] = c.into();
+        }
+        e
+    };
+    // Without CRCs (as the first bakes wrote) and with wrong ones.
+    let mut out = PathBuf::new();
+    for (k, crc) in [None, Some(12345)].into_iter().enumerate() {
+        out = dir.path().join(format!("mine-{k}"));
+        std::fs::create_dir(&out).unwrap();
+        std::fs::write(out.join("notes.txt"), &notes).unwrap();
+        std::fs::write(out.join("photo.png"), &photo).unwrap();
+        let forged = serde_json::json!({
+            "format": "windloom-bake",
+            "version": 2,
+            "files": [entry("notes.txt", notes.len(), crc), entry("photo.png", photo.len(), crc)],
+        });
+        std::fs::write(out.join("manifest.json"), forged.to_string()).unwrap();
+        cli(&[
+            "bake",
+            s(&meadow),
+            "--out",
+            s(&out),
+            "--format",
+            "vf",
+            "--frames",
+            "1",
+            "--warmup",
+            "0.2",
+            "--grid",
+            "24x16",
+        ])
+        .ok();
+        assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), notes);
+        assert_eq!(std::fs::read(out.join("photo.png")).unwrap(), photo);
+    }
+    // The bake's own files of that bake go when the next bake writes other formats.
+    let vf: Vec<String> = names(&out)
+        .into_iter()
+        .filter(|n| n.ends_with(".vf"))
+        .collect();
+    assert!(!vf.is_empty());
+    cli(&[
+        "bake",
+        s(&meadow),
+        "--out",
+        s(&out),
+        "--format",
+        "raw",
+        "--frames",
+        "1",
+        "--warmup",
+        "0.2",
+        "--grid",
+        "24x16",
+    ])
+    .ok();
+    let now = names(&out);
+    assert!(vf.iter().all(|n| !now.contains(n)), "{now:?}");
+    assert!(now.contains(&"notes.txt".to_string()) && now.contains(&"photo.png".to_string()));
+    // A user's file named as the bake's output, listed by a forged manifest: refused.
+    std::fs::write(out.join("wind.f32"), b"mine too").unwrap();
+    let m: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(out.join("manifest.json")).unwrap()).unwrap();
+    let mut forged = m.clone();
+    forged["files"][0]["bytes"] = 8.into();
+    std::fs::write(out.join("manifest.json"), forged.to_string()).unwrap();
+    cli(&[
+        "bake",
+        s(&meadow),
+        "--out",
+        s(&out),
+        "--format",
+        "raw",
+        "--frames",
+        "1",
+        "--warmup",
+        "0.2",
+        "--grid",
+        "24x16",
+    ])
+    .refused("wind.f32");
+    assert_eq!(std::fs::read(out.join("wind.f32")).unwrap(), b"mine too");
+}
+
+/// A FIFO where the earlier bake's `manifest.json` should be: `bake --out` refuses at once
+/// (it waited on the FIFO for ever, deaf to SIGTERM, Ctrl-C and SIGHUP).
+#[test]
+fn a_fifo_for_the_earlier_manifest_is_refused_at_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("bake");
+    std::fs::create_dir(&out).unwrap();
+    std::fs::write(out.join("wind.f32"), b"x").unwrap();
+    mkfifo(&out.join("manifest.json"));
+    cli(&[
+        "bake",
+        s(&meadow_path()),
+        "--out",
+        s(&out),
+        "--format",
+        "raw",
+        "--frames",
+        "1",
+    ])
+    .refused("manifest.json")
+    .says("FIFO");
+}
