@@ -78,7 +78,7 @@ pub fn render_png(
         return Err(RenderError::Time(time));
     }
     let mut solver = Solver::new(layout);
-    while solver.time + 1e-6 < time {
+    while solver.time() + 1e-6 < time {
         solver.step();
     }
     let pix = render_scaled(layout, base, &solver, [w, h], speed_scale)?;
@@ -233,7 +233,11 @@ pub fn render_scaled(
     let white = [235, 235, 235];
     let sub = format!(
         "{:.0} × {:.0} m, grid {} × {}, t = {:.1} s",
-        size[0], size[1], solver.nx, solver.ny, solver.time
+        size[0],
+        size[1],
+        solver.nx,
+        solver.ny,
+        solver.time()
     );
     let tw = text_width(&font, 20.0 * ui, &layout.name);
     let sw = text_width(&font, 14.0 * ui, &sub);

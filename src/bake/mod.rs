@@ -473,8 +473,8 @@ fn bake_staged(
             }
             solver.step();
             steps += 1;
-            // The clock from the step count, so frame k sits at exactly warmup + k / fps.
-            solver.set_time(timing.time_after(steps) as f32);
+            // The solvers' one clock (substeps counted, in f64), as in the editor and
+            // `probe`: frame k sits at warmup + k / fps to within f32's rounding of `dt`.
             if steps % 8 == 0 || steps == sim_steps {
                 progress(steps, total, "simulating");
             }

@@ -242,6 +242,8 @@ fn needs_rebuild(old: &Layout, new: &Layout) -> bool {
 /// A saved state of the field: what a seek back starts from.
 struct Checkpoint {
     time: f32,
+    /// The solver's clock there, restored with the field.
+    clock: crate::sim::Clock,
     u: Vec<f32>,
     v: Vec<f32>,
     p: Vec<f32>,
@@ -342,7 +344,7 @@ impl Engine {
         }
         let why = format!(
             "the wind blew up at t = {:.2} s (non-finite values); stopped — press Reset",
-            solver.time
+            solver.time()
         );
         log::error!("{why}");
         for x in solver
@@ -430,7 +432,7 @@ impl Engine {
     /// Saves the CPU copy of the field (on the GPU: the last read-back) when it is a
     /// checkpoint's interval past the last one.
     fn checkpoint(&mut self) {
-        let t = self.cpu.time;
+        let t = self.cpu.time();
         let due = self
             .checkpoints
             .last()
@@ -438,9 +440,11 @@ impl Engine {
         if !due || self.halted || t <= 0.0 {
             return;
         }
+        let clock = self.cpu.clock;
         let (u, v) = self.cpu.faces_mut();
         let c = Checkpoint {
             time: t,
+            clock,
             u: u.to_vec(),
             v: v.to_vec(),
             p: self.cpu.p.clone(),
@@ -481,20 +485,20 @@ impl Engine {
         let from = self.checkpoints.iter().rposition(|c| c.time <= t + 1e-4);
         // Stepping on from where the field is now is quickest when it is before `t` and
         // after every checkpoint that is.
-        let ahead = from.is_none_or(|k| self.checkpoints[k].time <= self.cpu.time)
-            && self.cpu.time <= t + 1e-4
+        let ahead = from.is_none_or(|k| self.checkpoints[k].time <= self.cpu.time())
+            && self.cpu.time() <= t + 1e-4
             && !self.halted;
         if !ahead {
             match from {
                 Some(k) => {
                     let c = &self.checkpoints[k];
-                    let (time, p) = (c.time, c.p.clone());
+                    let (clock, p) = (c.clock, c.p.clone());
                     let (u, v) = (c.u.clone(), c.v.clone());
                     let (nu, nv) = self.cpu.faces_mut();
                     nu.copy_from_slice(&u);
                     nv.copy_from_slice(&v);
                     self.cpu.p.copy_from_slice(&p);
-                    self.cpu.time = time;
+                    self.cpu.clock = clock;
                 }
                 None => {
                     self.cpu = Solver::new(layout);
@@ -513,7 +517,7 @@ impl Engine {
         };
         let started = Instant::now();
         let dt = self.cpu.params.dt;
-        while self.cpu.time + dt * 0.5 <= t {
+        while self.cpu.time() + dt * 0.5 <= t {
             self.cpu.step();
             self.checkpoint();
             if started.elapsed() >= budget {
@@ -590,11 +594,11 @@ impl Engine {
             self.halted = false;
             self.notice = None;
         }
-        let time = self.cpu.time;
+        let clock = self.cpu.clock;
         let on_gpu = self.gpu.take().is_some();
         self.cpu = Solver::new(layout);
         if keep_time {
-            self.cpu.time = time;
+            self.cpu.clock = clock;
         }
         on_gpu
     }
@@ -680,7 +684,7 @@ impl Engine {
                 solver.curl.clone()
             },
             pressure: solver.p.clone(),
-            time: solver.time,
+            time: solver.time(),
             ms_per_step: self.ms,
             serial: self.serial,
             runs_on: if field.is_some() {
@@ -904,7 +908,7 @@ mod tests {
             e.checkpoints.len()
         );
         e.seek(&layout, target as f32 * dt);
-        assert!((e.cpu.time - straight.time).abs() < 1e-4);
+        assert!((e.cpu.time() - straight.time()).abs() < 1e-4);
         assert_eq!(
             e.cpu.velocity_field(),
             want,
@@ -912,9 +916,9 @@ mod tests {
         );
         // Forward from there, and back to the calm start.
         e.seek(&layout, 3.0);
-        assert!((e.cpu.time - 3.0).abs() < dt);
+        assert!((e.cpu.time() - 3.0).abs() < dt);
         e.seek(&layout, 0.0);
-        assert_eq!(e.cpu.time, 0.0);
+        assert_eq!(e.cpu.time(), 0.0);
         assert!(e.cpu.velocity_field().iter().all(|w| *w == [0.0, 0.0]));
         // An edit forgets them: the past of another layout is another wind.
         e.set_layout(&layout);
@@ -943,9 +947,9 @@ mod tests {
             snap.notice
         );
         assert!(snap.velocity.iter().flatten().all(|x| *x == 0.0));
-        let t = e.cpu.time;
+        let t = e.cpu.time();
         e.step();
-        assert_eq!(e.cpu.time, t, "halted: no more steps");
+        assert_eq!(e.cpu.time(), t, "halted: no more steps");
         e.rebuild(&layout, false);
         for _ in 0..5 {
             e.step();
@@ -984,7 +988,7 @@ mod tests {
             }
             e.move_to(RunsOn::Cpu, layout);
             let before = e.cpu.kinetic_energy();
-            let t = e.cpu.time;
+            let t = e.cpu.time();
             if on_gpu {
                 e.move_to(RunsOn::Gpu, layout);
             }
@@ -994,7 +998,7 @@ mod tests {
             assert_eq!(e.gpu.is_some(), on_gpu, "where the wind runs is kept");
             e.move_to(RunsOn::Cpu, &with_rock);
             let after = e.cpu.kinetic_energy();
-            assert_eq!(e.cpu.time, t, "the time is kept");
+            assert_eq!(e.cpu.time(), t, "the time is kept");
             assert!(
                 after > 0.5 * before && before > 0.0,
                 "the wind is kept: energy {before} before, {after} after"
@@ -1053,11 +1057,11 @@ mod tests {
         assert!(e.gpu.is_none(), "the wind left the lost device");
         let notice = e.notice.clone().unwrap_or_default();
         assert!(notice.contains("GPU"), "{notice}");
-        let t = e.cpu.time;
+        let t = e.cpu.time();
         for _ in 0..5 {
             e.step();
         }
-        assert!(e.cpu.time > t, "the wind runs on the CPU");
+        assert!(e.cpu.time() > t, "the wind runs on the CPU");
         // Asking for the GPU again (a rebuild, the View menu) does not go back to it.
         e.rebuild(&layout, false);
         e.choose(&layout);
@@ -1123,7 +1127,7 @@ mod tests {
             "{notice}"
         );
         e.step();
-        assert!(e.cpu.time > 0.0, "the wind runs on the CPU");
+        assert!(e.cpu.time() > 0.0, "the wind runs on the CPU");
         assert!(ctx.fault().is_none(), "refused before any GPU error");
         // A grid that fits the same device runs there.
         let fits = small_layout(256);
@@ -1150,6 +1154,6 @@ mod tests {
         );
         assert!(ctx.fault().is_none(), "caught by the error scope");
         e.step();
-        assert!(e.cpu.time > 0.0, "the wind runs on the CPU");
+        assert!(e.cpu.time() > 0.0, "the wind runs on the CPU");
     }
 }

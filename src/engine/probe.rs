@@ -102,8 +102,9 @@ fn sample(layout: &Layout, field: Vec<[f32; 2]>, points: &[[f32; 2]]) -> Vec<[f3
 }
 
 /// Runs `layout` from calm, `warmup` seconds unread, then `seconds` more reading the wind at
-/// `points` `hz` times a second (every so many steps, from the first step after the warm-up):
-/// one record per point, and a note where `auto` fell back to the CPU.
+/// `points` `hz` times a second (every so many steps, the first at the end of the warm-up,
+/// as a bake's first frame): one record per point, and a note where `auto` fell back to the
+/// CPU. Each reading's time is the solver's clock, the one the editor and the bake keep.
 pub fn run(
     layout: &Layout,
     points: &[[f32; 2]],
@@ -122,13 +123,15 @@ pub fn run(
     }
     let mut out = vec![Vec::new(); points.len()];
     for k in 0..steps {
-        stepper.step();
         if k % every == 0 {
             let field = stepper.velocity_field()?;
-            let time = (first + k + 1) as f32 * dt;
+            let time = stepper.seconds() as f32;
             for (record, wind) in out.iter_mut().zip(sample(layout, field, points)) {
                 record.push(Reading { time, wind });
             }
+        }
+        if k + 1 < steps {
+            stepper.step();
         }
     }
     Ok((out, note))

@@ -57,10 +57,18 @@ impl Stepper {
         }
     }
 
-    pub fn set_time(&mut self, t: f32) {
+    pub fn set_time(&mut self, seconds: f64) {
         match self {
-            Self::Cpu(s) => s.time = t,
-            Self::Gpu(g) => g.1.time = t,
+            Self::Cpu(s) => s.set_time(seconds),
+            Self::Gpu(g) => g.1.set_time(seconds),
+        }
+    }
+
+    /// Simulated seconds (the solvers' one clock: substeps counted, in f64).
+    pub fn seconds(&self) -> f64 {
+        match self {
+            Self::Cpu(s) => s.clock.seconds(),
+            Self::Gpu(g) => g.1.clock.seconds(),
         }
     }
 

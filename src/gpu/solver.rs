@@ -23,11 +23,21 @@ pub struct GpuSolver {
     pub params: SimParams,
     pub nx: usize,
     pub ny: usize,
-    /// Simulation time in seconds.
-    pub time: f32,
+    /// Simulated time, counted in substeps as the CPU solver counts it.
+    pub clock: crate::sim::Clock,
 }
 
 impl GpuSolver {
+    /// Simulated seconds, as the forces take them.
+    pub fn time(&self) -> f32 {
+        self.clock.time()
+    }
+
+    /// Sets the simulated time (a seek, a bake's frame).
+    pub fn set_time(&mut self, seconds: f64) {
+        self.clock = crate::sim::Clock::at(seconds);
+    }
+
     /// A GPU solver for `layout` at rest (the layout must be valid).
     pub fn new(ctx: &GpuContext, layout: &Layout) -> Result<Self, GpuError> {
         // Checked before the CPU solver that seeds it is made (a refused grid can be large).
@@ -70,7 +80,7 @@ impl GpuSolver {
             params: layout.sim,
             nx: cpu.nx,
             ny: cpu.ny,
-            time: cpu.time,
+            clock: cpu.clock,
         };
         solver.reshape(ctx);
         Ok(solver)
@@ -147,7 +157,7 @@ impl GpuSolver {
         cpu.u = u;
         cpu.v = v;
         cpu.p = p;
-        cpu.time = self.time;
+        cpu.clock = self.clock;
         Ok(())
     }
 
@@ -169,8 +179,8 @@ impl GpuSolver {
         self.fluid
             .set_rates(queue, conf, self.params.arrow_response);
         for _ in 0..n {
-            let splats = agc_splats(&self.layout, self.time);
-            self.ambient.set_time(self.time);
+            let splats = agc_splats(&self.layout, self.clock.time());
+            self.ambient.set_time(self.clock.time());
             let (layers, gusts) = self.ambient.layer_params();
             // As the CPU computes it, so both pull with the same factor.
             let coupling = 1.0 - (-self.params.ambient_coupling * dt).exp();
@@ -191,7 +201,7 @@ impl GpuSolver {
             // One encoder a substep, no read-back: the parameters all passes read are written
             // once before it runs.
             ctx.submit(enc.finish());
-            self.time += dt;
+            self.clock.tick(dt);
         }
     }
 

@@ -761,6 +761,7 @@ fn a_forged_manifest_gets_none_of_the_user_s_files_removed() {
 
 /// A FIFO where the earlier bake's `manifest.json` should be: `bake --out` refuses at once
 /// (it waited on the FIFO for ever, deaf to SIGTERM, Ctrl-C and SIGHUP).
+#[cfg(unix)]
 #[test]
 fn a_fifo_for_the_earlier_manifest_is_refused_at_once() {
     let dir = tempfile::tempdir().unwrap();

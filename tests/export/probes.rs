@@ -222,3 +222,77 @@ fn a_reading_every_step_is_taken() {
     let rows = csv::Reader::from_path(&out).unwrap().records().count();
     assert_eq!(rows as f32, (0.5 * hz).round(), "one reading a step");
 }
+
+/// One clock: a probe of two-winds, run on the bake's grid and step from the same warm-up,
+/// reads at the bake's frame times the bake's wind, within the CSV's rounding (4 decimals).
+/// The probe kept its own clock (steps × dt in f32, the first reading a step late) and the
+/// bake another (the step count in f64): they differed by 0.028 m/s, 0.084 m/s just after
+/// an arrow switched on.
+#[test]
+fn a_probe_reads_the_bake_s_wind_at_the_frames_times() {
+    let dir = tempfile::tempdir().unwrap();
+    let bake_dir = dir.path().join("bake");
+    let m = run(
+        &example("two-winds.json"),
+        &bake_dir,
+        &BakeOptions {
+            formats: vec![Format::Raw],
+            ..small(5)
+        },
+    );
+    let [nx, ny] = m.grid;
+    let raw = f32s(&std::fs::read(bake_dir.join("wind.f32")).unwrap());
+    // The layout as the bake ran it: its grid and its step.
+    let mut l = example("two-winds.json");
+    l.world.grid = [nx as u32, ny as u32];
+    l.sim.dt = m.frames.sim_dt;
+    let layout = dir.path().join("as-baked.json");
+    windloom::io::save(&layout, &l).unwrap();
+    let cells = [(5usize, 7usize), (24, 16), (40, 3), (13, 29)];
+    let mut args: Vec<String> = vec!["probe".into(), layout.display().to_string()];
+    for &(i, j) in &cells {
+        let x = m.world.min[0] + (i as f32 + 0.5) * m.world.cell_size[0];
+        let z = m.world.min[1] + (j as f32 + 0.5) * m.world.cell_size[1];
+        args.extend(["--at".into(), format!("{x},{z}")]);
+    }
+    let out = dir.path().join("probe.csv");
+    args.extend([
+        "--warmup".into(),
+        format!("{:.9}", m.frames.warmup_seconds),
+        "--seconds".into(),
+        format!("{:.9}", m.frames.count as f32 / m.frames.fps),
+        "--hz".into(),
+        m.frames.fps.to_string(),
+        "--csv".into(),
+        out.display().to_string(),
+    ]);
+    let args: Vec<&str> = args.iter().map(String::as_str).collect();
+    let o = windloom(&args);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: Vec<Vec<f64>> = csv::Reader::from_path(&out)
+        .unwrap()
+        .records()
+        .map(|r| r.unwrap().iter().map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), m.frames.count, "a reading a frame");
+    let mut worst = 0.0f64;
+    for (k, row) in rows.iter().enumerate() {
+        let t = m.frames.warmup_seconds + k as f64 / f64::from(m.frames.fps);
+        assert!(
+            (row[0] - t).abs() <= 5e-5,
+            "reading {k} at {} s, frame at {t} s",
+            row[0]
+        );
+        for (p, &(i, j)) in cells.iter().enumerate() {
+            let c = ((k * ny + j) * nx + i) * 2;
+            let (bx, bz) = (f64::from(raw[c]), f64::from(raw[c + 1]));
+            let (px, pz) = (row[1 + 4 * p + 2], row[1 + 4 * p + 3]);
+            worst = worst.max((px - bx).abs()).max((pz - bz).abs());
+            assert!(
+                (px - bx).abs() <= 6e-5 && (pz - bz).abs() <= 6e-5,
+                "frame {k} cell ({i}, {j}): probe ({px}, {pz}), bake ({bx}, {bz})"
+            );
+        }
+    }
+    eprintln!("worst difference {worst:.2e} m/s");
+}

@@ -94,7 +94,6 @@ fn a_24_fps_bake_records_and_captures_frames_at_k_over_24() {
             while steps < until {
                 solver.step();
                 steps += 1;
-                solver.time = (steps as f64 / (f64::from(fps) * spf as f64)) as f32;
             }
             let field = solver.velocity_field();
             for (i, j) in [(3, 5), (12, 12), (20, 2)] {

@@ -187,7 +187,7 @@ fn the_default_projection_cuts_the_divergence_a_hundredfold_every_step() {
             s.step();
             if [30, 60, 120, 300, 600].contains(&k) {
                 let (before, after) = s.projection.unwrap();
-                row.push(format!("{:.1}s {after:.2e} (from {before:.2e})", s.time));
+                row.push(format!("{:.1}s {after:.2e} (from {before:.2e})", s.time()));
             }
         }
         println!(

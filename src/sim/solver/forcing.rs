@@ -16,8 +16,8 @@ impl Solver {
 
     /// Step 1 with the given kernel for one component's increments (fast or reference).
     fn apply_forces_with(&mut self, dt: f32, increments: Increments) {
-        let splats = agc_splats(&self.layout, self.time);
-        self.ambient.set_time(self.time);
+        let splats = agc_splats(&self.layout, self.time());
+        self.ambient.set_time(self.time());
         let coupling = if self.ambient.is_empty() {
             0.0
         } else {

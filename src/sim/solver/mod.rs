@@ -103,8 +103,8 @@ pub struct Solver {
     pub hz: f32,
     pub origin: [f32; 2],
     pub params: SimParams,
-    /// Simulation time in seconds.
-    pub time: f32,
+    /// Simulated time ([`Solver::time`]): counted in substeps, as every solver counts it.
+    pub clock: crate::sim::Clock,
     /// x velocity on vertical faces, `(nx + 1) × ny`.
     pub u: Vec<f32>,
     /// z velocity on horizontal faces, `nx × (ny + 1)`.
@@ -253,7 +253,7 @@ impl Solver {
             hz,
             origin: min,
             params,
-            time: 0.0,
+            clock: crate::sim::Clock::default(),
             u: vec![0.0; (nx + 1) * ny],
             v: vec![0.0; nx * (ny + 1)],
             p: vec![0.0; cells],
@@ -332,6 +332,17 @@ impl Solver {
     }
 
     /// Advances the simulation by `params.dt` (in `params.substeps` substeps).
+    /// Simulated seconds, as the forces take them (the clock's f64, rounded once).
+    #[inline]
+    pub fn time(&self) -> f32 {
+        self.clock.time()
+    }
+
+    /// Sets the simulated time (a seek, a checkpoint restored, a bake's frame).
+    pub fn set_time(&mut self, seconds: f64) {
+        self.clock = crate::sim::Clock::at(seconds);
+    }
+
     pub fn step(&mut self) {
         let n = self.params.substeps.max(1);
         let dt = self.params.dt / n as f32;
@@ -367,7 +378,7 @@ impl Solver {
         }
         self.advect(dt);
         let t7 = Instant::now();
-        self.time += dt;
+        self.clock.tick(dt);
         let tm = &mut self.timings;
         let secs = |a: Instant, b: Instant| (b - a).as_secs_f64();
         tm.forces += secs(t0, t1);

@@ -39,7 +39,7 @@ impl Solver {
             }
             self.subtract_gradient_reference();
             self.advect_plain_reference(dt);
-            self.time += dt;
+            self.clock.tick(dt);
         }
     }
 
@@ -85,8 +85,8 @@ impl Solver {
     /// Step 1: every free face gets the AGC arrows' impulses (in splat order) and the ambient
     /// layers' pull `(w − vel)·(1 − e^(−coupling·dt))`, all from the velocity before the step.
     fn forces_reference(&mut self, dt: f32) {
-        let splats = agc_splats(&self.layout, self.time);
-        self.ambient.set_time(self.time);
+        let splats = agc_splats(&self.layout, self.time());
+        self.ambient.set_time(self.time());
         let coupling = if self.ambient.is_empty() {
             0.0
         } else {
