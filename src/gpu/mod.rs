@@ -100,6 +100,48 @@ impl LiveResources {
     }
 }
 
+/// A 2D texture of one mip level and one sample, `w × h` texels of `format`.
+pub(crate) fn texture_2d(
+    device: &wgpu::Device,
+    label: &str,
+    [w, h]: [u32; 2],
+    format: wgpu::TextureFormat,
+    usage: wgpu::TextureUsages,
+) -> wgpu::Texture {
+    device.create_texture(&wgpu::TextureDescriptor {
+        label: Some(label),
+        size: wgpu::Extent3d {
+            width: w,
+            height: h,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format,
+        usage,
+        view_formats: &[],
+    })
+}
+
+/// A bind-group-layout entry for a filterable 2D float texture at `binding`, seen by the
+/// `visibility` stages.
+pub(crate) fn texture_entry(
+    binding: u32,
+    visibility: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayoutEntry {
+    wgpu::BindGroupLayoutEntry {
+        binding,
+        visibility,
+        ty: wgpu::BindingType::Texture {
+            sample_type: wgpu::TextureSampleType::Float { filterable: true },
+            view_dimension: wgpu::TextureViewDimension::D2,
+            multisampled: false,
+        },
+        count: None,
+    }
+}
+
 /// Bind-group-layout entries for a filterable 2D float texture at `binding` and a filtering
 /// sampler at `binding + 1`, seen by the `visibility` stages (the grass ground's and blades' images).
 pub(crate) fn sampled_texture_entries(
@@ -107,16 +149,7 @@ pub(crate) fn sampled_texture_entries(
     visibility: wgpu::ShaderStages,
 ) -> [wgpu::BindGroupLayoutEntry; 2] {
     [
-        wgpu::BindGroupLayoutEntry {
-            binding,
-            visibility,
-            ty: wgpu::BindingType::Texture {
-                sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                view_dimension: wgpu::TextureViewDimension::D2,
-                multisampled: false,
-            },
-            count: None,
-        },
+        texture_entry(binding, visibility),
         wgpu::BindGroupLayoutEntry {
             binding: binding + 1,
             visibility,

@@ -1,21 +1,14 @@
 //! The map backdrop laid over the grass's ground and tinting the blades' bases, and the
 //! group the ground and the blades read it and the far field through.
 
-pub(super) fn backdrop_texture(device: &wgpu::Device, [w, h]: [u32; 2]) -> wgpu::Texture {
-    device.create_texture(&wgpu::TextureDescriptor {
-        label: Some("grass backdrop"),
-        size: wgpu::Extent3d {
-            width: w,
-            height: h,
-            depth_or_array_layers: 1,
-        },
-        mip_level_count: 1,
-        sample_count: 1,
-        dimension: wgpu::TextureDimension::D2,
-        format: wgpu::TextureFormat::Rgba8UnormSrgb,
-        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-        view_formats: &[],
-    })
+pub(super) fn backdrop_texture(device: &wgpu::Device, size: [u32; 2]) -> wgpu::Texture {
+    super::super::texture_2d(
+        device,
+        "grass backdrop",
+        size,
+        wgpu::TextureFormat::Rgba8UnormSrgb,
+        wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+    )
 }
 
 /// The layout of the group the ground (group 1) and the blades (group 3) read the far field
@@ -40,27 +33,9 @@ pub(super) fn look_layout(device: &wgpu::Device) -> wgpu::BindGroupLayout {
             far_sampler,
             image,
             image_sampler,
-            wgpu::BindGroupLayoutEntry {
-                binding: 5,
-                visibility: both,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            },
+            super::super::texture_entry(5, both),
             // The far texels' density shares (`FarPass::shares`), sampled as the texels.
-            wgpu::BindGroupLayoutEntry {
-                binding: 6,
-                visibility: both,
-                ty: wgpu::BindingType::Texture {
-                    sample_type: wgpu::TextureSampleType::Float { filterable: true },
-                    view_dimension: wgpu::TextureViewDimension::D2,
-                    multisampled: false,
-                },
-                count: None,
-            },
+            super::super::texture_entry(6, both),
         ],
     })
 }
