@@ -482,13 +482,7 @@ fn previous_sequence(out: &Path) -> u64 {
 /// folder is refused without waiting on it).
 fn size_and_crc(path: &Path) -> std::io::Result<(u64, u32)> {
     use std::io::Read;
-    let mut options = std::fs::OpenOptions::new();
-    options.read(true);
-    crate::platform::fs::open_without_waiting(&mut options);
-    let mut file = options.open(path)?;
-    if !file.metadata()?.is_file() {
-        return Err(other("not a regular file".into()));
-    }
+    let (mut file, _) = crate::io::open_regular(path, "a bake's file")?;
     let mut hasher = crc32fast::Hasher::new();
     let mut buf = vec![0u8; 1 << 20];
     let mut size = 0u64;

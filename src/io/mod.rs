@@ -310,12 +310,13 @@ pub fn kind_of(meta: &std::fs::Metadata) -> &'static str {
     }
 }
 
-/// Reads a whole regular file of at most `max` bytes (`what` names it in the refusal: "a
-/// layout"). A FIFO, a device, a socket or a folder is refused without being read (a FIFO is
-/// opened without waiting for a writer), and so is a file longer than `max`, before any of
-/// it is read; a file that grows past `max` while it is read is refused too.
-pub fn read_regular(path: &Path, max: u64, what: &str) -> std::io::Result<Vec<u8>> {
-    use std::io::Read;
+/// Opens a regular file for reading (`what` names it in the refusal: "a layout"), with its
+/// metadata. A FIFO, a device, a socket or a folder is refused without being read (a FIFO is
+/// opened without waiting for a writer).
+pub fn open_regular(
+    path: &Path,
+    what: &str,
+) -> std::io::Result<(std::fs::File, std::fs::Metadata)> {
     let mut options = std::fs::OpenOptions::new();
     options.read(true);
     crate::platform::fs::open_without_waiting(&mut options);
@@ -330,6 +331,16 @@ pub fn read_regular(path: &Path, max: u64, what: &str) -> std::io::Result<Vec<u8
             ),
         ));
     }
+    Ok((file, meta))
+}
+
+/// Reads a whole regular file of at most `max` bytes (`what` names it in the refusal: "a
+/// layout"). A FIFO, a device, a socket or a folder is refused without being read (a FIFO is
+/// opened without waiting for a writer), and so is a file longer than `max`, before any of
+/// it is read; a file that grows past `max` while it is read is refused too.
+pub fn read_regular(path: &Path, max: u64, what: &str) -> std::io::Result<Vec<u8>> {
+    use std::io::Read;
+    let (file, meta) = open_regular(path, what)?;
     let too_long = |size: u64| {
         std::io::Error::new(
             std::io::ErrorKind::InvalidData,

@@ -301,8 +301,9 @@ fn sized(
         ));
     }
     let mut paths = Vec::with_capacity(entries.len());
-    for (k, e) in entries.iter().enumerate() {
-        let path = file::inside(folder, &e.name, &format!("files[`{format}` {k}].name"))?;
+    for e in &entries {
+        // Every name is a plain one in the folder (`pick` checked them all).
+        let path = folder.join(&e.name);
         let frames = if e.frame.is_some() { 1 } else { count };
         let channels = e.encoding.channels.len();
         let limit = cells_of(e, frames)
@@ -329,7 +330,7 @@ fn sized(
     let heights = match &m.terrain {
         None => None,
         Some(t) => {
-            let path = file::inside(folder, &t.file, "terrain.file")?;
+            let path = folder.join(&t.file);
             let g = grid_of(&t.axes).filter(sane).ok_or_else(|| Error::Bake {
                 path: path.clone(),
                 message: format!(

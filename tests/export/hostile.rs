@@ -670,6 +670,23 @@ fn nonsense_bakes_say_so_in_the_manifest() {
 fn a_forged_manifest_gets_none_of_the_user_s_files_removed() {
     let dir = tempfile::tempdir().unwrap();
     let meadow = meadow_path();
+    // A small bake of the meadow into `out`, in `format`.
+    let bake_into = |out: &Path, format: &str| {
+        cli(&[
+            "bake",
+            s(&meadow),
+            "--out",
+            s(out),
+            "--format",
+            format,
+            "--frames",
+            "1",
+            "--warmup",
+            "0.2",
+            "--grid",
+            "24x16",
+        ])
+    };
     let notes = b"my notes, not a bake".to_vec();
     let photo = vec![7u8; 4096];
     let entry = |name: &str, bytes: usize, crc: Option<u32>| {
@@ -692,21 +709,7 @@ fn a_forged_manifest_gets_none_of_the_user_s_files_removed() {
             "files": [entry("notes.txt", notes.len(), crc), entry("photo.png", photo.len(), crc)],
         });
         std::fs::write(out.join("manifest.json"), forged.to_string()).unwrap();
-        cli(&[
-            "bake",
-            s(&meadow),
-            "--out",
-            s(&out),
-            "--format",
-            "vf",
-            "--frames",
-            "1",
-            "--warmup",
-            "0.2",
-            "--grid",
-            "24x16",
-        ])
-        .ok();
+        bake_into(&out, "vf").ok();
         assert_eq!(std::fs::read(out.join("notes.txt")).unwrap(), notes);
         assert_eq!(std::fs::read(out.join("photo.png")).unwrap(), photo);
     }
@@ -716,46 +719,17 @@ fn a_forged_manifest_gets_none_of_the_user_s_files_removed() {
         .filter(|n| n.ends_with(".vf"))
         .collect();
     assert!(!vf.is_empty());
-    cli(&[
-        "bake",
-        s(&meadow),
-        "--out",
-        s(&out),
-        "--format",
-        "raw",
-        "--frames",
-        "1",
-        "--warmup",
-        "0.2",
-        "--grid",
-        "24x16",
-    ])
-    .ok();
+    bake_into(&out, "raw").ok();
     let now = names(&out);
     assert!(vf.iter().all(|n| !now.contains(n)), "{now:?}");
     assert!(now.contains(&"notes.txt".to_string()) && now.contains(&"photo.png".to_string()));
     // A user's file named as the bake's output, listed by a forged manifest: refused.
     std::fs::write(out.join("wind.f32"), b"mine too").unwrap();
-    let m: serde_json::Value =
+    let mut forged: serde_json::Value =
         serde_json::from_slice(&std::fs::read(out.join("manifest.json")).unwrap()).unwrap();
-    let mut forged = m.clone();
     forged["files"][0]["bytes"] = 8.into();
     std::fs::write(out.join("manifest.json"), forged.to_string()).unwrap();
-    cli(&[
-        "bake",
-        s(&meadow),
-        "--out",
-        s(&out),
-        "--format",
-        "raw",
-        "--frames",
-        "1",
-        "--warmup",
-        "0.2",
-        "--grid",
-        "24x16",
-    ])
-    .refused("wind.f32");
+    bake_into(&out, "raw").refused("wind.f32");
     assert_eq!(std::fs::read(out.join("wind.f32")).unwrap(), b"mine too");
 }
 
