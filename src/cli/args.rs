@@ -206,6 +206,24 @@ pub enum Command {
         #[arg(long, value_enum, default_value_t = Backend::Cpu)]
         backend: Backend,
     },
+    /// Read a bake's wind as a game does (the runtime a game links, `src/runtime`): one point
+    /// a line on stdin, `X Y Z T` (metres in windloom's axes: x east, y up, z south; seconds of
+    /// the game's clock), and the wind there, `WX WY WZ` in m/s, a line each on stdout, each
+    /// number as the shortest text that reads back to the same f32.
+    ///
+    /// Example: echo "40 2 30 1.5" | windloom sample bake/ --outside wrap
+    Sample {
+        /// The bake folder (`bake --out`).
+        bake: PathBuf,
+        /// The wind beyond the baked rectangle: the edge's (clamp), none (zero), or the bake
+        /// repeated (wrap).
+        #[arg(long, value_enum, default_value_t = SampleOutside::Clamp)]
+        outside: SampleOutside,
+        /// The format to read (raw, exr, png16, png8, vf, dds); default: the most precise the
+        /// bake holds.
+        #[arg(long)]
+        format: Option<String>,
+    },
     /// Benchmark the solver: median and min ms per step, the per-pass split, the bytes each
     /// pass moves and the memory bandwidth measured in the same run.
     ///
@@ -282,6 +300,14 @@ pub enum Command {
         #[arg(long, default_value_t = 100_000, requires = "runtime")]
         samples: usize,
     },
+}
+
+/// `sample --outside`: the runtime's `Outside`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum SampleOutside {
+    Clamp,
+    Zero,
+    Wrap,
 }
 
 /// What `render` draws.

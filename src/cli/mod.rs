@@ -11,9 +11,10 @@ mod fmt;
 mod probe;
 mod render;
 mod runtime_bench;
+mod sample;
 mod validate;
 
-pub use args::{Cli, Command, OnOff, RenderView};
+pub use args::{Cli, Command, OnOff, RenderView, SampleOutside};
 
 use crate::doc;
 use std::process::ExitCode;
@@ -74,6 +75,11 @@ pub fn run(cli: Cli) -> Result<ExitCode, CliError> {
         Some(command @ Command::Render { .. }) => render::run(command),
         Some(command @ Command::Bench { .. }) => bench::run(command),
         Some(command @ Command::Probe { .. }) => probe::run(command),
+        Some(Command::Sample {
+            bake,
+            outside,
+            format,
+        }) => sample::run(&bake, outside, format),
     }
 }
 

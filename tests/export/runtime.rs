@@ -448,6 +448,96 @@ fn one_bake_reads_the_same_in_rust_in_c_and_in_the_editor() {
     c_check(dir.path(), 1);
 }
 
+/// `windloom sample` answers what the runtime answers, to the bit, at points inside and
+/// beyond the rectangle, in each edge mode, at times between frames and a month on (what
+/// tests/godot/run.py checks the Godot add-on's GDScript against); a line that is no point is
+/// refused naming its line, and nothing is answered past it.
+#[test]
+fn sample_answers_as_the_runtime_does() {
+    let dir = tempfile::tempdir().unwrap();
+    let opts = BakeOptions {
+        formats: vec![Format::Raw],
+        looped: true,
+        ..small(3)
+    };
+    run(&example("two-winds.json"), dir.path(), &opts);
+    let points: Vec<[f64; 4]> = (0..300)
+        .map(|k| {
+            let f = |a: f64| (k as f64 * a).fract();
+            [
+                -30.0 + 180.0 * f(0.618_034),
+                -1.0 + 26.0 * f(0.414_213_6),
+                -20.0 + 120.0 * f(0.732_050_8),
+                -2.0 + 6.0 * f(0.236_068) + if k == 7 { 2.6e6 } else { 0.0 },
+            ]
+        })
+        .collect();
+    let text: String = points
+        .iter()
+        .map(|p| format!("{} {}, {}\t{}\n", p[0], p[1], p[2], p[3]))
+        .collect::<String>()
+        + "# a comment, then a blank line\n\n";
+    for (name, outside) in [
+        ("clamp", Outside::Clamp),
+        ("zero", Outside::Zero),
+        ("wrap", Outside::Wrap),
+    ] {
+        let out = sample_cli(dir.path(), &["--outside", name], &text);
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let b = Bake::open(
+            dir.path(),
+            &Options {
+                outside,
+                ..Options::default()
+            },
+        )
+        .unwrap();
+        let lines: Vec<String> = String::from_utf8(out.stdout)
+            .unwrap()
+            .lines()
+            .map(String::from)
+            .collect();
+        assert_eq!(lines.len(), points.len(), "{name}: one answer a point");
+        for (p, line) in points.iter().zip(&lines) {
+            let w = b.wind_at([p[0] as f32, p[1] as f32, p[2] as f32], p[3]);
+            let got: Vec<f32> = line.split(' ').map(|v| v.parse().unwrap()).collect();
+            assert_eq!(got, w.to_vec(), "{name}: at {p:?}");
+        }
+    }
+    let out = sample_cli(dir.path(), &[], "1 2 3 4\n1 2 x 4\n5 6 7 8\n");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(
+        err.contains("stdin line 2") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert_eq!(String::from_utf8_lossy(&out.stdout).lines().count(), 1);
+}
+
+fn sample_cli(bake: &Path, args: &[&str], input: &str) -> std::process::Output {
+    use std::io::Write;
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_windloom"))
+        .arg("sample")
+        .arg(bake)
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    child
+        .stdin
+        .take()
+        .unwrap()
+        .write_all(input.as_bytes())
+        .unwrap();
+    child.wait_with_output().unwrap()
+}
+
 /// The runtime follows re-bakes by `sequence`: a new bake answers once read whole; a broken
 /// one is reported and the last good bake answers on; and while bakes land as fast as the
 /// CPU makes them, every bake it reads is one bake's wind, never a mixture.
