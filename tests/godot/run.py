@@ -307,6 +307,66 @@ def expected_volume(volume, k, n):
     return out
 
 
+# Which bake each gameplay check read, on this side.
+GAMEPLAY_BAKES = {"exported": "a", "files": "a", "rebake": "b", "c": "c", "terrain": "terrain"}
+# The runtime's cell weights and log law in f32, the add-on's in f64: 2e-4 m/s and 1e-5 of
+# the wind (one step of a 16-bit flowmap of a 9 m/s field is 2.7e-4 m/s; a wrong rule is off
+# by a good part of a m/s). Where the runtime reads a more precise file of the same format
+# than the add-on can (a volume's f32 VF, which is Unity's, beside the half-float DDS the
+# add-on reads), the half float's rounding too.
+GAMEPLAY_TOLERANCE = {
+    "f32": lambda e: 2e-4 + 1e-5 * abs(e),
+    "unorm16": lambda e: 2e-4 + 1e-5 * abs(e),
+    "f16": lambda e: 2e-4 + 2.0**-10 * abs(e),
+}
+
+
+def check_gameplay(windloom, work, out):
+    """Every WL WIND line's points asked of windloom's runtime (`windloom sample`, the same
+    format and edges), against what WindloomField answered in Godot."""
+    failures, seen, summary = [], set(), []
+    for l in out:
+        if not l.startswith("WL WIND "):
+            continue
+        _, _, tag, outside, fmt, sample, b64 = l.split(" ", 6)
+        tolerance = GAMEPLAY_TOLERANCE.get(sample)
+        if tolerance is None:
+            failures.append("gameplay %s %s: the add-on read `%s` samples; the check expects f32, f16 or unorm16"
+                            % (tag, outside, sample))
+            continue
+        data = base64.b64decode(b64)
+        values = struct.unpack("<%dd" % (len(data) // 8), data)
+        rows = [values[n : n + 7] for n in range(0, len(values), 7)]
+        folder = work / GAMEPLAY_BAKES.get(tag, tag)
+        text = "".join("%r %r %r %r\n" % r[:4] for r in rows)
+        run = subprocess.run([str(windloom), "sample", str(folder), "--outside", outside, "--format", fmt],
+                             input=text, capture_output=True, text=True)
+        if run.returncode != 0:
+            failures.append("gameplay %s %s: windloom sample: %s" % (tag, outside, run.stderr.strip()))
+            continue
+        expected = [tuple(map(float, line.split())) for line in run.stdout.splitlines()]
+        worst, at = 0.0, None
+        for n, (r, e) in enumerate(zip(rows, expected)):
+            for c in range(3):
+                err = abs(r[4 + c] - e[c]) if math.isfinite(r[4 + c]) else math.inf
+                worst = max(worst, err)
+                if err > tolerance(e[c]) and at is None:
+                    at = (n, r, e)
+        if len(expected) != len(rows):
+            failures.append("gameplay %s %s: %d answers for %d points" % (tag, outside, len(expected), len(rows)))
+        elif at is not None:
+            n, r, e = at
+            failures.append("gameplay %s %s: at (%r, %r, %r), t = %r the add-on says (%r, %r, %r), the runtime (%r, %r, %r)"
+                            % ((tag, outside) + tuple(r[:4]) + tuple(r[4:]) + e))
+        seen.add(tag)
+        summary.append("%s/%s %s %s %d points %.2g" % (tag, outside, fmt, sample, len(rows), worst))
+    for tag in GAMEPLAY_BAKES:
+        if tag not in seen:
+            failures.append("gameplay %s: no wind_at answers printed" % tag)
+    print("godot: gameplay wind (WindloomField against windloom's runtime), largest errors (m/s): " + ", ".join(summary))
+    return failures
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--windloom", required=True, help="the windloom binary")
@@ -339,6 +399,12 @@ def main():
     shutil.copytree(live, work / "b")
     bake(args.windloom, "two-winds.json", work / "b_ref", *small, "--format", "raw")
     assert (ma["sequence"], mb["sequence"]) == (1, 2), "re-bake sequences %s" % [ma["sequence"], mb["sequence"]]
+    # For the gameplay wind alone: a 16-bit PNG flowmap (the add-on decodes it at 16 bits),
+    # and a terrain bake of three frames that does not loop, its raw floats and heights.
+    bake(args.windloom, "two-winds.json", work / "c", *small, "--format", "png16")
+    bake(args.windloom, "walled-garden.json", work / "terrain", *small, "--frames", "3", "--fps", "4", "--format", "raw")
+    # For shaders alone: a PNG atlas, nothing wind_at reads.
+    bake(args.windloom, "meadow.json", work / "d", *small, "--frames", "2", "--fps", "8", "--format", "atlas")
     # The broken bake: b again as sequence 3, its flowmap not an image.
     broken = work / "broken"
     shutil.copytree(work / "b", broken)
@@ -352,7 +418,8 @@ def main():
     for name in ("index.js", "index.wasm"):
         shutil.copy(runtime / name, www / name)
     (www / "index.html").write_text(PAGE)
-    files = project_files([("a", work / "a"), ("b", work / "b"), ("broken", broken)])
+    files = project_files([("a", work / "a"), ("b", work / "b"), ("broken", broken), ("c", work / "c"),
+                           ("terrain", work / "terrain"), ("d", work / "d")])
     files += imported_bake(work / "a", ma)
     files.append(("wind_not_imported/manifest.json", (work / "a" / "manifest.json").read_bytes()))
     (www / "check.pck").write_bytes(pck(files))
@@ -388,7 +455,7 @@ def main():
         failures.append("%d shaders failed to compile, only broken.gdshader should" % len(compile_failures))
     expected_errors = ("windloom_no_such_function", "wind_not_imported", "Shader compilation failed", "flow16.png",
                        'Condition "!success" is true. Returning: ERR_FILE_CORRUPT', "Failed to load image. Error 16", "Not a PNG file",
-                       "Could not load global script cache")
+                       "Could not load global script cache", "holds no files wind_at reads")
     for l in errors:
         if not any(e in l for e in expected_errors) and not l.strip().startswith("at:"):
             failures.append("Godot reported: " + l.strip())
@@ -441,6 +508,8 @@ def main():
     for tag in reads:
         if tag not in plan:
             failures.append("%s: read back, but the check expects no such read" % tag)
+
+    failures += check_gameplay(args.windloom, work, out)
 
     print("godot: Godot 4.6 web runtime, %d values over %d reads; largest errors (m/s): %s"
           % (sum(len(v) for v in reads.values()), len(reads), ", ".join(summary)))

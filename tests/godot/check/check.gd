@@ -3,6 +3,8 @@ extends Node
 ## what this prints). Every line for the harness starts with "WL ":
 ##   WL READ <tag> <width> <height> <base64 RGBA8>   wind read back from the GPU
 ##   WL PNG <name> <base64 PNG>   a picture of what was drawn
+##   WL WIND <tag> <outside> <format> <sample> <base64 f64: x y z t wx wy wz, a point after another>
+##                     the gameplay wind (WindloomField) at points and times
 ##   WL INFO <text>    WL FAIL <text>    WL DONE
 ## The harness compares each READ with the bake's own files; this script only drives the
 ## add-on as a game would: the exported-style bake in res://wind (imported resources only),
@@ -40,6 +42,7 @@ func _run() -> void:
 	await _exported()
 	await _demo()
 	await _files()
+	_gameplay()
 
 
 ## Draws the deliberately broken shader once: Godot must report its error.
@@ -138,6 +141,7 @@ func _exported() -> void:
 		_fail("exported: the bake did not load: " + wind.last_error)
 		return
 	await _read_bake("exported", wind, m)
+	_check_wind("exported", wind.field, m)
 	wind.queue_free()
 	# An export made without importing the bake first: its manifest, no imported textures.
 	var bare := _wind("res://wind_not_imported", true)
@@ -201,6 +205,7 @@ func _files() -> void:
 		_fail("files: bake a did not load: " + wind.last_error)
 		return
 	await _read_bake("files", wind, m)
+	_check_wind("files", wind.field, m)
 
 	# A re-bake lands: the node follows it at its next poll.
 	_land("b")
@@ -210,6 +215,7 @@ func _files() -> void:
 		return
 	print("WL INFO rebake: now on bake %d" % wind.sequence)
 	await _read_bake("rebake", wind, m)
+	_check_wind("rebake", wind.field, m)
 
 	# A broken bake lands (a file that is not an image): it is reported, bake b stays.
 	var before := wind.sequence
@@ -221,3 +227,153 @@ func _files() -> void:
 		return
 	print("WL INFO broken: reported \"%s\", kept bake %d" % [failures[0][1], wind.sequence])
 	await _read_bake("broken", wind, m)
+	if wind.field == null or wind.field.sequence != before:
+		_fail("broken: the gameplay wind did not stay on bake %d" % before)
+
+
+## Copies res://src/<name> into user://<name> (a bake a game reads from files).
+func _copy_bake(name: String) -> String:
+	var to := "user://" + name
+	DirAccess.make_dir_recursive_absolute(to)
+	for file in DirAccess.get_files_at("res://src/" + name):
+		_copy("res://src/%s/%s" % [name, file], to.path_join(file))
+	return to
+
+
+## The gameplay wind of bakes no node shows: a 16-bit PNG flowmap alone (read at 16 bits),
+## and a terrain bake (the log law over its heights), then bakes that lie.
+func _gameplay() -> void:
+	for name in ["c", "terrain"]:
+		var dir := _copy_bake(name)
+		var m: Dictionary = WindloomField.read_manifest(dir)
+		var field = WindloomField.open(dir)
+		if field is String:
+			_fail("%s: %s" % [name, field])
+			continue
+		_check_wind(name, field, m)
+	# A bake for shaders alone (a PNG atlas): the materials load, wind_at answers zero (and
+	# the node warns once), not a failed bake.
+	var atlas := _wind(_copy_bake("d"), false)
+	if atlas.sequence < 0 or atlas.field != null or atlas.wind_at(Vector3(10, 2, 10), 0.3) != Vector3.ZERO:
+		_fail("atlas only: sequence %d, field %s, error \"%s\"" % [atlas.sequence, atlas.field, atlas.last_error])
+	else:
+		print("WL INFO atlas only: bake %d on the materials, wind_at zero" % atlas.sequence)
+	atlas.queue_free()
+	_lies()
+
+
+## Lying bakes: each refused in one line naming what is wrong, none read.
+func _lies() -> void:
+	var dir := "user://c"
+	var m: Dictionary = WindloomField.read_manifest(dir)
+	var cases := {
+		"a name outside the folder": "files[0].name",
+		"2^40 frames": "frames",
+		"a file longer than listed": "bytes",
+		"a grid of 2^20 cells a side": "axes",
+		"an infinite scale": "scale",
+		"version 9": "version",
+	}
+	for what in cases:
+		var d: Dictionary = m.duplicate(true)
+		_lie(d, what)
+		var got = WindloomField.open(dir, d)
+		if not got is String:
+			_fail("lie: %s was read" % what)
+		elif not got.contains(cases[what]) or got.contains("\n") or got.length() > WindloomField.MAX_ERROR_CHARS:
+			_fail("lie: %s: \"%s\" does not name %s in one line" % [what, got, cases[what]])
+		else:
+			print("WL INFO lie refused: %s: %s" % [what, got])
+
+
+func _lie(d: Dictionary, what: String) -> void:
+	match what:
+		"a name outside the folder":
+			d["files"][0]["name"] = "../c/" + d["files"][0]["name"]
+		"2^40 frames":
+			d["frames"]["count"] = 1099511627776.0
+		"a file longer than listed":
+			for f in d["files"]:
+				f["bytes"] = int(f["bytes"]) - 1
+		"a grid of 2^20 cells a side":
+			for f in d["files"]:
+				f["axes"]["index"][0]["cells"] = 1048576.0
+		"an infinite scale":
+			for f in d["files"]:
+				for c in f["encoding"]["channels"]:
+					c["scale"] = INF
+		"version 9":
+			d["version"] = 9
+
+
+## WindloomField's answers, printed for the harness to ask windloom's runtime the same: at
+## every cell's centre at every frame's time at the reference height above the ground, then
+## at points spread to a quarter of the level beyond every edge, from below the ground to
+## above the profile's top, at times before, between and after the frames (and NaN and
+## infinite ones), in each of the three Outside modes. wind_at_many must answer what
+## wind_at does, to the bit.
+func _check_wind(tag: String, field: WindloomField, m: Dictionary) -> void:
+	if field == null:
+		_fail("%s: no gameplay wind" % tag)
+		return
+	print("WL INFO %s: gameplay wind from %s (%s), %d frames of %d × %d, %d bytes" % [tag, field.format, "imported" if field.from_imported else "files", field.frames(), field.grid.x, field.grid.y, field.memory_bytes()])
+	var href := float(m["profile"]["reference_height"])
+	var top := float(m["profile"]["top"])
+	var lo := field.bounds_min
+	var hi := field.bounds_max
+	var size := hi - lo
+	var points := PackedVector3Array()
+	var times := PackedFloat64Array()
+	for k in field.frames():
+		for j in field.grid.y:
+			for i in field.grid.x:
+				var x := lo.x + (i + 0.5) * size.x / field.grid.x
+				var z := lo.y + (j + 0.5) * size.y / field.grid.y
+				points.append(_f32(Vector3(x, field.ground_at(x, z) + href, z)))
+				times.append(k / field.fps)
+	_print_wind(tag, field, Outside.CLAMP, points, times)
+	var rng := RandomNumberGenerator.new()
+	rng.seed = 76
+	points = PackedVector3Array()
+	times = PackedFloat64Array()
+	var span := maxf(field.duration(), 1.0 / field.fps)
+	for n in 400:
+		var p := Vector3(rng.randf_range(lo.x - 0.25 * size.x, hi.x + 0.25 * size.x), rng.randf_range(-1.0, 1.3 * top),
+				rng.randf_range(lo.y - 0.25 * size.y, hi.y + 0.25 * size.y))
+		points.append(_f32(p))
+		times.append(rng.randf_range(-1.5 * span - 1.0, 2.5 * span + 1.0))
+	times[0] = NAN
+	times[1] = INF
+	times[2] = -INF
+	times[3] = 2.6e6 + 0.37  # a month of game clock
+	for mode in [Outside.CLAMP, Outside.ZERO, Outside.WRAP]:
+		_print_wind(tag, field, mode, points, times)
+	# The batch form at one time: wind_at's answers, to the bit.
+	field.outside = Outside.WRAP
+	var many := field.wind_at_many(points, times[5])
+	for n in points.size():
+		if many[n] != field.wind_at(points[n], times[5]):
+			_fail("%s: wind_at_many gives %s at %s, wind_at %s" % [tag, many[n], points[n], field.wind_at(points[n], times[5])])
+			break
+	field.outside = Outside.CLAMP
+
+
+const Outside = WindloomField.Outside
+
+
+## A point as f32 (what the runtime's positions are), so both read the same point.
+func _f32(p: Vector3) -> Vector3:
+	var a := PackedFloat32Array([p.x, p.y, p.z])
+	return Vector3(a[0], a[1], a[2])
+
+
+func _print_wind(tag: String, field: WindloomField, mode: int, points: PackedVector3Array, times: PackedFloat64Array) -> void:
+	field.outside = mode
+	var out := PackedFloat64Array()
+	var started := Time.get_ticks_usec()
+	for n in points.size():
+		var w := field.wind_at(points[n], times[n])
+		out.append_array([points[n].x, points[n].y, points[n].z, times[n], w.x, w.y, w.z])
+	var us := Time.get_ticks_usec() - started
+	print("WL INFO %s: %d wind_at calls (%s) in %d ms, %.1f µs each" % [tag, points.size(), ["clamp", "zero", "wrap"][mode], us / 1000, float(us) / points.size()])
+	print("WL WIND %s %s %s %s %s" % [tag, ["clamp", "zero", "wrap"][mode], field.format, field.sample, Marshalls.raw_to_base64(out.to_byte_array())])

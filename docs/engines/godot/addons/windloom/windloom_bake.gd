@@ -53,6 +53,15 @@ static func write_import_settings(dir: String, m: Dictionary) -> PackedStringArr
 	var volume: Dictionary = godot.get("volume", {})
 	for name in volume.get("files", []):
 		paths.append(_write_import(dir.path_join(name), volume["importer"], volume["type"], volume["import"]))
+	# The terrain's heights are read by WindloomField at 16 bits, from the file itself: Keep
+	# File, so an export carries it as it is (an imported PNG keeps 8 bits).
+	var terrain = m.get("terrain")
+	if terrain is Dictionary and terrain.get("file") is String:
+		var cfg := ConfigFile.new()
+		var path := dir.path_join(terrain["file"])
+		cfg.set_value("remap", "importer", "keep")
+		cfg.save(path + ".import")
+		paths.append(path)
 	return paths
 
 

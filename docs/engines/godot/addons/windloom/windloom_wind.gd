@@ -9,6 +9,10 @@ extends Node
 ## files fail to load is reported (`bake_failed`, `last_error`) and the last good bake stays
 ## on show. An animated volume plays frame by frame, blended, at the bake's fps.
 ## Works in the editor, in an exported game and on the web (see WindloomBake).
+##
+## Gameplay asks it for the wind at a point: `wind_at(position, time)` and `wind_at_many`
+## answer from the same bake, on the CPU, by windloom's runtime rules (WindloomField), and
+## follow re-bakes with the materials.
 
 @export_dir var bake_dir := "res://wind"
 ## Materials using windloom_grass.gdshader (or windloom_wind.gdshaderinc).
@@ -16,11 +20,23 @@ extends Node
 ## Process materials using windloom_particles.gdshader (or windloom_volume.gdshaderinc).
 @export var particle_materials: Array[ShaderMaterial] = []
 @export var poll_seconds := 0.5
+## Keep the bake's wind on the CPU for `wind_at` (frames × cells × 8 bytes: 14.7 MB for 48
+## frames of 240 × 160). Off: only the materials are set, and `wind_at` answers zero.
+@export var gameplay_wind := true
+## What `wind_at` answers beyond the baked rectangle: the edge's wind, none, or the bake
+## repeated (for levels simulated with periodic edges).
+@export var outside: WindloomField.Outside = WindloomField.Outside.CLAMP:
+	set(value):
+		outside = value
+		if field != null:
+			field.outside = value
 
 ## The sequence of the bake on show (-1: none yet).
 var sequence := -1
 ## What failed in the last bake that could not be loaded ("" when the last load worked).
 var last_error := ""
+## The wind on the CPU of the bake on show (null: none, or `gameplay_wind` off).
+var field: WindloomField
 ## The volume frames on show and their playback.
 var volumes: Array[Texture3D] = []
 var volume_fps := 24.0
@@ -29,6 +45,7 @@ var volume_loops := true
 var clock := 0.0
 var _waited := 0.0
 var _failed_sequence := -1
+var _warned_no_wind := false
 
 signal bake_loaded(sequence: int)
 signal bake_failed(sequence: int, message: String)
@@ -71,6 +88,19 @@ func reload_if_changed() -> bool:
 			error = loaded
 		else:
 			new_volumes = loaded
+	var new_field: WindloomField = null
+	if error.is_empty() and gameplay_wind and not WindloomField.holds_wind(m):
+		# Not a broken bake: one for shaders alone (atlases). The materials load; wind_at
+		# answers zero and says why once.
+		if not _warned_no_wind:
+			push_warning("windloom: bake %d in %s holds no files wind_at reads (raw, exr, dds, png16, png8): wind_at answers zero; bake --format raw too" % [seq, bake_dir])
+			_warned_no_wind = true
+	elif error.is_empty() and gameplay_wind:
+		var opened = WindloomField.open(bake_dir, m, outside)
+		if opened is String:
+			error = opened
+		else:
+			new_field = opened
 	var again := WindloomBake.read_manifest(bake_dir)
 	if int(again.get("sequence", -1)) != seq:
 		return false  # a bake landed while reading: try again at the next poll
@@ -82,6 +112,7 @@ func reload_if_changed() -> bool:
 		bake_failed.emit(seq, error)
 		return false
 	_copy_uniforms(grass, grass_materials)
+	field = new_field
 	volumes = new_volumes
 	if not volumes.is_empty():
 		for material in particle_materials:
@@ -93,6 +124,30 @@ func reload_if_changed() -> bool:
 	last_error = ""
 	bake_loaded.emit(sequence)
 	return true
+
+
+## The wind (m/s, Godot's axes) at `position` (metres, the level's coordinates as the
+## bake has them: put this node's level at the origin, or subtract its origin) at `time`
+## seconds of the game's clock (a float: 64 bits, so a clock weeks on reads as precisely as
+## one just started). Bilinear between cells, linear between frames (looping or holding as
+## the bake says), carried up and down by the bake's log-law profile above its terrain;
+## `outside` beyond the rectangle. Zero while no bake is loaded.
+func wind_at(position: Vector3, time: float) -> Vector3:
+	return field.wind_at(position, time) if field != null else Vector3.ZERO
+
+
+## `wind_at` for many positions at one time (a flock, a row of flags).
+func wind_at_many(positions: PackedVector3Array, time: float) -> PackedVector3Array:
+	if field != null:
+		return field.wind_at_many(positions, time)
+	var zero := PackedVector3Array()
+	zero.resize(positions.size())
+	return zero
+
+
+## The ground's height at (x, z) as the bake has it (0 without terrain).
+func ground_at(x: float, z: float) -> float:
+	return field.ground_at(x, z) if field != null else 0.0
 
 
 ## The volume frame pair and blend at `clock`: frame k = floor(clock · fps), looping or
