@@ -1,6 +1,6 @@
 //! The layout document: what a designer saves. Plain data (serde + schemars), no I/O.
 //!
-//! Coordinates (see `docs/ARCHITECTURE.md` and `../shared/reference/wind-model.md` §1): the
+//! Coordinates (see `docs/ARCHITECTURE.md` and `docs/EXPORT.md`, "Axes and units"): the
 //! world is a `width × depth` rectangle on the ground plane, world `x` east and `z` south,
 //! `y` up. A 2D position or vector `[a, b]` in this document is always world `(x, z)` in metres
 //! (or m/s). Angles (`direction_deg`) are measured from `+x` toward `+z`, so on a top-down map

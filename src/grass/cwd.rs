@@ -1,5 +1,5 @@
 //! The CWD-Sim quadratic blade deformation (paper eqs. 11–14), as
-//! `../shared/reference/wind-model.md` reads it; the CPU twin of the grass vertex shader.
+//! `docs/GRASS.md` reads it; the CPU twin of the grass vertex shader.
 //!
 //! In the blade's frame (`y` up, `z` along its facing, `x` to its side), a point at height `y`
 //! of the straight blade goes through:

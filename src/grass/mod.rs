@@ -7,7 +7,7 @@
 //!   obstacle, each with its own facing, height,
 //!   width, stiffness, palette and colour variation.
 //! - [`cwd`]: the CWD-Sim quadratic deformation (paper eqs. 11–14) as
-//!   `../shared/reference/wind-model.md` reads it, with the paper's open problem solved
+//!   `docs/GRASS.md` reads it, with the paper's open problem solved
 //!   (strong wind neither flattens nor blackens a blade).
 //! - [`bezier`]: Jahrmann & Wimmer's physics blades; [`cull`]: which blades a frame draws and
 //!   at what detail; [`trail`]: the path a pushing sphere leaves; [`sample`]: which blades a

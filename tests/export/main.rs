@@ -1,5 +1,5 @@
 //! Bakes read back by readers written from the format specifications
-//! (`../shared/reference/export-formats.md`), not by the writers' code, and compared with the
+//! (the engines' own, as `docs/EXPORT.md` and `docs/engines/` quote them), not by the writers' code, and compared with the
 //! raw field.
 
 use std::collections::{BTreeMap, BTreeSet};
