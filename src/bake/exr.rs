@@ -4,9 +4,12 @@
 //! with their rows reversed relative to OpenEXR, while both read scanline images the same way.
 //! ZIP compression in blocks of 16 lines: lossless, and read by every EXR loader.
 
+use super::error::BakeError;
+use super::field::Field;
 use super::format::{Encoder, Extent, frame_names};
-use super::manifest::{self as m, Axes, Channel, Sample, WorldAxis, image_axes};
-use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
+use super::format::{ExportContext, Output, atlas_axes, image_axes};
+use super::manifest::{self as m, Axes, Channel, Sample, WorldAxis};
+use super::manifest::{FileEntry, Format};
 use exr::prelude::{Encoding, Image, SpecificChannels, Vec2, WritableImage, f16};
 
 /// The encoding every windloom EXR uses.
@@ -123,7 +126,7 @@ pub(crate) fn atlas(
     ctx: &ExportContext,
     frames: &mut super::frames::FrameReader,
 ) -> Result<(Vec<u8>, FileEntry), BakeError> {
-    let (columns, rows) = super::png::atlas_grid(ctx.count);
+    let (columns, rows) = super::manifest::atlas_grid(ctx.count);
     let (nx, ny) = (ctx.nx, ctx.ny);
     // The band of sub-images holding the rows being written: (band, its frames).
     let band: std::sync::Mutex<(usize, Vec<Field>)> =
@@ -174,7 +177,7 @@ pub(crate) fn atlas(
                 "OpenEXR scanline, increasing Y, ZIP, half floats: {columns} × {rows} sub-images of {nx} × {ny} pixels; unused sub-images hold zero wind"
             ),
         ),
-        axes: m::atlas_axes(ctx),
+        axes: atlas_axes(ctx),
         bytes: 0,
         crc32: 0,
     };
@@ -190,7 +193,7 @@ impl Encoder for AtlasExr {
     }
 
     fn max_bytes(&self, e: &Extent) -> u64 {
-        let (c, r) = super::png::atlas_grid(e.frames);
+        let (c, r) = super::manifest::atlas_grid(e.frames);
         rgb_max_bytes(c * e.nx, r * e.ny, true)
     }
 

@@ -6,9 +6,15 @@
 //! as the maximum, as Houdini, VectorayGen and Blender write them. At most 128 cells per axis:
 //! larger grids are area-averaged down.
 
+use super::error::BakeError;
+use super::field::Field;
 use super::format::{Encoder, Extent, frame_names};
+use super::format::{ExportContext, Output};
 use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
-use super::{BakeError, ExportContext, FGA_MAX, Field, FileEntry, Format, Output};
+use super::manifest::{FileEntry, Format};
+
+/// Unreal's importer rejects larger axes.
+pub const FGA_MAX: usize = 128;
 use std::fmt::Write;
 
 /// Slab thickness of the 2D field as a volume, in Unreal units (cm).

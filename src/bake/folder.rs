@@ -25,7 +25,8 @@
 //! rolls forward) exactly the staging folders whose lock it can take, and never one whose
 //! bake still runs, wherever that runs.
 
-use super::{BakeError, MANIFEST};
+use super::error::BakeError;
+use super::manifest::MANIFEST;
 use crate::io::{parent_dir, resolve_links, sync_dir};
 use std::collections::BTreeSet;
 use std::fs::File;
@@ -673,6 +674,57 @@ fn legacy_stale(home: &Path, name: &str) {
     {
         let _ = std::fs::remove_dir_all(home.join(name));
     }
+}
+
+/// The error naming the file of the output folder rather than its namesake in the hidden
+/// staging folder, which the user never sees.
+pub(super) fn outside_staging(e: BakeError, out: &Path) -> BakeError {
+    let fix = |path: PathBuf| {
+        let parts: Vec<_> = path.components().collect();
+        match parts
+            .iter()
+            .position(|c| c.as_os_str().to_string_lossy().starts_with(MARK))
+        {
+            Some(i) => parts[i + 1..]
+                .iter()
+                .fold(out.to_path_buf(), |p, c| p.join(c)),
+            None => path,
+        }
+    };
+    match e {
+        BakeError::Output { path, source } => BakeError::Output {
+            path: fix(path),
+            source,
+        },
+        BakeError::Write { path, source } => BakeError::Write {
+            path: fix(path),
+            source: crate::io::plain(source),
+        },
+        other => other,
+    }
+}
+
+/// Writes a file and flushes it to disk before the folder swap can make it visible.
+pub(crate) fn write_file(dir: &Path, name: &str, bytes: &[u8]) -> Result<u64, BakeError> {
+    use std::io::Write;
+    let path = dir.join(name);
+    let err = |source| BakeError::Write {
+        path: path.clone(),
+        source,
+    };
+    let mut f = std::fs::File::create(&path).map_err(err)?;
+    f.write_all(bytes).map_err(err)?;
+    f.sync_all().map_err(err)?;
+    Ok(bytes.len() as u64)
+}
+
+pub(crate) fn sync_file(path: &Path) -> Result<u64, BakeError> {
+    let err = |source| BakeError::Write {
+        path: path.to_path_buf(),
+        source,
+    };
+    let f = crate::platform::fs::flush_file(path).map_err(err)?;
+    Ok(f.metadata().map_err(err)?.len())
 }
 
 #[cfg(test)]

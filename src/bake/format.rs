@@ -3,98 +3,10 @@
 //! encoding of a frame. `bake` finds each format's file (`encoder`), loops over the chosen
 //! formats and asks them.
 
-use super::{BakeError, ExportContext, Field, Output};
-use serde::Serialize;
-
-/// Output formats.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, schemars::JsonSchema, PartialOrd, Ord,
-)]
-#[serde(rename_all = "lowercase")]
-pub enum Format {
-    /// OpenEXR, float RGB: R = world x, G = world z, B = speed (m/s).
-    Exr,
-    /// 8-bit PNG flowmap, RG centred on 0.5.
-    Png8,
-    /// 16-bit PNG flowmap, RG centred on 0.5.
-    Png16,
-    /// Unreal vector field (FGA), at most 128 cells per axis.
-    Fga,
-    /// Unity VFX Graph vector field (VF_V).
-    Vf,
-    /// Little-endian f32 pairs, all frames in one file.
-    Raw,
-    /// All frames in one 16-bit PNG flipbook.
-    Atlas,
-    /// All frames in one half-float EXR flipbook, laid out as `Atlas`, in m/s.
-    #[serde(rename = "atlas-exr")]
-    AtlasExr,
-    /// The wind as a volume up the layout's vertical profile: a DDS 3D texture, with the
-    /// same volume as a Unity vector field and as Godot's EXR slices.
-    Dds,
-}
-
-impl Format {
-    pub const ALL: [Format; 9] = [
-        Format::Exr,
-        Format::Png8,
-        Format::Png16,
-        Format::Fga,
-        Format::Vf,
-        Format::Raw,
-        Format::Atlas,
-        Format::AtlasExr,
-        Format::Dds,
-    ];
-
-    /// The name on the command line (`--format`), in the manifest and in the Export dialog.
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::Exr => "exr",
-            Self::Png8 => "png8",
-            Self::Png16 => "png16",
-            Self::Fga => "fga",
-            Self::Vf => "vf",
-            Self::Raw => "raw",
-            Self::Atlas => "atlas",
-            Self::AtlasExr => "atlas-exr",
-            Self::Dds => "dds",
-        }
-    }
-}
-
-impl Format {
-    /// What the format is and which engine reads it, for the Export dialog's tooltips
-    /// (docs/engines/ has each engine's import).
-    pub fn engines_hint(self) -> &'static str {
-        match self {
-            Self::Exr => {
-                "OpenEXR flowmap, float (x, z wind and speed in m/s): Godot's and Unreal's \
-                 textures, Unity's too; exact"
-            }
-            Self::Png8 => "8-bit PNG flowmap: any engine's texture, the smallest (mobile)",
-            Self::Png16 => {
-                "16-bit PNG flowmap: Unity's and Godot's textures, and Godot on the web (8 bits \
-                 there)"
-            }
-            Self::Fga => "Unreal vector field (FGA) for Niagara and Cascade, at most 128 a side",
-            Self::Vf => "Unity VFX Graph vector field (VF_V) for Vector Field Force",
-            Self::Raw => {
-                "Raw floats with the manifest: windloom's runtime (C, Bevy), your own engine \
-                 code, and Godot on the web; exact"
-            }
-            Self::Atlas => {
-                "Every frame in one 16-bit PNG flipbook: animated wind in Unreal's Niagara and \
-                 Godot's shaders"
-            }
-            Self::AtlasExr => "Every frame in one half-float EXR flipbook: animated wind in Godot",
-            Self::Dds => {
-                "The wind as a volume up the vertical profile: a DDS 3D texture (Unreal, any \
-                 engine), with a Unity vector field and Godot EXR slices of it"
-            }
-        }
-    }
-}
+use super::error::BakeError;
+use super::field::Field;
+use super::manifest::{self, Axes, FileEntry, IndexAxis, SubImages, WorldAxis};
+use crate::doc;
 
 /// How big a bake is: `frames` frames of `nx × ny` cells, `layers` layers in a volume, and
 /// `half`: 16-bit floats where the format has them.
@@ -135,4 +47,79 @@ pub(crate) fn frame_names(stem: &str, count: usize, ext: &str) -> Vec<String> {
     (0..count)
         .map(|k| frame_name(stem, k, count, ext))
         .collect()
+}
+
+/// What an exporter hands back: file name, bytes, and its manifest entry (minus size).
+pub(crate) struct Output {
+    pub name: String,
+    pub bytes: Vec<u8>,
+    pub entry: FileEntry,
+}
+
+/// Everything an exporter needs.
+pub(crate) struct ExportContext {
+    pub nx: usize,
+    pub ny: usize,
+    /// Frames in the bake.
+    pub count: usize,
+    pub max_speed: f32,
+    pub min: [f32; 2],
+    pub max: [f32; 2],
+    pub half: bool,
+    pub fps: f32,
+    /// Flowmaps and the atlas store green as the world −z wind (up the image).
+    pub flip_green: bool,
+    /// The vertical profile the volume is baked with.
+    pub profile: doc::VerticalProfile,
+}
+
+impl ExportContext {
+    pub(super) fn name(&self, stem: &str, k: usize, ext: &str) -> String {
+        frame_name(stem, k, self.count, ext)
+    }
+
+    pub(super) fn frame_index(&self, k: usize) -> Option<usize> {
+        (self.count > 1).then_some(k)
+    }
+
+    /// The speed that maps to the ends of the 8/16-bit flowmap range.
+    pub(super) fn flow_scale(&self) -> f32 {
+        self.max_speed.max(1e-6)
+    }
+}
+
+/// The image axes of a flowmap, EXR or atlas frame: columns along +x, rows down the image
+/// along +z (or the flipped image's).
+pub(crate) fn image_axes(ctx: &ExportContext, nx: usize, ny: usize) -> Vec<IndexAxis> {
+    vec![
+        IndexAxis {
+            name: "pixel_x",
+            world: WorldAxis::PlusX,
+            cells: nx,
+            range: [ctx.min[0], ctx.max[0]],
+        },
+        IndexAxis {
+            name: "pixel_y",
+            world: WorldAxis::PlusZ,
+            cells: ny,
+            range: [ctx.min[1], ctx.max[1]],
+        },
+    ]
+}
+
+/// The axes of an atlas of the bake's frames (`png::atlas_grid`): a frame's image axes, and
+/// where each frame's sub-image sits.
+pub(crate) fn atlas_axes(ctx: &ExportContext) -> Axes {
+    let (columns, rows) = manifest::atlas_grid(ctx.count);
+    Axes {
+        index: image_axes(ctx, ctx.nx, ctx.ny),
+        sub_images: Some(SubImages {
+            columns,
+            rows,
+            count: ctx.count,
+            fps: ctx.fps,
+            order: "frame k at column k % columns, row k / columns (row 0 at the top)",
+        }),
+        engine_frame: None,
+    }
 }

@@ -2,7 +2,8 @@
 //! memory does not grow with its frame count. The file is the raw format itself: little-endian
 //! f32 pairs `[frame][row j][column i][x, z]`.
 
-use super::{BakeError, Field};
+use super::error::BakeError;
+use super::field::Field;
 use std::fs::File;
 use std::io::{BufReader, BufWriter, Read, Seek, SeekFrom, Write};
 use std::path::{Path, PathBuf};

@@ -3,7 +3,7 @@
 //! (`height = stored × scale + offset`, metres). An engine stands its grass and particles on
 //! the same ground the wind was shaped by.
 
-use super::BakeError;
+use super::error::BakeError;
 use super::manifest::{IndexAxis, Sample, TerrainInfo, WorldAxis};
 use crate::doc::Layout;
 use crate::sim::terrain::TerrainField;
@@ -44,7 +44,7 @@ pub(crate) fn write(dir: &Path, layout: &Layout) -> Result<Option<TerrainInfo>, 
         path: dir.join(NAME),
         source: std::io::Error::other(e.to_string()),
     })?;
-    let written = super::write_file(dir, NAME, &bytes)?;
+    let written = super::folder::write_file(dir, NAME, &bytes)?;
     let (min, max) = layout.bounds();
     Ok(Some(TerrainInfo {
         file: NAME,

@@ -2,7 +2,7 @@
 //! ([`SettingsError`]). The errors name settings as the Export dialog labels them; the CLI
 //! says them with its flags instead (`cli::bake`).
 
-use super::{ATLAS_MAX_SIDE, Format, png};
+use super::manifest::{self, ATLAS_MAX_SIDE, Format};
 use crate::engine::Backend;
 use crate::gpu::GpuError;
 
@@ -157,7 +157,7 @@ pub(super) fn check(opts: &BakeOptions) -> Result<(), SettingsError> {
 
 /// Refuses an atlas of `frames` frames of `nx × ny` larger than a GPU texture.
 pub(super) fn check_atlas(frames: usize, nx: usize, ny: usize) -> Result<(), SettingsError> {
-    let (c, r) = png::atlas_grid(frames);
+    let (c, r) = manifest::atlas_grid(frames);
     if c * nx > ATLAS_MAX_SIDE || r * ny > ATLAS_MAX_SIDE {
         return Err(SettingsError::Atlas {
             frames,

@@ -1,15 +1,15 @@
 //! PNG flowmaps (8 and 16 bit) and the flipbook atlas: R = 0.5 + 0.5·vx/max_speed,
 //! G = 0.5 + 0.5·vz/max_speed, B = 0; decode with `rg * 2 − 1` times `max_speed`.
 
+use super::error::BakeError;
+use super::field::Field;
 use super::format::{Encoder, Extent, frame_names};
-use super::manifest::{Axes, Channel, Encoding, Sample, WorldAxis, atlas_axes, image_axes};
-use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
+use super::format::{ExportContext, Output, atlas_axes, image_axes};
+use super::manifest::{Axes, Channel, Encoding, Sample, WorldAxis, atlas_grid};
+use super::manifest::{FileEntry, Format};
 use image::{ImageBuffer, ImageEncoder, Rgb};
 use std::io::Write;
 use std::path::{Path, PathBuf};
-
-/// Largest atlas side in pixels: what GPUs accept as a texture side.
-pub const ATLAS_MAX_SIDE: usize = 16384;
 
 fn encode(v: f32, scale: f32, levels: f32) -> f32 {
     ((0.5 + 0.5 * v / scale).clamp(0.0, 1.0) * levels).round()
@@ -153,12 +153,6 @@ fn flowmap(ctx: &ExportContext, k: usize, f: &Field, sixteen: bool) -> Result<Ou
         name,
         bytes,
     })
-}
-
-/// The atlas's grid of sub-images for `n` frames: `(columns, rows)`.
-pub(crate) fn atlas_grid(n: usize) -> (usize, usize) {
-    let columns = (n as f64).sqrt().ceil() as usize;
-    (columns, n.div_ceil(columns))
 }
 
 pub(crate) const ATLAS_NAME: &str = "atlas.png";

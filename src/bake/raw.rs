@@ -2,9 +2,12 @@
 //! `i` (+x), two channels `[x, z]` in m/s. The file is the bake's frame stream itself
 //! (`frames.rs`); this names it and describes it.
 
+use super::error::BakeError;
+use super::field::Field;
 use super::format::{Encoder, Extent};
+use super::format::{ExportContext, Output};
 use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
-use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
+use super::manifest::{FileEntry, Format};
 
 pub(crate) const NAME: &str = "wind.f32";
 

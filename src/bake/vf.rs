@@ -10,9 +10,12 @@
 //! the world rectangle, *Data Encoding* Signed and *Intensity* 1, the target is the wind in
 //! m/s. The manifest's channel `scale` is that size per axis (`value = stored × scale`).
 
+use super::error::BakeError;
+use super::field::Field;
 use super::format::{Encoder, Extent, frame_names};
+use super::format::{ExportContext, Output};
 use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
-use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
+use super::manifest::{FileEntry, Format};
 
 /// Bytes of one file for an `nx × ny` grid.
 fn size(nx: usize, ny: usize) -> u64 {

@@ -13,21 +13,18 @@
 //!   image as `wind.exr`, at rows `k · ny …`), RGB the wind along x, y, z: what Godot 4's
 //!   *Texture3D* importer builds a `Texture3D` from.
 
+use super::error::BakeError;
 use super::exr::{rgb_bytes, rgb_max_bytes};
+use super::field::Field;
 use super::format::{Encoder, Extent, frame_names};
+use super::format::{ExportContext, Output};
 use super::manifest::{Axes, Channel, Encoding, IndexAxis, Sample, WorldAxis};
-use super::{BakeError, ExportContext, Field, FileEntry, Format, Output};
-use crate::doc::VerticalProfile;
+use super::manifest::{FileEntry, Format, factors};
 
 /// The DDS header's size: magic, `DDS_HEADER`, `DDS_HEADER_DXT10`.
 pub(crate) const DDS_HEADER_BYTES: usize = 4 + 124 + 20;
 pub(crate) const DXGI_R32G32B32A32_FLOAT: u32 = 2;
 pub(crate) const DXGI_R16G16B16A16_FLOAT: u32 = 10;
-
-/// The wind at each layer as a multiple of the simulated wind.
-pub(crate) fn factors(p: &VerticalProfile) -> Vec<f32> {
-    (0..p.layers).map(|k| p.factor(p.layer_height(k))).collect()
-}
 
 /// The volume's cell `(i, j, layer)`: `[x, y, z]` wind, m/s.
 fn at(f: &Field, factors: &[f32], i: usize, j: usize, layer: usize) -> [f32; 3] {

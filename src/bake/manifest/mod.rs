@@ -8,7 +8,12 @@
 //! written; an integer channel as a GPU samples it, divided by 255 or 65535; the number in a
 //! text file).
 
-use super::Format;
+pub mod engines;
+mod formats;
+
+pub use engines::Engines;
+pub use formats::Format;
+
 use crate::doc::{self, Layout};
 use schemars::JsonSchema;
 use serde::Serialize;
@@ -239,7 +244,7 @@ pub struct Manifest {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub profile: Option<ProfileInfo>,
     /// The settings each engine's guide and script import these files with.
-    pub engines: super::engines::Engines,
+    pub engines: Engines,
     /// The ground the wind was shaped by (`heights.png`), where the layout has terrain.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub terrain: Option<TerrainInfo>,
@@ -300,7 +305,7 @@ impl ProfileInfo {
             top: p.top,
             layers: p.layers,
             heights: (0..p.layers).map(|k| p.layer_height(k)).collect(),
-            factors: super::volume::factors(p),
+            factors: factors(p),
         }
     }
 }
@@ -355,38 +360,16 @@ pub fn schema() -> serde_json::Value {
     serde_json::to_value(schemars::schema_for!(Manifest)).expect("a schema is always JSON")
 }
 
-/// The image axes of a flowmap, EXR or atlas frame: columns along +x, rows down the image
-/// along +z (or the flipped image's).
-pub(crate) fn image_axes(ctx: &super::ExportContext, nx: usize, ny: usize) -> Vec<IndexAxis> {
-    vec![
-        IndexAxis {
-            name: "pixel_x",
-            world: WorldAxis::PlusX,
-            cells: nx,
-            range: [ctx.min[0], ctx.max[0]],
-        },
-        IndexAxis {
-            name: "pixel_y",
-            world: WorldAxis::PlusZ,
-            cells: ny,
-            range: [ctx.min[1], ctx.max[1]],
-        },
-    ]
+/// The wind at each layer as a multiple of the simulated wind.
+pub(crate) fn factors(p: &doc::VerticalProfile) -> Vec<f32> {
+    (0..p.layers).map(|k| p.factor(p.layer_height(k))).collect()
 }
 
-/// The axes of an atlas of the bake's frames (`png::atlas_grid`): a frame's image axes, and
-/// where each frame's sub-image sits.
-pub(crate) fn atlas_axes(ctx: &super::ExportContext) -> Axes {
-    let (columns, rows) = super::png::atlas_grid(ctx.count);
-    Axes {
-        index: image_axes(ctx, ctx.nx, ctx.ny),
-        sub_images: Some(SubImages {
-            columns,
-            rows,
-            count: ctx.count,
-            fps: ctx.fps,
-            order: "frame k at column k % columns, row k / columns (row 0 at the top)",
-        }),
-        engine_frame: None,
-    }
+/// Largest atlas side in pixels: what GPUs accept as a texture side.
+pub const ATLAS_MAX_SIDE: usize = 16384;
+
+/// The atlas's grid of sub-images for `n` frames: `(columns, rows)`.
+pub(crate) fn atlas_grid(n: usize) -> (usize, usize) {
+    let columns = (n as f64).sqrt().ceil() as usize;
+    (columns, n.div_ceil(columns))
 }
