@@ -237,8 +237,21 @@ fn the_engine_scripts_read_the_manifest_s_own_names() {
     );
     let mut known = BTreeSet::new();
     keys(&manifest(dir.path()), &mut known);
+    // A terrain bake's keys too (`terrain`, its file and axes), and a resampled FGA's.
+    let terrain = tempfile::tempdir().unwrap();
+    run(
+        &example("walled-garden.json"),
+        terrain.path(),
+        &BakeOptions {
+            grid: Some([160, 100]),
+            formats: vec![Format::Raw, Format::Fga],
+            ..small(1)
+        },
+    );
+    keys(&manifest(terrain.path()), &mut known);
     let godot = [
         "docs/engines/godot/addons/windloom/windloom_bake.gd",
+        "docs/engines/godot/addons/windloom/windloom_field.gd",
         "docs/engines/godot/addons/windloom/windloom_wind.gd",
         "docs/engines/godot/addons/windloom/windloom_plugin.gd",
         "docs/engines/godot/demo/demo.gd",

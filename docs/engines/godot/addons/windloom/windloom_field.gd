@@ -366,7 +366,7 @@ static func _source(dir: String, name: String, kind: String) -> String:
 	var on_web := OS.has_feature("web")
 	if FileAccess.file_exists(path) and not (kind == "exr" and on_web):
 		return "file"
-	if kind in ["exr", "png"] and FileAccess.file_exists(path + ".import"):
+	if (kind == "exr" or kind == "png") and FileAccess.file_exists(path + ".import"):
 		return "imported"
 	return ""
 
@@ -545,7 +545,7 @@ func _decode(e: Dictionary, channels: int, stored: PackedFloat32Array, factors: 
 			return "axes: %d cells along %s, where the bake's first file has %d × %d" % [cells, world, nx, ny]
 		if role == "y" and cells > 1:
 			layer_axis = a
-		elif role not in ["x", "y", "z"]:
+		elif not (role == "x" or role == "y" or role == "z"):
 			return "axes: an index axis along `%s`" % world
 		sizes.append(cells)
 		flips.append(world.begins_with("-"))
@@ -709,7 +709,7 @@ static func _plain(name) -> bool:
 	if typeof(name) != TYPE_STRING or name.is_empty() or name == "." or name == ".." or name.length() > 255:
 		return false
 	for c in name:
-		if c in ["/", "\\", ":"] or c.unicode_at(0) < 32 or c.unicode_at(0) == 127:
+		if "/\\:".contains(c) or c.unicode_at(0) < 32 or c.unicode_at(0) == 127:
 			return false
 	return true
 
