@@ -473,11 +473,10 @@ impl Streaks {
         max_speed: f32,
     ) {
         for p in &self.particles {
-            if p.trail.len() < 2 {
+            let (Some(&head), true) = (p.trail.last(), p.trail.len() >= 2) else {
                 continue;
-            }
+            };
             let fade = (1.0 - (2.0 * p.age / p.life - 1.0).abs()).clamp(0.0, 1.0);
-            let head = *p.trail.last().unwrap();
             let v = snap.sample(head);
             let colour = speed_colour((v[0].hypot(v[1]) / max_speed.max(1e-3)).sqrt());
             let n = p.trail.len();

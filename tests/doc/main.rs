@@ -1,4 +1,8 @@
 //! The layout document: examples, validation errors, schema, atomic saves, edits and undo, CLI.
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test that unwraps fails there, which is what a test is for"
+)]
 
 use proptest::prelude::*;
 use std::path::{Path, PathBuf};

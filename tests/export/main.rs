@@ -1,6 +1,10 @@
 //! Bakes read back by readers written from the format specifications
 //! (the engines' own, as `docs/EXPORT.md` and `docs/engines/` quote them), not by the writers' code, and compared with the
 //! raw field.
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test that unwraps fails there, which is what a test is for"
+)]
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};

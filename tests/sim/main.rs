@@ -2,6 +2,10 @@
 //! AGC trees, the fast passes give the reference's bits, every layout stays bounded, and the
 //! GPU passes and the grass match their CPU twins. One test binary, a module per concern;
 //! the helpers here are shared by them.
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test that unwraps fails there, which is what a test is for"
+)]
 
 use proptest::prelude::*;
 use std::path::Path;

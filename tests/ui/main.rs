@@ -3,6 +3,10 @@
 //!
 //! Without a GPU adapter these tests skip with a loud message, unless `CI` is set: CI must run
 //! them for real, so there a missing adapter is a failure.
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test that unwraps fails there, which is what a test is for"
+)]
 
 use eframe::egui::{self, Event, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;

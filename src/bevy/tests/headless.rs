@@ -5,6 +5,10 @@
 //!
 //! It bakes with the windloom binary: `WINDLOOM_BIN`, else the newest `windloom` under the
 //! workspace's `target/` (CI sets `WINDLOOM_BIN`).
+#![allow(
+    clippy::unwrap_used,
+    reason = "a test that unwraps fails there, which is what a test is for"
+)]
 
 use bevy::app::App;
 use bevy::ecs::message::Messages;

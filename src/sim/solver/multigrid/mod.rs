@@ -127,7 +127,7 @@ impl Multigrid {
         let wraps = boundary == Boundary::Periodic;
         let open = boundary == Boundary::Open;
         let mut levels = vec![Level::finest(nx, ny, hx, hz, flags, wraps)];
-        while let Some(c) = levels.last().unwrap().coarser(hx, hz) {
+        while let Some(c) = levels.last().and_then(|l| l.coarser(hx, hz)) {
             levels.push(c);
         }
         for l in 0..levels.len() - 1 {
@@ -381,7 +381,10 @@ fn restrict_rows(
             || (vec![0.0f32; fine_nx], vec![0.0f32; fine_nx]),
             |(r, acc), (jc, out)| {
                 let mut rows = za.children(jc, fine_ny);
-                residual_row(rows.next().unwrap(), acc);
+                let first = rows
+                    .next()
+                    .expect("a coarse row covers one fine row or more");
+                residual_row(first, acc);
                 for j in rows {
                     residual_row(j, r);
                     for (a, r) in acc.iter_mut().zip(r.iter()) {
