@@ -4,7 +4,7 @@
 report.py PHASES_FILE JUNIT[:LABEL]...
 
 Prints the time of every phase .ci/run recorded, the slowest 15 tests, each test binary's
-total against its budget (docs/ARCHITECTURE.md, "What a test may cost"), and last the plain
+total against its budget (docs/CODE_STYLE.md, "What a test may cost"), and last the plain
 line `tests: N passed, N failed`. Exits non-zero when a test failed; a binary over its budget
 is named (a warning, so that a slow host does not fail a good change) for the next change to
 take back.

@@ -1,6 +1,8 @@
 //! windloom: author wind over a top-down map of a level, simulate it, export it for engines.
 //!
-//! Dependency direction (see `docs/ARCHITECTURE.md`): `doc` ← `sim` ← {`io`, `app`, CLI}.
+//! Each module imports only from the floors below it (`docs/ARCHITECTURE.md`): `doc` at the
+//! bottom, then `sim`, `grass` and `io`, `gpu`, `engine`, `bake`, the editor (`app`) and the
+//! command line (`cli`) at the top.
 
 pub mod app;
 pub mod bake;

@@ -54,7 +54,7 @@ pub enum BakeError {
         need: u64,
         /// What it exceeds, e.g. `the 16.00 GiB budget`.
         limit: String,
-        /// Whether it exceeds the budget asked for ([`BakeOptions::max_bytes`]), rather than
+        /// Whether it exceeds the budget asked for ([`BakeOptions::max_bytes`](super::BakeOptions::max_bytes)), rather than
         /// the free space.
         budget: bool,
     },

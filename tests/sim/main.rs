@@ -116,7 +116,7 @@ fn random_solver(boundary: Boundary, n: u32) -> Solver {
 
 /// One `#[test]` per bundled example, named after it, each calling `$check("file.json")`:
 /// how a check that runs every example for long is split, so that the two cores run the
-/// examples side by side (docs/ARCHITECTURE.md, "What a test may cost").
+/// examples side by side (docs/CODE_STYLE.md, "What a test may cost").
 macro_rules! test_each_example {
     ($check:path) => {
         test_each_example!(@ $check: meadow "meadow.json", obstacles "obstacles.json",

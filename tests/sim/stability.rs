@@ -171,7 +171,7 @@ mod at_the_largest_vorticity {
 
 /// The soak beside [`at_the_largest_vorticity`]:
 /// every example at its own ε (2: the runaway started about ε = 10), 600 s on half its grid,
-/// within 1.5× its wind. Run by hand (docs/ARCHITECTURE.md, "What a test may cost").
+/// within 1.5× its wind. Run by hand (docs/CODE_STYLE.md, "What a test may cost").
 #[test]
 #[ignore = "a soak: cargo nextest run --cargo-profile ci --run-ignored only -E 'test(/soak_/)'"]
 fn soak_every_example_at_its_own_vorticity_for_600_s() {
