@@ -583,7 +583,7 @@ fn previous_bake(out: &Path) -> Result<BTreeSet<String>, BakeError> {
     };
     let value: serde_json::Value = serde_json::from_str(&text)
         .map_err(|_| refuse("its manifest.json is not a windloom bake manifest"))?;
-    if value["format"] != "windloom-bake" {
+    if value["format"] != super::manifest::FORMAT {
         return Err(refuse("its manifest.json is not a windloom bake manifest"));
     }
     let mut set = BTreeSet::from([MANIFEST.to_string()]);

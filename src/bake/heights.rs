@@ -9,7 +9,7 @@ use crate::doc::Layout;
 use crate::sim::terrain::TerrainField;
 use std::path::Path;
 
-pub const NAME: &str = "heights.png";
+pub const NAME: &str = super::manifest::HEIGHTS;
 
 /// Writes `heights.png` into `dir` for a layout with terrain (baked at `layout`'s grid);
 /// `None` without terrain.

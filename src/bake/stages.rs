@@ -341,7 +341,7 @@ fn write_manifest(
     }
     let has_fga = plan.formats.contains(&Format::Fga);
     let manifest = Manifest {
-        format: "windloom-bake",
+        format: manifest::FORMAT,
         version: MANIFEST_VERSION,
         sequence: plan.staging.next_sequence(),
         layout: LayoutInfo {
@@ -380,7 +380,7 @@ fn write_manifest(
             .chain(doc::advise(layout).iter().map(|a| format!("{ADVICE}{a}")))
             .chain(field_notes(layout, sim.max_speed))
             .collect(),
-        profile: Some(manifest::ProfileInfo::new(&layout.world.profile)),
+        profile: Some(manifest::profile_info(&layout.world.profile)),
         engines: super::engines::engines(ctx, &files),
         files,
         terrain,

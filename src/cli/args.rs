@@ -94,7 +94,7 @@ pub enum Command {
         #[arg(long, short)]
         out: PathBuf,
         /// Formats to write (repeatable).
-        #[arg(long = "format", value_enum)]
+        #[arg(long = "format", value_parser = format_parser())]
         formats: Vec<Format>,
         /// Seconds simulated before the first frame.
         #[arg(long, default_value_t = 5.0)]
@@ -459,14 +459,13 @@ impl ValueEnum for Backend {
     }
 }
 
-impl ValueEnum for Format {
-    fn value_variants<'a>() -> &'a [Self] {
-        &Format::ALL
-    }
-
-    fn to_possible_value(&self) -> Option<PossibleValue> {
-        Some(PossibleValue::new(self.name()))
-    }
+/// `--format`: one of the bake's formats by its name ([`Format::name`]); clap lists them
+/// and refuses any other as it does an enum's. (The type is the bake format's crate's, so it
+/// takes a parser rather than a `ValueEnum` impl.)
+fn format_parser() -> impl clap::builder::TypedValueParser<Value = Format> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(Format::ALL.map(Format::name))
+        .map(|name| Format::from_name(&name).expect("clap gives only the names of Format::ALL"))
 }
 
 impl ValueEnum for GrassModel {

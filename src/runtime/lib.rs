@@ -34,7 +34,7 @@ pub use wind::{Axes, Bake, Options, Outside};
 use std::path::{Path, PathBuf};
 
 /// The file every bake folder holds, listing the rest.
-pub const MANIFEST: &str = "manifest.json";
+pub use windloom_bake_format::MANIFEST;
 
 /// Why a bake could not be read: each names the file, in one line of at most
 /// [`MAX_ERROR_CHARS`] characters (what came from the bake's files, control characters

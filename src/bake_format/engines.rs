@@ -3,12 +3,12 @@
 //! Unity's Inspector labels, Unreal's Python enum values, Godot 4's `.import` keys and shader
 //! uniforms. `bake/engines.rs` fills it for a bake's files.
 
-use schemars::JsonSchema;
 use serde::Serialize;
 
 /// Settings per engine; an engine is absent when the bake holds no file it reads.
-#[derive(Debug, Clone, Default, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Default, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct Engines {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub unity: Option<Unity>,
@@ -19,8 +19,9 @@ pub struct Engines {
 }
 
 /// Unity (`docs/engines/unity.md`).
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct Unity {
     /// VFX Graph's *Vector Field Force* on the `vf` files.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -30,8 +31,9 @@ pub struct Unity {
     pub volume: Option<UnityVectorField>,
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct UnityVectorField {
     pub files: Vec<String>,
     /// The VF importer's Inspector.
@@ -48,8 +50,9 @@ pub struct UnityVectorField {
     pub box_size: [f32; 3],
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct UnityVfImport {
     pub output_format: &'static str,
     pub wrap_mode: &'static str,
@@ -57,8 +60,9 @@ pub struct UnityVfImport {
 }
 
 /// Unreal (`docs/engines/unreal.md`).
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct Unreal {
     /// The `fga` files as *Vector Field Static* assets for Niagara.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -74,8 +78,9 @@ pub struct Unreal {
     pub volume_texture: Option<UnrealVolume>,
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct UnrealVolume {
     pub files: Vec<String>,
     /// `TextureCompressionSettings`: `TC_HDR_F32` for 32-bit floats, `TC_HDR` for `--half`.
@@ -94,8 +99,9 @@ pub struct UnrealVolume {
     pub swizzle: &'static str,
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct UnrealVectorField {
     pub files: Vec<String>,
     /// The asset's *Intensity*: 1 gives the stored cm/s.
@@ -106,8 +112,9 @@ pub struct UnrealVectorField {
 }
 
 /// A texture asset's settings, as Unreal's Python API names them.
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct UnrealTexture {
     /// `TextureCompressionSettings`.
     pub compression_settings: &'static str,
@@ -121,8 +128,9 @@ pub struct UnrealTexture {
     pub filter: &'static str,
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct UnrealAtlas {
     pub file: String,
     pub texture: UnrealTexture,
@@ -137,8 +145,9 @@ pub struct UnrealAtlas {
     pub atlas_size: [usize; 2],
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct UnrealMaterialTexture {
     pub files: Vec<String>,
     pub texture: UnrealTexture,
@@ -147,8 +156,9 @@ pub struct UnrealMaterialTexture {
 }
 
 /// Godot 4 (`docs/engines/godot.md`).
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct Godot {
     /// The textures to import with `import` (EXR, flowmaps, atlas).
     pub textures: Vec<String>,
@@ -161,8 +171,9 @@ pub struct Godot {
     pub volume: Option<GodotVolume>,
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct GodotVolume {
     pub files: Vec<String>,
     /// The `.import` file's `[remap]` importer: `3d_texture`.
@@ -177,8 +188,9 @@ pub struct GodotVolume {
     pub volume_size: [f32; 3],
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct GodotVolumeImport {
     /// 3: VRAM Uncompressed (keeps the floats).
     #[serde(rename = "compress/mode")]
@@ -192,8 +204,9 @@ pub struct GodotVolumeImport {
     pub vertical: u32,
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct GodotImport {
     /// 0: Lossless.
     #[serde(rename = "compress/mode")]
@@ -210,8 +223,9 @@ pub struct GodotImport {
     pub detect_3d: u8,
 }
 
-#[derive(Debug, Clone, Serialize, JsonSchema, PartialEq)]
-#[schemars(deny_unknown_fields)]
+#[derive(Debug, Clone, Serialize, PartialEq)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
+#[cfg_attr(feature = "schema", schemars(deny_unknown_fields))]
 pub struct GodotShader {
     pub bounds_min: [f32; 2],
     pub bounds_max: [f32; 2],

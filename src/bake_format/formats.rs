@@ -4,9 +4,8 @@
 use serde::Serialize;
 
 /// Output formats.
-#[derive(
-    Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, schemars::JsonSchema, PartialOrd, Ord,
-)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Serialize, PartialOrd, Ord)]
+#[cfg_attr(feature = "schema", derive(schemars::JsonSchema))]
 #[serde(rename_all = "lowercase")]
 pub enum Format {
     /// OpenEXR, float RGB: R = world x, G = world z, B = speed (m/s).
@@ -43,6 +42,11 @@ impl Format {
         Format::AtlasExr,
         Format::Dds,
     ];
+
+    /// The format of this name ([`Format::name`]).
+    pub fn from_name(name: &str) -> Option<Format> {
+        Self::ALL.into_iter().find(|f| f.name() == name)
+    }
 
     /// The name on the command line (`--format`), in the manifest and in the Export dialog.
     pub fn name(self) -> &'static str {
