@@ -1063,8 +1063,13 @@ impl eframe::App for EditorApp {
         }
         let dt = ctx.input(|i| i.stable_dt);
         self.frame_ms = self.frame_ms * 0.9 + dt * 1000.0 * 0.1;
-        self.idle = now - self.last_frame_at > IDLE_GAP;
-        self.last_frame_at = now;
+        // A frame's second pass (egui runs one when something changed size, such as the
+        // status bar's text) comes at the same time as its first: it keeps the first pass's
+        // verdict rather than read as a frame that came at once, which woke a resting editor.
+        if ctx.current_pass_index() == 0 {
+            self.idle = now - self.last_frame_at > IDLE_GAP;
+            self.last_frame_at = now;
+        }
 
         // Closing the window with unsaved changes asks first.
         if ctx.input(|i| i.viewport().close_requested()) && !self.allow_close && self.doc.is_dirty()

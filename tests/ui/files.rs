@@ -635,15 +635,28 @@ fn a_resting_editor_autosaves_once_and_asks_for_no_frame() {
     assert_eq!(found.len(), 1, "autosaved on coming to rest");
     let copy = windloom::io::load(&found[0]).unwrap();
     assert_eq!(copy.trees[0].root.children[0].pos, [11.0, 12.0]);
-    let delay = h
-        .output()
-        .viewport_output
-        .get(&egui::ViewportId::ROOT)
-        .expect("the root viewport")
-        .repaint_delay;
-    assert!(
-        delay >= Duration::from_secs(3600),
-        "a resting editor asks for a frame in {delay:?} ({:?})",
-        h.ctx.repaint_causes()
-    );
+    // Resting frames a second or more apart, as a window system gives them: the editor must
+    // come to ask for none. (egui repaints once more after any immediate request, such as
+    // the live wind's last snapshot arriving from its thread, so the frame that takes the
+    // copy may still be followed by one.)
+    let mut delays = Vec::new();
+    for k in 0..4 {
+        let delay = h
+            .output()
+            .viewport_output
+            .get(&egui::ViewportId::ROOT)
+            .expect("the root viewport")
+            .repaint_delay;
+        delays.push((delay, h.ctx.repaint_causes()));
+        if delay >= Duration::from_secs(3600) {
+            break;
+        }
+        assert!(
+            k < 3,
+            "a resting editor keeps asking for frames: {delays:?}"
+        );
+        h.input_mut().time = Some(t + 4.0 + 2.0 * k as f64);
+        h.step();
+    }
+    assert_eq!(copies().len(), 1, "one copy: nothing changed after it");
 }
