@@ -179,15 +179,16 @@ func _demo() -> void:
 	await _frames(1)
 
 
-## Copies the files of res://src/<name> into user://wind, the manifest last (as a bake
-## lands: the manifest names the files once they are there).
-func _land(name: String) -> void:
-	DirAccess.make_dir_recursive_absolute("user://wind")
+## Copies the files of res://src/<name> into `to` (user://wind by default), the manifest
+## last (as a bake lands: the manifest names the files once they are there). Returns `to`.
+func _land(name: String, to := "user://wind") -> String:
+	DirAccess.make_dir_recursive_absolute(to)
 	var from := "res://src/" + name
 	for file in DirAccess.get_files_at(from):
 		if file != "manifest.json":
-			_copy(from.path_join(file), "user://wind".path_join(file))
-	_copy(from.path_join("manifest.json"), "user://wind/manifest.json")
+			_copy(from.path_join(file), to.path_join(file))
+	_copy(from.path_join("manifest.json"), to.path_join("manifest.json"))
+	return to
 
 
 func _copy(from: String, to: String) -> void:
@@ -231,20 +232,11 @@ func _files() -> void:
 		_fail("broken: the gameplay wind did not stay on bake %d" % before)
 
 
-## Copies res://src/<name> into user://<name> (a bake a game reads from files).
-func _copy_bake(name: String) -> String:
-	var to := "user://" + name
-	DirAccess.make_dir_recursive_absolute(to)
-	for file in DirAccess.get_files_at("res://src/" + name):
-		_copy("res://src/%s/%s" % [name, file], to.path_join(file))
-	return to
-
-
 ## The gameplay wind of bakes no node shows: a 16-bit PNG flowmap alone (read at 16 bits),
 ## and a terrain bake (the log law over its heights), then bakes that lie.
 func _gameplay() -> void:
 	for name in ["c", "terrain"]:
-		var dir := _copy_bake(name)
+		var dir := _land(name, "user://" + name)
 		var m: Dictionary = WindloomField.read_manifest(dir)
 		var field = WindloomField.open(dir)
 		if field is String:
@@ -253,7 +245,7 @@ func _gameplay() -> void:
 		_check_wind(name, field, m)
 	# A bake for shaders alone (a PNG atlas): the materials load, wind_at answers zero (and
 	# the node warns once), not a failed bake.
-	var atlas := _wind(_copy_bake("d"), false)
+	var atlas := _wind(_land("d", "user://d"), false)
 	if atlas.sequence < 0 or atlas.field != null or atlas.wind_at(Vector3(10, 2, 10), 0.3) != Vector3.ZERO:
 		_fail("atlas only: sequence %d, field %s, error \"%s\"" % [atlas.sequence, atlas.field, atlas.last_error])
 	else:

@@ -261,23 +261,20 @@ static func load_volume(dir: String, m: Dictionary, frame: int) -> Variant:
 	return load_dds_volume(dir.path_join(dds))
 
 
-## A DDS volume as windloom writes it (DX10 header, DXGI format 2 = RGBA f32 or 10 = RGBA
-## f16, texels row by row, rows slice by slice) as a Texture3D, or a String.
+## A DDS volume as windloom writes it (WindloomFiles.dds_header) as a Texture3D, or a
+## String.
 static func load_dds_volume(path: String) -> Variant:
 	var file := FileAccess.open(path, FileAccess.READ)
 	if file == null:
 		return "%s could not be opened (%s)" % [path, error_string(FileAccess.get_open_error())]
-	var header := file.get_buffer(148)
-	if header.size() < 148 or header.slice(0, 4).get_string_from_ascii() != "DDS " or header.slice(84, 88).get_string_from_ascii() != "DX10":
-		return "%s is not a DDS file with a DX10 header" % path
-	var height := header.decode_u32(12)
-	var width := header.decode_u32(16)
-	var depth := header.decode_u32(24)
-	var dxgi := header.decode_u32(128)
-	var format := Image.FORMAT_RGBAF if dxgi == 2 else Image.FORMAT_RGBAH if dxgi == 10 else -1
-	if format < 0:
-		return "%s: DXGI format %d, not 2 or 10" % [path, dxgi]
-	var bytes := width * height * (16 if dxgi == 2 else 8)
+	var head = WindloomFiles.dds_header(file.get_buffer(148))
+	if head is String:
+		return "%s: %s" % [path, head]
+	var width: int = head.width
+	var height: int = head.height
+	var depth: int = head.depth
+	var format: int = head.format
+	var bytes: int = width * height * head.texel_bytes
 	if file.get_length() < 148 + depth * bytes:
 		return "%s is shorter than its %d × %d × %d texels" % [path, width, height, depth]
 	var slices: Array[Image] = []

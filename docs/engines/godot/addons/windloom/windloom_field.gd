@@ -371,7 +371,8 @@ static func _source(dir: String, name: String, kind: String) -> String:
 	return ""
 
 
-## The format to read: [format, kind, entries by frame, imported], or a String.
+## The format to read: [format, kind, entries by frame, each entry's source (`_source`)],
+## or a String.
 func _pick(dir: String, m: Dictionary, count: int) -> Variant:
 	var groups := {}  # format → entries
 	for e in m["files"]:
@@ -403,16 +404,16 @@ func _pick(dir: String, m: Dictionary, count: int) -> Variant:
 		var key: String = o[1]
 		var entries: Array = groups[key]
 		var kind := key.get_slice("/", key.get_slice_count("/") - 1)
-		var imported := false
+		var sources := PackedStringArray()
 		var missing := ""
 		for e in entries:
 			var s := _source(dir, e["name"], kind)
 			if s.is_empty():
 				missing = dir.path_join(e["name"])
 				break
-			imported = imported or s == "imported"
+			sources.append(s)
 		if missing.is_empty():
-			return [key.get_slice("/", 0), kind, entries, imported]
+			return [key.get_slice("/", 0), kind, entries, sources]
 		if first_missing.is_empty():
 			first_missing = missing
 	if not first_missing.is_empty():
@@ -426,7 +427,8 @@ func _read_wind(dir: String, m: Dictionary, picked: Array, count: int) -> String
 	format = picked[0]
 	var kind: String = picked[1]
 	var entries: Array = picked[2]
-	from_imported = picked[3]
+	var sources: PackedStringArray = picked[3]
+	from_imported = "imported" in sources
 	var first: Dictionary = entries[0]
 	sample = str(first["encoding"].get("sample", "")) if first.get("encoding") is Dictionary else ""
 	var g = _grid_of(_index(first))
@@ -446,14 +448,15 @@ func _read_wind(dir: String, m: Dictionary, picked: Array, count: int) -> String
 			factors.append(_float(f, NAN))
 	_frames.clear()
 	files.clear()
-	for e in entries:
+	for i in entries.size():
+		var e: Dictionary = entries[i]
 		var path := dir.path_join(e["name"])
 		files.append(e["name"])
 		var want := 1 if e.get("frame") != null else count
-		var stored = _stored(dir, e, kind, want * _cells(e))
+		var stored = _stored(dir, e, kind, sources[i], want * _cells(e))
 		if stored is String:
 			return "%s: %s" % [path, stored]
-		var by_name: bool = kind == "exr" or _source(dir, e["name"], kind) == "imported"
+		var by_name: bool = kind == "exr" or sources[i] == "imported"
 		var error := _decode(e, stored[0], stored[1], factors, want, by_name)
 		if not error.is_empty():
 			return "%s: %s" % [path, error]
@@ -461,15 +464,16 @@ func _read_wind(dir: String, m: Dictionary, picked: Array, count: int) -> String
 
 
 ## The stored samples of one file: [channels a cell, PackedFloat32Array], or a String.
-## `cells` is what the manifest says it holds (frames × its axes' cells).
-func _stored(dir: String, e: Dictionary, kind: String, cells: int) -> Variant:
+## `source` is where it is read from (`_source`); `cells` is what the manifest says it holds
+## (frames × its axes' cells).
+func _stored(dir: String, e: Dictionary, kind: String, source: String, cells: int) -> Variant:
 	var path := dir.path_join(e["name"])
 	var channels: int = e["encoding"]["channels"].size() if e.get("encoding") is Dictionary and e["encoding"].get("channels") is Array else 0
 	if channels < 2 or channels > 4:
 		return "encoding.channels: %d channels, not 2 to 4" % channels
 	if cells <= 0:
 		return "axes: no cells"
-	if _source(dir, e["name"], kind) == "imported":
+	if source == "imported":
 		return WindloomFiles.imported(path, cells)
 	# The file, exactly as long as the manifest lists it, and no longer than its cells and
 	# channels can take (twice the floats, and 1 MiB more).

@@ -69,25 +69,50 @@ static func imported(path: String, cells: int) -> Variant:
 
 ## A DDS volume as windloom writes it (DX10 header, DXGI 2 = RGBA f32, 10 = RGBA f16).
 static func dds(data: PackedByteArray, cells: int) -> Variant:
-	if data.size() < 148 or data.slice(0, 4).get_string_from_ascii() != "DDS " or data.slice(84, 88).get_string_from_ascii() != "DX10":
-		return "not a DDS file with a DX10 header"
-	var dxgi := data.decode_u32(128)
-	var texels := data.decode_u32(12) * data.decode_u32(16) * maxi(data.decode_u32(24), 1)
+	var head = dds_header(data)
+	if head is String:
+		return head
+	var texels: int = head.width * head.height * maxi(head.depth, 1)
 	if texels != cells:
 		return "%d texels, where the manifest says %d cells" % [texels, cells]
-	if dxgi == 2:
-		if data.size() < 148 + cells * 16:
-			return "shorter than its %d texels" % cells
-		return [4, data.slice(148, 148 + cells * 16).to_float32_array()]
-	if dxgi == 10:
-		if data.size() < 148 + cells * 8:
-			return "shorter than its %d texels" % cells
-		var out := PackedFloat32Array()
-		out.resize(cells * 4)
-		for i in cells * 4:
-			out[i] = data.decode_half(148 + 2 * i)
-		return [4, out]
-	return "DXGI format %d, not 2 (RGBA f32) or 10 (RGBA f16)" % dxgi
+	var bytes: int = cells * head.texel_bytes
+	if data.size() < 148 + bytes:
+		return "shorter than its %d texels" % cells
+	if head.format == Image.FORMAT_RGBAF:
+		return [4, data.slice(148, 148 + bytes).to_float32_array()]
+	var out := PackedFloat32Array()
+	out.resize(cells * 4)
+	for i in cells * 4:
+		out[i] = data.decode_half(148 + 2 * i)
+	return [4, out]
+
+
+## What a DDS file's header says of its texels.
+class DdsHeader:
+	var width: int
+	var height: int
+	var depth: int
+	## Image.FORMAT_RGBAF (DXGI 2) or Image.FORMAT_RGBAH (DXGI 10).
+	var format: int
+	var texel_bytes: int
+
+
+## A DDS file's header as windloom writes it (148 bytes: "DDS ", the DX10 extension, DXGI
+## format 2 = RGBA f32 or 10 = RGBA f16) as a DdsHeader, or a String saying why it is not
+## one. The texels follow at byte 148, row by row, slice by slice.
+static func dds_header(header: PackedByteArray) -> Variant:
+	if header.size() < 148 or header.slice(0, 4).get_string_from_ascii() != "DDS " or header.slice(84, 88).get_string_from_ascii() != "DX10":
+		return "not a DDS file with a DX10 header"
+	var dxgi := header.decode_u32(128)
+	if dxgi != 2 and dxgi != 10:
+		return "DXGI format %d, not 2 (RGBA f32) or 10 (RGBA f16)" % dxgi
+	var head := DdsHeader.new()
+	head.height = header.decode_u32(12)
+	head.width = header.decode_u32(16)
+	head.depth = header.decode_u32(24)
+	head.format = Image.FORMAT_RGBAF if dxgi == 2 else Image.FORMAT_RGBAH
+	head.texel_bytes = 16 if dxgi == 2 else 8
+	return head
 
 
 ## A PNG's samples as a GPU samples them (n / 255, or n / 65535 at 16 bits: all 16 kept,
