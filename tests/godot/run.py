@@ -278,7 +278,9 @@ def decode(line):
     return tag, int(w), int(h), struct.unpack("<%df" % (len(data) // 4), data)
 
 
-def compare(tag, got, expected, tolerance, failures):
+def compare(tag, got, expected, tolerance, failures, where=lambda n: "value %d" % n, says="the bake says"):
+    """The values `got` against `expected` within `tolerance(expected)`: the worst miss is
+    added to `failures` (`where(n)` names value n), and the largest error returned."""
     worst, at = 0.0, None
     for n, (g, e) in enumerate(zip(got, expected)):
         err = abs(g - e) if math.isfinite(g) else math.inf
@@ -287,8 +289,8 @@ def compare(tag, got, expected, tolerance, failures):
     if len(got) != len(expected):
         failures.append("%s: %d values read back, %d expected" % (tag, len(got), len(expected)))
     elif at is not None:
-        failures.append("%s: value %d is %.6g, the bake says %.6g (tolerance %.3g)"
-                        % (tag, at, got[at], expected[at], tolerance(expected[at])))
+        failures.append("%s: %s is %.6g, %s %.6g (tolerance %.3g)"
+                        % (tag, where(at), got[at], says, expected[at], tolerance(expected[at])))
     return max((abs(g - e) for g, e in zip(got, expected)), default=0.0)
 
 
@@ -344,20 +346,11 @@ def check_gameplay(windloom, work, out):
         if run.returncode != 0:
             failures.append("gameplay %s %s: windloom sample: %s" % (tag, outside, run.stderr.strip()))
             continue
-        expected = [tuple(map(float, line.split())) for line in run.stdout.splitlines()]
-        worst, at = 0.0, None
-        for n, (r, e) in enumerate(zip(rows, expected)):
-            for c in range(3):
-                err = abs(r[4 + c] - e[c]) if math.isfinite(r[4 + c]) else math.inf
-                worst = max(worst, err)
-                if err > tolerance(e[c]) and at is None:
-                    at = (n, r, e)
-        if len(expected) != len(rows):
-            failures.append("gameplay %s %s: %d answers for %d points" % (tag, outside, len(expected), len(rows)))
-        elif at is not None:
-            n, r, e = at
-            failures.append("gameplay %s %s: at (%r, %r, %r), t = %r the add-on says (%r, %r, %r), the runtime (%r, %r, %r)"
-                            % ((tag, outside) + tuple(r[:4]) + tuple(r[4:]) + e))
+        expected = [float(v) for line in run.stdout.splitlines() for v in line.split()]
+        got = [v for r in rows for v in r[4:]]
+        where = lambda n: "the wind's %s at (%r, %r, %r), t = %r" % ((("x", "y", "z")[n % 3],) + rows[n // 3][:4])
+        worst = compare("gameplay %s %s" % (tag, outside), got, expected, tolerance, failures, where,
+                        "the runtime says")
         seen.add(tag)
         summary.append("%s/%s %s %s %d points %.2g" % (tag, outside, fmt, sample, len(rows), worst))
     for tag in GAMEPLAY_BAKES:
